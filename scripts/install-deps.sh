@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs every Debian package loosehair needs to build, test, benchmark and render.
+# Safe to run any number of times: apt-get skips what is already installed.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git
+  libglm-dev            # vector maths (sim, render)
+  libeigen3-dev         # sparse linear algebra (harmonic map)
+  nlohmann-json3-dev    # scene files
+  libopenmesh-dev       # mesh loading (OBJ, PLY, OFF, STL)
+  libtinygltf-dev       # glTF / GLB loading
+  libstb-dev            # PNG / image reading and writing
+  libglfw3-dev libgl-dev  # interactive viewer window
+  libosmesa6-dev        # headless OpenGL (software, no X server)
+  libgtest-dev libgmock-dev  # tests
+  libbenchmark-dev      # benchmarks
+  ffmpeg                # video encoding of rendered frames
+  xvfb xauth            # running the windowed viewer without a display
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"

@@ -1,0 +1,97 @@
+// Simulation parameters of the loosely-connected-particle hair solver.
+// Every field has a default, a unit and the SPEC.md section it belongs to.
+// Coefficients that the paper writes as raw multipliers of the SPH kernel
+// (collision, friction, air friction) are given here as rates in 1/s so that
+// they do not depend on the smoothing length, the particle mass or the step;
+// the solver converts them once at initialisation (see Solver).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <string>
+#include <vector>
+
+namespace loosehair {
+
+struct SimParams {
+  // ---- time (SPEC §5 "Integration") -------------------------------------
+  /// Length of one solver step (unit: s). Symplectic Euler is stable while
+  /// dt < 2/sqrt(sum_j alpha_ij k_ij / m_i); Solver::stableTimeStep() reports it.
+  double time_step = 1.0e-3;
+
+  // ---- smoothing lengths (SPEC §1) -------------------------------------
+  /// Connection smoothing length h1 (unit: m): pairs closer than 2*h1 at
+  /// initialisation become connections; W(r, h1) is the spring's looseness.
+  float h1 = 0.024f;
+  /// Interaction smoothing length h2 (unit: m): density and hair-hair forces
+  /// between current neighbours closer than 2*h2. Must be smaller than h1.
+  float h2 = 0.011f;
+
+  // ---- connections (SPEC §3.1) -----------------------------------------
+  /// Alignment threshold a0 (dimensionless, 0..1): pairs with a_ij < a0 are
+  /// never connected.
+  float alignment_threshold = 0.5f;
+  /// Target number of connections per particle Nn.
+  int target_connections = 12;
+
+  // ---- loose springs (SPEC §3.2) ---------------------------------------
+  /// Tensile (Young's) modulus E of the hair medium (unit: Pa).
+  float youngs_modulus = 5.0e4f;
+  /// Density d of the hair material, keratin (unit: kg/m^3). Sets the
+  /// cross-section A_i = (m_i/d)^(2/3) that a particle stands for.
+  float material_density = 1300.0f;
+  /// Upper bound of a side's rescaling factor a_r,i / a_t,i as a multiple of
+  /// its value in the rest state (dimensionless, >= 1). Stops a nearly free
+  /// last connection from becoming infinitely stiff.
+  float stiffness_clamp = 4.0f;
+  /// Spring damping gamma (unit: s): the damping force along a connection is
+  /// gamma * alpha_ij k_ij * (relative velocity along the pair).
+  float spring_damping = 2.0e-4f;
+
+  // ---- strain limit (SPEC §5, §9) ---------------------------------------
+  /// Move over-stretched active connections back to (1 + max_strain) l_ij
+  /// after each step (Jacobi, roots immovable).
+  bool strain_limit = true;
+  /// Largest strain an active connection may keep after a step (dimensionless).
+  float max_strain = 0.005f;
+  /// Jacobi iterations of the strain limit per step.
+  int strain_limit_iterations = 8;
+
+  // ---- hair-hair interactions (SPEC §4) --------------------------------
+  /// One switch for pressure, collision and friction between hair particles.
+  bool hair_hair = true;
+  /// Pressure coefficient k_a in P = k_a (rho - rho0) (unit: m^2/s^2, a
+  /// squared speed of sound).
+  float pressure_stiffness = 0.05f;
+  /// Rest density rho0 as a multiple of the median initial hair density
+  /// (dimensionless): below 1 the hair is repulsive, above 1 cohesive.
+  float rest_density_scale = 1.0f;
+  /// Inelastic hair-hair collision (eq. 17) as the rate at which the
+  /// approaching normal relative velocity is removed (unit: 1/s).
+  float collision_rate = 20.0f;
+  /// Hair-hair friction (eq. 18) as the rate at which the tangential relative
+  /// velocity of approaching pairs is removed (unit: 1/s).
+  float friction_rate = 10.0f;
+
+  // ---- external forces (SPEC §5) ---------------------------------------
+  /// Gravity in world coordinates (unit: m/s^2).
+  glm::vec3 gravity{0.0f, -9.81f, 0.0f};
+  /// Air friction -d_air v as a rate: each particle's world velocity decays
+  /// at this rate (unit: 1/s).
+  float air_drag = 1.0f;
+  /// Coulomb friction coefficient mu between hair and body (dimensionless).
+  float body_friction = 0.3f;
+  /// Particles closer to the body than this feel the contact response
+  /// (unit: m).
+  float contact_thickness = 0.002f;
+
+  // ---- execution -------------------------------------------------------
+  /// Worker threads (0 = all hardware threads). Results do not depend on it.
+  int threads = 0;
+};
+
+/// Every problem with `p`, one sentence each naming the parameter and its
+/// value; empty when the parameters are usable.
+std::vector<std::string> validate(const SimParams& p);
+
+}  // namespace loosehair

@@ -1,0 +1,163 @@
+// The loosely-connected-particle hair solver (SPEC §1-5).
+//
+//   Solver solver(params, particles, head_body, trajectory);
+//   for (int f = 0; f < frames; ++f) solver.advance(substeps);
+//   std::printf("%016llx\n", (unsigned long long)solver.stateHash());
+//
+// One step runs the named stages of SPEC §1 in order and times each
+// (StepStats). The result is bitwise the same for any thread count: every
+// loop gathers into the particle it owns from sorted neighbour lists.
+#pragma once
+
+#include "loosehair/body.hpp"
+#include "loosehair/connections.hpp"
+#include "loosehair/head_motion.hpp"
+#include "loosehair/params.hpp"
+#include "loosehair/particles.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace loosehair {
+
+class NeighborGrid;
+
+/// Wall-clock seconds spent in each stage of a step.
+struct StageTimes {
+  double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0,
+         integrate = 0, strain_limit = 0, directions = 0;
+  double total() const {
+    return neighbors + density + springs + hair_hair + external + integrate + strain_limit +
+           directions;
+  }
+  StageTimes& operator+=(const StageTimes& o);
+};
+
+struct StepStats {
+  StageTimes last;      // the most recent step
+  StageTimes sum;       // all steps so far
+  std::uint64_t steps = 0;
+  std::size_t neighbor_pairs = 0;      // ordered pairs within 2*h2, last step
+  std::size_t active_connections = 0;  // pairs closer than 2*h1, last step
+  std::size_t clamped_sides = 0;       // side factors held at the clamp, last step
+  std::size_t body_contacts = 0;       // particles in contact with the body, last step
+  std::size_t strain_limited = 0;      // connections corrected by the strain limit, last step
+};
+
+/// What initialisation found; printed by the CLI and checked by tests.
+struct InitReport {
+  std::size_t particles = 0, roots = 0, connection_pairs = 0;
+  double mean_degree = 0;
+  std::uint32_t min_degree = 0, max_degree = 0;  // over non-root particles
+  /// Non-root particles that cannot reach a root through root-side
+  /// connections (SPEC §3.1): they hang on nothing. Should be 0.
+  std::size_t unanchored = 0;
+  float median_density = 0;       // kg/m^3, initial
+  float rest_density = 0;         // rho0 (kg/m^3)
+  double stable_time_step = 0;    // s, initial estimate
+  float collision_coefficient = 0;  // d_c of eq. 17 derived from collision_rate (kg m^3/s)
+  float friction_coefficient = 0;   // d_fr of eq. 18
+};
+
+enum class Side { Root, Tip };
+
+/// Thrown by Solver::step when the state stops being finite (an unstable
+/// scene); the message says when and how many particles.
+class SimulationError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Solver {
+ public:
+  /// Takes the initial state (head frame). Throws std::invalid_argument with
+  /// every problem of `params` or of the particles.
+  Solver(const SimParams& params, Particles particles, std::shared_ptr<const Body> head,
+         HeadTrajectory trajectory = HeadTrajectory::still(), double start_time = 0.0);
+  ~Solver();
+  Solver(Solver&&) noexcept;
+  Solver& operator=(Solver&&) noexcept;
+
+  /// One step of length params().time_step.
+  void step();
+  void advance(int steps) {
+    for (int k = 0; k < steps; ++k) step();
+  }
+
+  /// Changes the step length (s); throws std::invalid_argument if the
+  /// parameters are no longer valid with it.
+  void setTimeStep(double dt);
+
+  double time() const { return time_; }
+  std::uint64_t stepCount() const { return stats_.steps; }
+  const SimParams& params() const { return params_; }
+  const Particles& particles() const { return particles_; }
+  const ConnectionSet& connections() const { return connections_; }
+  const StepStats& stats() const { return stats_; }
+  const InitReport& initReport() const { return report_; }
+  const HeadTrajectory& trajectory() const { return trajectory_; }
+  const Body& headBody() const { return *head_; }
+  int threadCount() const { return threads_; }
+  /// SPH density of the last step (kg/m^3), or the initial one.
+  std::span<const float> density() const { return density_; }
+  /// Head pose and motion at the current time.
+  HeadKinematics head() const { return trajectory_.kinematics(time_); }
+
+  /// 64-bit hash of the bits of every position, velocity and direction, in
+  /// particle order. Equal states give equal hashes on any thread count.
+  std::uint64_t stateHash() const;
+
+  /// Largest stable step for the current state, 2/sqrt(max_i sum_j alpha_ij k_ij / m_i) (s).
+  double stableTimeStep() const;
+
+  // ---- world-frame views (x_w = R x + c) --------------------------------
+  void worldPositions(std::vector<glm::vec3>& out) const;
+  void worldVelocities(std::vector<glm::vec3>& out) const;
+  void worldDirections(std::vector<glm::vec3>& out) const;
+  void worldRootPoints(std::vector<glm::vec3>& out) const;
+
+  // ---- diagnostics -------------------------------------------------------
+  /// (1/A_i) sum_{j in side(i)} l_ij alpha_ij k_ij for every particle at the
+  /// current positions (Pa); SPEC §3.2 requires it to stay E.
+  std::vector<float> tensileModulus(Side side) const;
+  /// Spring plus hair-hair forces on every particle at the current state (N).
+  std::vector<glm::vec3> internalForces() const;
+
+ private:
+  struct Scratch;
+  void computeSpringFactors(Scratch& s) const;
+  void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const;
+  void accumulateHairHairForces(std::vector<glm::vec3>& force) const;
+  void computeDensity();
+  void findNeighbors();
+
+  SimParams params_;
+  Particles particles_;
+  ConnectionSet connections_;
+  std::shared_ptr<const Body> head_;
+  HeadTrajectory trajectory_;
+  int threads_ = 1;
+  double time_ = 0.0;
+
+  // derived at initialisation
+  std::vector<float> cross_section_;  // A_i
+  std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
+  float rest_density_ = 0, dc_ = 0, dfr_ = 0;
+
+  // per step
+  std::unique_ptr<NeighborGrid> grid_;
+  std::vector<float> density_, pressure_;
+  std::vector<glm::vec3> force_, integrated_position_, limited_position_;
+  std::vector<float> body_phi_;
+  std::vector<glm::vec3> body_normal_;
+  std::unique_ptr<Scratch> scratch_;
+
+  StepStats stats_;
+  InitReport report_;
+};
+
+}  // namespace loosehair

@@ -1,0 +1,72 @@
+#include "init/cantilever.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace loosehair {
+
+CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, float length,
+                                   float stiffness, const Body* body, float clearance,
+                                   float layering, int segments)
+    : length_(length) {
+  segments = std::max(1, segments);
+  ds_ = length / static_cast<float>(segments);
+  g = glm::normalize(g);
+  dir = glm::normalize(dir);
+  points_.reserve(static_cast<std::size_t>(segments) + 1);
+  points_.push_back(root);
+  glm::vec3 p = root, tau = dir;
+  for (int k = 0; k < segments; ++k) {
+    const float s = (static_cast<float>(k) + 0.5f) * ds_;
+    const float cos_psi = std::clamp(glm::dot(tau, g), -1.0f, 1.0f);
+    const float psi = std::acos(cos_psi);
+    const float sin_psi = std::sin(psi);
+    const float kappa = (length - s) * (length - s) * sin_psi / (2.0f * stiffness);
+    const float turn = std::min(kappa * ds_, psi);
+    glm::vec3 towards = g - cos_psi * tau;
+    const float tl = glm::length(towards);
+    if (tl > 1e-6f && turn > 0.0f) {
+      towards /= tl;
+      tau = glm::normalize(std::cos(turn) * tau + std::sin(turn) * towards);
+    }
+    glm::vec3 next = p + ds_ * tau;
+    if (body) {
+      const float keep_out = clearance + layering * (s + 0.5f * ds_);
+      for (int pass = 0; pass < 3; ++pass) {
+        float phi;
+        glm::vec3 n;
+        body->signedDistance(&next, 1, &phi, &n);
+        if (phi >= keep_out) break;
+        next += (keep_out - phi) * n;
+        tau = glm::normalize(next - p);
+        next = p + ds_ * tau;
+      }
+    }
+    points_.push_back(next);
+    p = next;
+  }
+}
+
+glm::vec3 CantileverStrand::position(float s) const {
+  const float q = std::clamp(s / ds_, 0.0f, static_cast<float>(points_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(q), points_.size() - 2);
+  const float f = q - static_cast<float>(k);
+  return points_[k] + f * (points_[k + 1] - points_[k]);
+}
+
+glm::vec3 CantileverStrand::tangent(float s) const {
+  const float q = std::clamp(s / ds_, 0.0f, static_cast<float>(points_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(q), points_.size() - 2);
+  // Blend the two segment directions around s for a continuous tangent.
+  const glm::vec3 a = glm::normalize(points_[k + 1] - points_[k]);
+  const std::size_t k2 = std::min(k + 1, points_.size() - 2);
+  const glm::vec3 b = glm::normalize(points_[k2 + 1] - points_[k2]);
+  const float f = q - static_cast<float>(k);
+  const glm::vec3 t = (1.0f - f) * a + f * b;
+  const float len = glm::length(t);
+  return len > 1e-6f ? t / len : a;
+}
+
+}  // namespace loosehair

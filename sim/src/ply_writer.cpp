@@ -1,0 +1,64 @@
+#include "loosehair/ply_writer.hpp"
+
+#include "loosehair/solver.hpp"
+
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+namespace loosehair {
+
+static_assert(std::endian::native == std::endian::little,
+              "the PLY writer assumes a little-endian machine");
+
+void writeParticlePly(const std::string& path, const Solver& solver) {
+  std::vector<glm::vec3> x, t, v, r;
+  solver.worldPositions(x);
+  solver.worldDirections(t);
+  solver.worldVelocities(v);
+  solver.worldRootPoints(r);
+  const Particles& p = solver.particles();
+  const auto density = solver.density();
+  const std::size_t n = p.size();
+
+  std::string header = "ply\nformat binary_little_endian 1.0\ncomment loosehair frame, time " +
+                       std::to_string(solver.time()) + " s\nelement vertex " + std::to_string(n) +
+                       "\n";
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "vx", "vy", "vz", "u", "v", "s", "rx",
+                           "ry", "rz"})
+    header += std::string("property float ") + name + "\n";
+  header += "property uchar root\nproperty float density\nend_header\n";
+
+  constexpr std::size_t kRecord = 15 * sizeof(float) + 1 + sizeof(float);
+  std::vector<unsigned char> body(n * kRecord);
+  for (std::size_t i = 0; i < n; ++i) {
+    unsigned char* rec = body.data() + i * kRecord;
+    const float f[15] = {x[i].x, x[i].y, x[i].z, t[i].x, t[i].y, t[i].z, v[i].x, v[i].y,
+                         v[i].z, p.uv[i].x, p.uv[i].y, p.arc_length[i], r[i].x, r[i].y, r[i].z};
+    std::memcpy(rec, f, sizeof f);
+    rec[sizeof f] = p.is_root[i];
+    const float d = i < density.size() ? density[i] : 0.0f;
+    std::memcpy(rec + sizeof f + 1, &d, sizeof d);
+  }
+
+  const std::string tmp = path + ".tmp";
+  std::FILE* file = std::fopen(tmp.c_str(), "wb");
+  if (!file) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  const bool ok = std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
+                  std::fwrite(body.data(), 1, body.size(), file) == body.size();
+  const bool closed = std::fclose(file) == 0;
+  if (!ok || !closed) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": write failed: " + std::strerror(errno));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the finished file: " + std::strerror(err));
+  }
+}
+
+}  // namespace loosehair

@@ -1,0 +1,634 @@
+// The step of SPEC §1: neighbours, density, springs, hair-hair, external,
+// integrate, strain limit, directions. Every parallel loop owns particle i
+// and gathers from i's sorted lists, so the bits of the result do not depend
+// on the thread count (SPEC §5 Determinism).
+#include "loosehair/solver.hpp"
+
+#include "connection_builder.hpp"
+#include "kernel.hpp"
+#include "neighbor_grid.hpp"
+
+#include <glm/geometric.hpp>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace loosehair {
+
+StageTimes& StageTimes::operator+=(const StageTimes& o) {
+  neighbors += o.neighbors;
+  density += o.density;
+  springs += o.springs;
+  hair_hair += o.hair_hair;
+  external += o.external;
+  integrate += o.integrate;
+  strain_limit += o.strain_limit;
+  directions += o.directions;
+  return *this;
+}
+
+// Per-step spring quantities, one entry per connection entry or particle.
+struct Solver::Scratch {
+  std::vector<float> k;            // k_ij = c_ij W(|x_ij|, h1), eq. 7
+  std::vector<float> alpha;        // alpha_ij, eq. 14
+  std::vector<float> factor_root;  // a_r,i, eq. 12
+  std::vector<float> factor_tip;   // a_t,i, eq. 13
+  std::size_t clamped = 0;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+using Index = std::int64_t;  // OpenMP loop index
+
+constexpr std::size_t kBodyBlock = 256;
+
+}  // namespace
+
+Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<const Body> head,
+               HeadTrajectory trajectory, double start_time)
+    : params_(params),
+      particles_(std::move(particles)),
+      head_(std::move(head)),
+      trajectory_(std::move(trajectory)),
+      time_(start_time),
+      scratch_(std::make_unique<Scratch>()) {
+  const auto problems = validate(params_);
+  if (!problems.empty()) {
+    std::string msg = "invalid simulation parameters:";
+    for (const auto& p : problems) msg += "\n  " + p;
+    throw std::invalid_argument(msg);
+  }
+  if (!head_) throw std::invalid_argument("the solver needs a head body");
+  if (!std::isfinite(start_time)) throw std::invalid_argument("start time is not finite");
+  particles_.check();
+  threads_ = params_.threads > 0 ? params_.threads : std::max(1, omp_get_max_threads());
+
+  const std::size_t n = particles_.size();
+  ConnectionOptions copt;
+  copt.h1 = params_.h1;
+  copt.alignment_threshold = params_.alignment_threshold;
+  copt.target_connections = params_.target_connections;
+  copt.threads = threads_;
+  connections_ = buildConnections(particles_.position, particles_.direction,
+                                  particles_.arc_length, particles_.is_root, copt);
+
+  // Cross-sections (eq. 9) and the side factors of the rest state, the
+  // reference of the stiffness clamp.
+  cross_section_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    cross_section_[i] = std::pow(particles_.mass[i] / params_.material_density, 2.0f / 3.0f);
+  rest_factor_root_.assign(n, 0.0f);
+  rest_factor_tip_.assign(n, 0.0f);
+  {
+    const CubicKernel k1(params_.h1);
+    for (std::size_t i = 0; i < n; ++i) {
+      double sr = 0, st = 0;
+      for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
+        const float l = connections_.rest_length[e];
+        const double lk = static_cast<double>(l) * connections_.strength[e] * k1.W(l);
+        (connections_.tip_side[e] ? st : sr) += lk;
+      }
+      const double ea = static_cast<double>(params_.youngs_modulus) * cross_section_[i];
+      rest_factor_root_[i] = sr > 0 ? static_cast<float>(ea / sr) : 0.0f;
+      rest_factor_tip_[i] = st > 0 ? static_cast<float>(ea / st) : 0.0f;
+    }
+  }
+
+  grid_ = std::make_unique<NeighborGrid>();
+  density_.assign(n, 0.0f);
+  pressure_.assign(n, 0.0f);
+  force_.assign(n, glm::vec3(0.0f));
+  integrated_position_.assign(n, glm::vec3(0.0f));
+  limited_position_.assign(n, glm::vec3(0.0f));
+  body_phi_.assign(n, 0.0f);
+  body_normal_.assign(n, glm::vec3(0.0f));
+  scratch_->k.assign(connections_.entryCount(), 0.0f);
+  scratch_->alpha.assign(connections_.entryCount(), 0.0f);
+  scratch_->factor_root.assign(n, 0.0f);
+  scratch_->factor_tip.assign(n, 0.0f);
+
+  // Initial density: rest density rho0 and the kernel-free collision and
+  // friction coefficients (SPEC §4: d_c W / m summed over neighbours is about
+  // d_c rho / m^2, so d_c = rate * m^2 / rho removes `rate` of the relative
+  // normal velocity per second).
+  findNeighbors();
+  computeDensity();
+  std::vector<float> hair_density;
+  double mass_sum = 0;
+  std::size_t hair_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (particles_.is_root[i]) continue;
+    hair_density.push_back(density_[i]);
+    mass_sum += particles_.mass[i];
+    ++hair_count;
+  }
+  float median = 0;
+  if (!hair_density.empty()) {
+    auto mid = hair_density.begin() + static_cast<std::ptrdiff_t>(hair_density.size() / 2);
+    std::nth_element(hair_density.begin(), mid, hair_density.end());
+    median = *mid;
+  }
+  const double mean_mass = hair_count ? mass_sum / static_cast<double>(hair_count) : 0.0;
+  rest_density_ = params_.rest_density_scale * median;
+  if (median > 0) {
+    dc_ = static_cast<float>(params_.collision_rate * mean_mass * mean_mass / median);
+    dfr_ = static_cast<float>(params_.friction_rate * mean_mass * mean_mass / median);
+  }
+
+  report_.particles = n;
+  report_.connection_pairs = connections_.pairCount();
+  report_.unanchored = countUnanchored(connections_, particles_.is_root);
+  report_.median_density = median;
+  report_.rest_density = rest_density_;
+  report_.collision_coefficient = dc_;
+  report_.friction_coefficient = dfr_;
+  std::size_t degree_sum = 0;
+  report_.min_degree = hair_count ? UINT32_MAX : 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (particles_.is_root[i]) {
+      ++report_.roots;
+      continue;
+    }
+    const std::uint32_t d = connections_.degree(i);
+    degree_sum += d;
+    report_.min_degree = std::min(report_.min_degree, d);
+    report_.max_degree = std::max(report_.max_degree, d);
+  }
+  report_.mean_degree = hair_count ? static_cast<double>(degree_sum) / static_cast<double>(hair_count) : 0.0;
+  report_.stable_time_step = stableTimeStep();
+}
+
+void Solver::setTimeStep(double dt) {
+  SimParams p = params_;
+  p.time_step = dt;
+  const auto problems = validate(p);
+  if (!problems.empty()) throw std::invalid_argument(problems.front());
+  params_ = p;
+}
+
+Solver::~Solver() = default;
+Solver::Solver(Solver&&) noexcept = default;
+Solver& Solver::operator=(Solver&&) noexcept = default;
+
+// ---- stage 1: neighbours ---------------------------------------------------
+void Solver::findNeighbors() {
+  grid_->build(particles_.position, 2.0f * params_.h2, threads_);
+}
+
+// ---- stage 2: density, eq. 1 -----------------------------------------------
+void Solver::computeDensity() {
+  const CubicKernel k2(params_.h2);
+  const auto& x = particles_.position;
+  const auto& m = particles_.mass;
+  const float w0 = k2.W(0.0f);
+  const float ka = params_.pressure_stiffness;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    float rho = m[i] * w0;
+    for (std::uint32_t j : grid_->neighbors(i)) rho += m[j] * k2.W(glm::length(x[j] - x[i]));
+    density_[i] = rho;
+    pressure_[i] = ka * (rho - rest_density_);
+  }
+}
+
+// ---- stage 3a: loose spring coefficients, eqs. 7, 10-14 ---------------------
+void Solver::computeSpringFactors(Scratch& s) const {
+  const CubicKernel k1(params_.h1);
+  const auto& x = particles_.position;
+  const auto& c = connections_;
+  const double young = params_.youngs_modulus;
+  const float clamp = params_.stiffness_clamp;
+  const Index n = static_cast<Index>(x.size());
+  std::size_t clamped = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped)
+  for (Index ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    float sr = 0, st = 0;
+    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+      const float r = glm::length(x[c.partner[e]] - x[i]);
+      const float k = c.strength[e] * k1.W(r);
+      s.k[e] = k;
+      (c.tip_side[e] ? st : sr) += c.rest_length[e] * k;
+    }
+    const double ea = young * cross_section_[i];
+    auto factor = [&](float sum, float rest) {
+      if (!(sum > 0.0f)) return 0.0f;
+      const float a = static_cast<float>(ea / sum), limit = clamp * rest;
+      if (a > limit) {
+        ++clamped;
+        return limit;
+      }
+      return a;
+    };
+    s.factor_root[i] = factor(sr, rest_factor_root_[i]);
+    s.factor_tip[i] = factor(st, rest_factor_tip_[i]);
+  }
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (Index ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+      const std::uint32_t j = c.partner[e];
+      // eq. 14: j on i's tip side means i on j's root side.
+      s.alpha[e] = c.tip_side[e] ? 0.5f * (s.factor_tip[i] + s.factor_root[j])
+                                 : 0.5f * (s.factor_root[i] + s.factor_tip[j]);
+    }
+  }
+  s.clamped = clamped;
+}
+
+// ---- stage 3b: damped spring forces (SPEC §3.2) ----------------------------
+void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const {
+  const auto& x = particles_.position;
+  const auto& v = particles_.velocity;
+  const auto& c = connections_;
+  const float gamma = params_.spring_damping;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    glm::vec3 f(0.0f);
+    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+      const float ak = s.alpha[e] * s.k[e];
+      if (ak == 0.0f) continue;
+      const std::uint32_t j = c.partner[e];
+      const glm::vec3 xij = x[j] - x[i];
+      const float r = glm::length(xij);
+      if (!(r > 0.0f)) continue;
+      const glm::vec3 n = xij / r;
+      const float stretch = r - c.rest_length[e];
+      const float closing = glm::dot(v[j] - v[i], n);
+      f += (ak * (stretch + gamma * closing)) * n;
+    }
+    force[i] = f;
+  }
+}
+
+// ---- stage 3c: hair-hair pressure, collision, friction (SPEC §4) -----------
+void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
+  const CubicKernel k2(params_.h2);
+  const auto& x = particles_.position;
+  const auto& v = particles_.velocity;
+  const auto& t = particles_.direction;
+  const auto& m = particles_.mass;
+  const float dc = dc_, dfr = dfr_;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const float pi_term = pressure_[i] / (density_[i] * density_[i]);
+    glm::vec3 f(0.0f);
+    for (std::uint32_t j : grid_->neighbors(i)) {
+      const glm::vec3 xij = x[j] - x[i];
+      const float r2 = glm::dot(xij, xij);
+      if (!(r2 > 0.0f)) continue;
+      const float r = std::sqrt(r2);
+      // eq. 16: -m_i m_j (P_i/rho_i^2 + P_j/rho_j^2) grad_i W, grad_i W = -dW/dr x_ij / r
+      const float pj_term = pressure_[j] / (density_[j] * density_[j]);
+      f += (m[i] * m[j] * (pi_term + pj_term) * k2.dWdr(r) / r) * xij;
+
+      // eq. 17: collision direction t_i x t_j; for near-parallel hairs the
+      // part of x_ij normal to their mean direction (our symmetric choice,
+      // so that the pair force is exactly opposite on j).
+      glm::vec3 dn = glm::cross(t[i], t[j]);
+      float dn2 = glm::dot(dn, dn);
+      if (dn2 < 1e-6f) {
+        const glm::vec3 tm = glm::dot(t[i], t[j]) >= 0.0f ? t[i] + t[j] : t[i] - t[j];
+        const float tm2 = glm::dot(tm, tm);
+        if (!(tm2 > 0.0f)) continue;
+        dn = xij - (glm::dot(xij, tm) / tm2) * tm;
+        dn2 = glm::dot(dn, dn);
+        if (dn2 < 1e-6f * r2) continue;
+      }
+      dn *= 1.0f / std::sqrt(dn2);
+      const glm::vec3 vij = v[j] - v[i];
+      const float vn = glm::dot(vij, dn);
+      if (glm::dot(xij, dn) * vn >= 0.0f) continue;  // not approaching
+      const float w = k2.W(r);
+      f += (dc * w * vn) * dn;                 // eq. 17, inelastic collision
+      f += (dfr * w) * (vij - vn * dn);        // eq. 18, friction (approaching pairs only)
+    }
+    force[i] += f;
+  }
+}
+
+// ---- the step ---------------------------------------------------------------
+void Solver::step() {
+  const float dt = static_cast<float>(params_.time_step);
+  const std::size_t n = particles_.size();
+  auto& x = particles_.position;
+  auto& v = particles_.velocity;
+  const auto& m = particles_.mass;
+  const auto& root = particles_.is_root;
+  Scratch& s = *scratch_;
+  StageTimes st;
+  auto t0 = Clock::now();
+
+  findNeighbors();
+  auto t1 = Clock::now();
+  st.neighbors = seconds(t0, t1);
+
+  computeDensity();
+  t0 = Clock::now();
+  st.density = seconds(t1, t0);
+
+  computeSpringFactors(s);
+  accumulateSpringForces(s, force_);
+  t1 = Clock::now();
+  st.springs = seconds(t0, t1);
+
+  if (params_.hair_hair) accumulateHairHairForces(force_);
+  t0 = Clock::now();
+  st.hair_hair = seconds(t1, t0);
+
+  // ---- external forces in the head frame (SPEC §5) --------------------------
+  const HeadKinematics head = trajectory_.kinematics(time_);
+  const glm::dmat3 rt = glm::transpose(head.pose.rotation);
+  const glm::vec3 gravity(rt * glm::dvec3(params_.gravity));
+  const glm::vec3 frame_accel(rt * head.acceleration);  // R^T c''
+  const glm::vec3 frame_vel(rt * head.velocity);        // R^T c'
+  const glm::vec3 omega(head.angular_velocity), alpha(head.angular_acceleration);
+  const float drag = params_.air_drag;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    if (root[i]) continue;
+    const glm::vec3 r = x[i], u = v[i];
+    const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
+                               glm::cross(omega, glm::cross(omega, r));
+    const glm::vec3 world_velocity = u + glm::cross(omega, r) + frame_vel;
+    force_[i] += m[i] * (gravity - inertial - drag * world_velocity);
+  }
+  t1 = Clock::now();
+  st.external = seconds(t0, t1);
+
+  // ---- integrate: symplectic Euler with the inelastic, frictional body
+  // contact applied to the new velocity (SPEC §5 body collisions) ------------
+  const float thickness = params_.contact_thickness, mu = params_.body_friction;
+  std::size_t contacts = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : contacts)
+  for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
+    const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
+    const std::size_t e = std::min(n, b + kBodyBlock);
+    head_->signedDistance(&x[b], e - b, &body_phi_[b], &body_normal_[b]);
+    for (std::size_t i = b; i < e; ++i) {
+      if (root[i]) continue;
+      glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
+      if (body_phi_[i] < thickness) {
+        const glm::vec3 nrm = body_normal_[i];
+        const float vn = glm::dot(vi, nrm);
+        if (vn < 0.0f) {
+          ++contacts;
+          glm::vec3 vt = vi - vn * nrm;  // inelastic: normal approach removed
+          const float vt_len = glm::length(vt);
+          const float slip = vt_len - mu * (-vn);  // Coulomb: |dv_t| <= mu |dv_n|
+          vi = slip > 0.0f ? vt * (slip / vt_len) : glm::vec3(0.0f);
+        }
+      }
+      v[i] = vi;
+      x[i] += dt * vi;
+      integrated_position_[i] = x[i];
+    }
+  }
+  t0 = Clock::now();
+  st.integrate = seconds(t1, t0);
+
+  // ---- strain limit (SPEC §5, §9) and no particle left inside the body -----
+  std::size_t limited = 0;
+  if (params_.strain_limit && params_.strain_limit_iterations > 0) {
+    const CubicKernel k1(params_.h1);
+    const float support = k1.support();
+    const float max_len_scale = 1.0f + params_.max_strain;
+    const auto& c = connections_;
+    for (int it = 0; it < params_.strain_limit_iterations; ++it) {
+      std::size_t count = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : count)
+      for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+        const auto i = static_cast<std::size_t>(ii);
+        limited_position_[i] = x[i];
+        if (root[i]) continue;
+        glm::vec3 shift(0.0f);
+        int active = 0;
+        const float wi = 1.0f / m[i];
+        for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+          const std::uint32_t j = c.partner[e];
+          const glm::vec3 xij = x[j] - x[i];
+          const float r = glm::length(xij);
+          const float limit = max_len_scale * c.rest_length[e];
+          if (!(r > limit) || !(r < support)) continue;  // slack connections stay free
+          // The correction follows the spring's looseness, so a connection
+          // that is letting go (hair splitting) is not pulled back hard.
+          const float looseness = std::min(1.0f, k1.W(r) / k1.W(c.rest_length[e]));
+          const float wj = root[j] ? 0.0f : 1.0f / m[j];
+          shift += (looseness * (r - limit) * wi / (wi + wj) / r) * xij;
+          ++active;
+        }
+        if (active > 0) {
+          limited_position_[i] = x[i] + shift / static_cast<float>(active);
+          ++count;
+        }
+      }
+      x.swap(limited_position_);
+      if (it == 0) limited = count;
+      if (count == 0) break;
+    }
+  }
+
+  // Project what is still inside the body to its surface and take the new
+  // velocity from the corrected positions (no added normal speed, so nothing
+  // is thrown off the body).
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
+    const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
+    const std::size_t e = std::min(n, b + kBodyBlock);
+    head_->signedDistance(&x[b], e - b, &body_phi_[b], &body_normal_[b]);
+    for (std::size_t i = b; i < e; ++i) {
+      if (root[i]) continue;
+      if (body_phi_[i] < 0.0f) x[i] -= body_phi_[i] * body_normal_[i];
+      glm::vec3 vi = v[i];
+      if (x[i] != integrated_position_[i]) vi += (x[i] - integrated_position_[i]) / dt;
+      if (body_phi_[i] < 0.0f) {
+        const float vn = glm::dot(vi, body_normal_[i]);
+        if (vn > 0.0f) vi -= vn * body_normal_[i];  // the push-out is not a velocity
+      }
+      v[i] = vi;
+    }
+  }
+  t1 = Clock::now();
+  st.strain_limit = seconds(t0, t1);
+
+  // ---- hair directions, eq. 15 ----------------------------------------------
+  {
+    auto& dir = particles_.direction;
+    const auto& c = connections_;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      if (root[i]) continue;
+      const glm::vec3 ti = dir[i];
+      glm::vec3 sum(0.0f);
+      for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+        const float w = s.alpha[e] * s.k[e];
+        if (!(w > 0.0f)) continue;
+        const glm::vec3 xij = x[c.partner[e]] - x[i];
+        const float r = glm::length(xij);
+        if (!(r > 0.0f)) continue;
+        const glm::vec3 xhat = xij / r;
+        // Rotate x_ij by its rest angle towards t_i: cos(theta) xhat + sin(theta) t_perp.
+        const glm::vec3 perp = ti - glm::dot(ti, xhat) * xhat;
+        const float perp_len = glm::length(perp);
+        glm::vec3 tij;
+        if (perp_len > 1e-6f)
+          tij = c.cos_rest[e] * xhat + (c.sin_rest[e] / perp_len) * perp;
+        else
+          tij = c.cos_rest[e] >= 0.0f ? xhat : -xhat;
+        sum += w * tij;
+      }
+      const float len = glm::length(sum);
+      if (len > 0.0f) dir[i] = sum / len;
+    }
+  }
+  // Never go on silently with a broken state.
+  std::size_t broken = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : broken)
+  for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const glm::vec3 a = x[i], b = v[i], c = particles_.direction[i];
+    const float probe = a.x + a.y + a.z + b.x + b.y + b.z + c.x + c.y + c.z;
+    broken += std::isfinite(probe) ? 0 : 1;
+  }
+  if (broken > 0) {
+    std::size_t first = 0;
+    for (; first < n; ++first)
+      if (!std::isfinite(x[first].x + x[first].y + x[first].z + v[first].x + v[first].y +
+                         v[first].z))
+        break;
+    throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) +
+                          " s: " + std::to_string(broken) +
+                          " particles have non-finite state (first: " + std::to_string(first) +
+                          "); reduce the time step or the stiffness");
+  }
+  st.directions = seconds(t1, Clock::now());
+
+  time_ += params_.time_step;
+  stats_.last = st;
+  stats_.sum += st;
+  ++stats_.steps;
+  stats_.neighbor_pairs = grid_->pairCount();
+  stats_.clamped_sides = s.clamped;
+  stats_.body_contacts = contacts;
+  stats_.strain_limited = limited;
+  std::size_t active = 0;
+  for (float k : s.k) active += k > 0.0f ? 1 : 0;
+  stats_.active_connections = active / 2;
+}
+
+// ---- queries -----------------------------------------------------------------
+std::uint64_t Solver::stateHash() const {
+  // FNV-1a over the raw bits, in particle order.
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) {
+      h ^= p[k];
+      h *= 0x100000001b3ULL;
+    }
+  };
+  const std::size_t n = particles_.size();
+  mix(&n, sizeof n);
+  mix(particles_.position.data(), n * sizeof(glm::vec3));
+  mix(particles_.velocity.data(), n * sizeof(glm::vec3));
+  mix(particles_.direction.data(), n * sizeof(glm::vec3));
+  return h;
+}
+
+double Solver::stableTimeStep() const {
+  Scratch s;
+  s.k.resize(connections_.entryCount());
+  s.alpha.resize(connections_.entryCount());
+  s.factor_root.resize(particles_.size());
+  s.factor_tip.resize(particles_.size());
+  computeSpringFactors(s);
+  double worst = 0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (particles_.is_root[i]) continue;
+    double stiff = 0;
+    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
+      stiff += static_cast<double>(s.alpha[e]) * s.k[e];
+    worst = std::max(worst, stiff / particles_.mass[i]);
+  }
+  return worst > 0 ? 2.0 / std::sqrt(worst) : std::numeric_limits<double>::infinity();
+}
+
+std::vector<float> Solver::tensileModulus(Side side) const {
+  Scratch s;
+  s.k.resize(connections_.entryCount());
+  s.alpha.resize(connections_.entryCount());
+  s.factor_root.resize(particles_.size());
+  s.factor_tip.resize(particles_.size());
+  computeSpringFactors(s);
+  std::vector<float> out(particles_.size(), 0.0f);
+  const std::uint8_t want = side == Side::Tip ? 1 : 0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    double sum = 0;
+    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
+      if (connections_.tip_side[e] == want)
+        sum += static_cast<double>(connections_.rest_length[e]) * s.alpha[e] * s.k[e];
+    out[i] = static_cast<float>(sum / cross_section_[i]);
+  }
+  return out;
+}
+
+std::vector<glm::vec3> Solver::internalForces() const {
+  Scratch s;
+  s.k.resize(connections_.entryCount());
+  s.alpha.resize(connections_.entryCount());
+  s.factor_root.resize(particles_.size());
+  s.factor_tip.resize(particles_.size());
+  computeSpringFactors(s);
+  std::vector<glm::vec3> f(particles_.size());
+  accumulateSpringForces(s, f);
+  if (params_.hair_hair) accumulateHairHairForces(f);
+  return f;
+}
+
+void Solver::worldPositions(std::vector<glm::vec3>& out) const {
+  const HeadPose p = trajectory_.pose(time_);
+  const glm::mat3 r(p.rotation);
+  const glm::vec3 c(p.center);
+  out.resize(particles_.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = r * particles_.position[i] + c;
+}
+
+void Solver::worldVelocities(std::vector<glm::vec3>& out) const {
+  const HeadKinematics k = head();
+  const glm::mat3 r(k.pose.rotation);
+  const glm::vec3 omega(k.angular_velocity), cv(k.velocity);
+  out.resize(particles_.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = r * (particles_.velocity[i] + glm::cross(omega, particles_.position[i])) + cv;
+}
+
+void Solver::worldDirections(std::vector<glm::vec3>& out) const {
+  const glm::mat3 r(trajectory_.pose(time_).rotation);
+  out.resize(particles_.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = r * particles_.direction[i];
+}
+
+void Solver::worldRootPoints(std::vector<glm::vec3>& out) const {
+  const HeadPose p = trajectory_.pose(time_);
+  const glm::mat3 r(p.rotation);
+  const glm::vec3 c(p.center);
+  out.resize(particles_.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = r * particles_.root_point[i] + c;
+}
+
+}  // namespace loosehair
