@@ -206,7 +206,7 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
   json root;
   try {
     root = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     throw SceneError(source + ": invalid JSON: " + e.what());
   }
   SceneDesc s;
@@ -375,7 +375,9 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   }
   SimParams params = scene.sim;
   if (scene.h1_auto) params.h1 = hair.h1_scale * rp;
-  if (scene.h2_auto) params.h2 = hair.h2_scale * mean_nn;
+  // h2 a little below the spacing of the placed hair (SPEC §9), and in any
+  // case below h1: hair that hangs loosely is not denser than its sampling.
+  if (scene.h2_auto) params.h2 = std::min(hair.h2_scale * mean_nn, 0.8f * params.h1);
   if (!(params.h2 < params.h1))
     throw SceneError(scene.source + ": solver.h2 = " + std::to_string(params.h2) +
                      " must be smaller than solver.h1 = " + std::to_string(params.h1) +

@@ -176,6 +176,23 @@ void Solver::setTimeStep(double dt) {
   params_ = p;
 }
 
+void Solver::setKinematicState(std::span<const glm::vec3> position,
+                               std::span<const glm::vec3> velocity,
+                               std::span<const glm::vec3> direction) {
+  const std::size_t n = particles_.size();
+  if (position.size() != n || velocity.size() != n || direction.size() != n)
+    throw std::invalid_argument("setKinematicState: expected " + std::to_string(n) +
+                                " positions, velocities and directions");
+  Particles next = particles_;
+  for (std::size_t i = 0; i < n; ++i) {
+    next.position[i] = position[i];
+    next.velocity[i] = velocity[i];
+    next.direction[i] = direction[i];
+  }
+  next.check();  // finite, unit directions
+  particles_ = std::move(next);
+}
+
 Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;
@@ -209,6 +226,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
   const auto& c = connections_;
   const double young = params_.youngs_modulus;
   const float clamp = params_.stiffness_clamp;
+  const auto& root = particles_.is_root;
   const Index n = static_cast<Index>(x.size());
   std::size_t clamped = 0;
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped)
@@ -234,16 +252,28 @@ void Solver::computeSpringFactors(Scratch& s) const {
     s.factor_root[i] = factor(sr, rest_factor_root_[i]);
     s.factor_tip[i] = factor(st, rest_factor_tip_[i]);
   }
+  auto pairFactors = [&] {
 #pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-      const std::uint32_t j = c.partner[e];
-      // eq. 14: j on i's tip side means i on j's root side.
-      s.alpha[e] = c.tip_side[e] ? 0.5f * (s.factor_tip[i] + s.factor_root[j])
-                                 : 0.5f * (s.factor_root[i] + s.factor_tip[j]);
+    for (Index ii = 0; ii < n; ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+        const std::uint32_t j = c.partner[e];
+        // eq. 14: j on i's tip side means i on j's root side. A root particle
+        // is part of the head: a pair with a root takes the hair particle's
+        // factor alone, so the hair keeps its modulus where it is attached
+        // (a root's tip side gathers many connections and would halve it).
+        const float own = c.tip_side[e] ? s.factor_tip[i] : s.factor_root[i];
+        const float other = c.tip_side[e] ? s.factor_root[j] : s.factor_tip[j];
+        if (root[j])
+          s.alpha[e] = own;
+        else if (root[i])
+          s.alpha[e] = other;
+        else
+          s.alpha[e] = 0.5f * (own + other);
+      }
     }
-  }
+  };
+  pairFactors();
   s.clamped = clamped;
 }
 

@@ -34,7 +34,8 @@ struct HairSpec {
   /// (dimensionless), so hair from the crown lies over hair rooted lower.
   float layering = 0.2f;
   float h1_scale = 1.2f;  // h1 = h1_scale * Poisson radius (SPEC §9)
-  float h2_scale = 0.9f;  // h2 = h2_scale * mean nearest-neighbour distance (SPEC §9)
+  /// h2 = min(h2_scale * mean nearest-neighbour distance, 0.8 h1) (SPEC §9)
+  float h2_scale = 0.9f;
 };
 
 struct SceneDesc {

@@ -92,6 +92,13 @@ class Solver {
   /// parameters are no longer valid with it.
   void setTimeStep(double dt);
 
+  /// Replaces positions, velocities and directions (head frame), for
+  /// resets, user interaction and tests, roots included (roots then stay
+  /// where they were put: they are never integrated).
+  /// Throws std::invalid_argument on wrong sizes or non-finite values.
+  void setKinematicState(std::span<const glm::vec3> position, std::span<const glm::vec3> velocity,
+                         std::span<const glm::vec3> direction);
+
   double time() const { return time_; }
   std::uint64_t stepCount() const { return stats_.steps; }
   const SimParams& params() const { return params_; }

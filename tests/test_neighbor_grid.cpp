@@ -1,0 +1,131 @@
+// SPEC §1 step 1: the hashed voxel grid finds exactly the brute-force
+// neighbours, in a stable order that does not depend on the thread count.
+#include "neighbor_grid.hpp"
+#include "random.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using loosehair::NeighborGrid;
+using loosehair::Random;
+
+namespace {
+
+std::vector<std::vector<std::uint32_t>> bruteForce(const std::vector<glm::vec3>& x, float radius) {
+  std::vector<std::vector<std::uint32_t>> out(x.size());
+  for (std::uint32_t i = 0; i < x.size(); ++i)
+    for (std::uint32_t j = 0; j < x.size(); ++j) {
+      if (i == j) continue;
+      const glm::vec3 d = x[j] - x[i];
+      if (d.x * d.x + d.y * d.y + d.z * d.z < radius * radius) out[i].push_back(j);
+    }
+  return out;
+}
+
+void expectMatchesBruteForce(const std::vector<glm::vec3>& x, float radius) {
+  const auto expected = bruteForce(x, radius);
+  NeighborGrid one, two;
+  one.build(x, radius, 1);
+  two.build(x, radius, 2);
+  ASSERT_EQ(one.pointCount(), x.size());
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto a = one.neighbors(i), b = two.neighbors(i);
+    // same order for any thread count
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "point " << i;
+    std::vector<std::uint32_t> got(a.begin(), a.end());
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, expected[i]) << "point " << i;
+    total += got.size();
+  }
+  EXPECT_EQ(one.pairCount(), total);
+}
+
+}  // namespace
+
+TEST(NeighborGrid, RandomPoints) {
+  Random rng(1);
+  std::vector<glm::vec3> x(3000);
+  for (auto& p : x)
+    p = glm::vec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.3, 0.1), rng.uniform(-0.2, 0.2));
+  expectMatchesBruteForce(x, 0.03f);
+}
+
+TEST(NeighborGrid, ClusteredPoints) {
+  Random rng(2);
+  std::vector<glm::vec3> x;
+  for (int c = 0; c < 5; ++c) {
+    const glm::vec3 centre(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    for (int k = 0; k < 300; ++k)
+      x.push_back(centre + glm::vec3(rng.uniform(-1e-3, 1e-3), rng.uniform(-1e-3, 1e-3),
+                                     rng.uniform(-1e-3, 1e-3)));
+  }
+  // many exact duplicates too
+  for (int k = 0; k < 50; ++k) x.push_back(x[static_cast<std::size_t>(k)]);
+  expectMatchesBruteForce(x, 0.01f);
+}
+
+TEST(NeighborGrid, PointsOnCellBoundaries) {
+  const float r = 0.25f;
+  std::vector<glm::vec3> x;
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -4; j <= 4; ++j)
+      for (int k = -2; k <= 2; ++k) x.emplace_back(i * r, j * r, k * r * 0.5f);
+  // exactly at distance r (excluded) and just inside
+  x.emplace_back(0.0f, 0.0f, 0.0f);
+  x.emplace_back(std::nextafter(r, 0.0f), 0.0f, 0.0f);
+  expectMatchesBruteForce(x, r);
+}
+
+TEST(NeighborGrid, FarOutliersDoNotGrowMemoryAndStayCorrect) {
+  Random rng(3);
+  std::vector<glm::vec3> x(500);
+  for (auto& p : x) p = glm::vec3(rng.uniform(0, 0.1), rng.uniform(0, 0.1), rng.uniform(0, 0.1));
+  x.emplace_back(1e7f, -3e6f, 5e5f);
+  x.emplace_back(1e7f + 1e-3f, -3e6f, 5e5f);  // its neighbour, far from the rest
+  x.emplace_back(-1e30f, 1e30f, 0.0f);
+  x.emplace_back(1e30f, 1e30f, 1e30f);
+  expectMatchesBruteForce(x, 0.02f);
+  NeighborGrid g;
+  g.build(x, 0.02f, 2);
+  EXPECT_LE(g.cellCount(), x.size());
+}
+
+TEST(NeighborGrid, NonFinitePointsHaveNoNeighbours) {
+  std::vector<glm::vec3> x = {{0, 0, 0}, {0.001f, 0, 0}, {NAN, 0, 0}, {INFINITY, 0, 0}};
+  NeighborGrid g;
+  g.build(x, 0.01f, 2);
+  EXPECT_EQ(g.neighbors(0).size(), 1u);
+  EXPECT_EQ(g.neighbors(2).size(), 0u);
+  EXPECT_EQ(g.neighbors(3).size(), 0u);
+}
+
+TEST(NeighborGrid, EmptyAndSinglePoint) {
+  NeighborGrid g;
+  std::vector<glm::vec3> none;
+  g.build(none, 0.1f, 2);
+  EXPECT_EQ(g.pointCount(), 0u);
+  EXPECT_EQ(g.pairCount(), 0u);
+  std::vector<glm::vec3> one = {{1, 2, 3}};
+  g.build(one, 0.1f, 2);
+  EXPECT_EQ(g.neighbors(0).size(), 0u);
+}
+
+TEST(NeighborGrid, RebuildAfterMotion) {
+  Random rng(4);
+  std::vector<glm::vec3> x(800);
+  for (auto& p : x) p = glm::vec3(rng.uniform(0, 0.2), rng.uniform(0, 0.2), rng.uniform(0, 0.2));
+  NeighborGrid g;
+  g.build(x, 0.03f, 2);
+  for (auto& p : x) p += glm::vec3(rng.uniform(-0.05, 0.05), 0.0f, rng.uniform(-0.05, 0.05));
+  g.build(x, 0.03f, 2);
+  const auto expected = bruteForce(x, 0.03f);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    std::vector<std::uint32_t> got(g.neighbors(i).begin(), g.neighbors(i).end());
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, expected[i]);
+  }
+}

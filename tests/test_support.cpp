@@ -1,0 +1,58 @@
+#include "test_support.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lhtest {
+
+loosehair::SceneDesc sphereScene(int particles, const std::string& solver_json,
+                                 const std::string& motion_json, int substeps) {
+  const std::string text = R"({
+    "name": "test-sphere", "seed": 3, "frame_rate": 30, "substeps": )" +
+                           (substeps > 0 ? std::to_string(substeps) : std::string("\"auto\"")) +
+                           R"(,
+    "head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1},
+    "scalp": {"type": "sphere-cap", "cap_angle_deg": 100},
+    "hair": {"particles": )" + std::to_string(particles) +
+                           R"(, "length": 0.25, "mass": 0.06},
+    "solver": )" + solver_json + R"(,
+    "motion": )" + motion_json + "}";
+  return loosehair::parseScene(text, "test-scene");
+}
+
+float maxStretch(const loosehair::Solver& solver, float hair_length) {
+  const auto& p = solver.particles();
+  float worst = -1e30f;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_root[i]) continue;
+    const float d = glm::length(p.position[i] - p.root_point[i]);
+    worst = std::max(worst, (d - p.arc_length[i]) / hair_length);
+  }
+  return worst;
+}
+
+float minBodyDistance(const loosehair::Solver& solver, const loosehair::SceneDesc& scene) {
+  const auto& p = solver.particles();
+  float best = 1e30f;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_root[i]) continue;
+    best = std::min(best, glm::length(p.position[i] - scene.head_center) - scene.head_radius);
+  }
+  return best;
+}
+
+bool allFinite(const loosehair::Solver& solver) {
+  const auto& p = solver.particles();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(p.position[i][a]) || !std::isfinite(p.velocity[i][a]) ||
+          !std::isfinite(p.direction[i][a]))
+        return false;
+  return true;
+}
+
+std::string sourceDir() { return LOOSEHAIR_SOURCE_DIR; }
+
+}  // namespace lhtest
