@@ -193,6 +193,12 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   particles_ = std::move(next);
 }
 
+void Solver::setThreadCount(int threads) {
+  if (threads < 1 || threads > 1024)
+    throw std::invalid_argument("thread count " + std::to_string(threads) + " is not in [1, 1024]");
+  threads_ = threads;
+}
+
 Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;

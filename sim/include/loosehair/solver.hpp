@@ -109,6 +109,8 @@ class Solver {
   const HeadTrajectory& trajectory() const { return trajectory_; }
   const Body& headBody() const { return *head_; }
   int threadCount() const { return threads_; }
+  /// Worker threads from now on (>= 1). Results do not depend on it.
+  void setThreadCount(int threads);
   /// SPH density of the last step (kg/m^3), or the initial one.
   std::span<const float> density() const { return density_; }
   /// Head pose and motion at the current time.
