@@ -25,6 +25,27 @@ glm::dvec3 skewToVector(const glm::dmat3& m) {  // glm is column-major: m[col][r
   return {0.5 * (m[1][2] - m[2][1]), 0.5 * (m[2][0] - m[0][2]), 0.5 * (m[0][1] - m[1][0])};
 }
 
+// Cubic Hermite through the keys' values with Catmull-Rom tangents (zero at
+// the ends), held constant outside the keys' times.
+glm::dvec3 interpolateKeys(const std::vector<HeadKeyframe>& k, double t,
+                           glm::dvec3 HeadKeyframe::*value) {
+  if (t <= k.front().time) return k.front().*value;
+  if (t >= k.back().time) return k.back().*value;
+  const std::size_t i = static_cast<std::size_t>(
+      std::upper_bound(k.begin(), k.end(), t,
+                       [](double v, const HeadKeyframe& key) { return v < key.time; }) -
+      k.begin() - 1);
+  auto tangent = [&](std::size_t j) {
+    if (j == 0 || j + 1 >= k.size()) return glm::dvec3(0.0);
+    return (k[j + 1].*value - k[j - 1].*value) / (k[j + 1].time - k[j - 1].time);
+  };
+  const double h = k[i + 1].time - k[i].time, x = (t - k[i].time) / h;
+  const double h00 = 2 * x * x * x - 3 * x * x + 1, h10 = x * x * x - 2 * x * x + x,
+               h01 = -2 * x * x * x + 3 * x * x, h11 = x * x * x - x * x;
+  return h00 * k[i].*value + h10 * h * tangent(i) + h01 * k[i + 1].*value +
+         h11 * h * tangent(i + 1);
+}
+
 }  // namespace
 
 glm::dmat3 rotationFromEuler(const glm::dvec3& ypr) {
@@ -99,43 +120,12 @@ glm::dvec3 HeadTrajectory::eulerAt(double t) const {
     }
     case Kind::Keyframes: break;
   }
-  // Cubic Hermite through the keys with Catmull-Rom tangents (zero at the ends).
-  const auto& k = keys_;
-  if (t <= k.front().time) return glm::radians(k.front().euler_deg);
-  if (t >= k.back().time) return glm::radians(k.back().euler_deg);
-  const std::size_t i = static_cast<std::size_t>(
-      std::upper_bound(k.begin(), k.end(), t,
-                       [](double v, const HeadKeyframe& key) { return v < key.time; }) -
-      k.begin() - 1);
-  auto tangent = [&](std::size_t j) {
-    if (j == 0 || j + 1 >= k.size()) return glm::dvec3(0.0);
-    return (k[j + 1].euler_deg - k[j - 1].euler_deg) / (k[j + 1].time - k[j - 1].time);
-  };
-  const double h = k[i + 1].time - k[i].time, x = (t - k[i].time) / h;
-  const double h00 = 2 * x * x * x - 3 * x * x + 1, h10 = x * x * x - 2 * x * x + x,
-               h01 = -2 * x * x * x + 3 * x * x, h11 = x * x * x - x * x;
-  return glm::radians(h00 * k[i].euler_deg + h10 * h * tangent(i) + h01 * k[i + 1].euler_deg +
-                      h11 * h * tangent(i + 1));
+  return glm::radians(interpolateKeys(keys_, t, &HeadKeyframe::euler_deg));
 }
 
 glm::dvec3 HeadTrajectory::translationAt(double t) const {
   if (kind_ != Kind::Keyframes) return glm::dvec3(0.0);
-  const auto& k = keys_;
-  if (t <= k.front().time) return k.front().translation;
-  if (t >= k.back().time) return k.back().translation;
-  const std::size_t i = static_cast<std::size_t>(
-      std::upper_bound(k.begin(), k.end(), t,
-                       [](double v, const HeadKeyframe& key) { return v < key.time; }) -
-      k.begin() - 1);
-  auto tangent = [&](std::size_t j) {
-    if (j == 0 || j + 1 >= k.size()) return glm::dvec3(0.0);
-    return (k[j + 1].translation - k[j - 1].translation) / (k[j + 1].time - k[j - 1].time);
-  };
-  const double h = k[i + 1].time - k[i].time, x = (t - k[i].time) / h;
-  const double h00 = 2 * x * x * x - 3 * x * x + 1, h10 = x * x * x - 2 * x * x + x,
-               h01 = -2 * x * x * x + 3 * x * x, h11 = x * x * x - x * x;
-  return h00 * k[i].translation + h10 * h * tangent(i) + h01 * k[i + 1].translation +
-         h11 * h * tangent(i + 1);
+  return interpolateKeys(keys_, t, &HeadKeyframe::translation);
 }
 
 HeadPose HeadTrajectory::pose(double t) const {

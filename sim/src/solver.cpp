@@ -586,13 +586,18 @@ std::uint64_t Solver::stateHash() const {
   return h;
 }
 
-double Solver::stableTimeStep() const {
+Solver::Scratch Solver::springFactorsNow() const {
   Scratch s;
   s.k.resize(connections_.entryCount());
   s.alpha.resize(connections_.entryCount());
   s.factor_root.resize(particles_.size());
   s.factor_tip.resize(particles_.size());
   computeSpringFactors(s);
+  return s;
+}
+
+double Solver::stableTimeStep() const {
+  Scratch s = springFactorsNow();
   double worst = 0;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (particles_.is_root[i]) continue;
@@ -605,12 +610,7 @@ double Solver::stableTimeStep() const {
 }
 
 std::vector<float> Solver::tensileModulus(Side side) const {
-  Scratch s;
-  s.k.resize(connections_.entryCount());
-  s.alpha.resize(connections_.entryCount());
-  s.factor_root.resize(particles_.size());
-  s.factor_tip.resize(particles_.size());
-  computeSpringFactors(s);
+  Scratch s = springFactorsNow();
   std::vector<float> out(particles_.size(), 0.0f);
   const std::uint8_t want = side == Side::Tip ? 1 : 0;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
@@ -624,12 +624,7 @@ std::vector<float> Solver::tensileModulus(Side side) const {
 }
 
 std::vector<glm::vec3> Solver::internalForces() const {
-  Scratch s;
-  s.k.resize(connections_.entryCount());
-  s.alpha.resize(connections_.entryCount());
-  s.factor_root.resize(particles_.size());
-  s.factor_tip.resize(particles_.size());
-  computeSpringFactors(s);
+  Scratch s = springFactorsNow();
   std::vector<glm::vec3> f(particles_.size());
   accumulateSpringForces(s, f);
   if (params_.hair_hair) accumulateHairHairForces(f);

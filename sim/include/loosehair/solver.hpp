@@ -139,6 +139,7 @@ class Solver {
  private:
   struct Scratch;
   void computeSpringFactors(Scratch& s) const;
+  Scratch springFactorsNow() const;  // fresh buffers, for the const queries
   void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const;
   void accumulateHairHairForces(std::vector<glm::vec3>& force) const;
   void computeDensity();
