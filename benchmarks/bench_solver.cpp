@@ -29,7 +29,7 @@ Solver& sceneWith(int particles) {
 }
 
 void counts(benchmark::internal::Benchmark* b) {
-  for (int n : {2000, 10000, 50000, 200000})
+  for (int n : {2000, 10000, 50000, 100000, 200000})
     for (int threads : {1, 2}) b->Args({n, threads});
   b->ArgNames({"particles", "threads"});
   b->Unit(benchmark::kMillisecond);

@@ -97,48 +97,32 @@ TEST(SceneFiles, MissingRequiredPartsAndFiles) {
 }
 
 TEST(SimParamsValidation, EveryBadValueIsNamed) {
-  SimParams p;
-  EXPECT_TRUE(validate(p).empty());
-  auto expectProblem = [](SimParams q, const std::string& fragment) {
-    const auto problems = validate(q);
-    ASSERT_FALSE(problems.empty()) << fragment;
-    bool found = false;
-    for (const auto& pr : problems) found = found || pr.find(fragment) != std::string::npos;
-    EXPECT_TRUE(found) << "no problem mentions '" << fragment << "', first: " << problems[0];
+  EXPECT_TRUE(validate(SimParams{}).empty());
+  const struct {
+    void (*spoil)(SimParams&);
+    const char* fragment;
+  } cases[] = {
+      {[](SimParams& q) { q.time_step = NAN; }, "time_step = nan is not a finite number"},
+      {[](SimParams& q) { q.time_step = -1e-3; }, "time_step = -0.001 must be positive"},
+      {[](SimParams& q) { q.h1 = 0; }, "h1 = 0 must be positive"},
+      {[](SimParams& q) { q.h2 = q.h1; }, "must be smaller than h1"},
+      {[](SimParams& q) { q.youngs_modulus = INFINITY; }, "youngs_modulus = inf"},
+      {[](SimParams& q) { q.alignment_threshold = 1.5f; }, "alignment_threshold = 1.5 must lie in [0, 1]"},
+      {[](SimParams& q) { q.stiffness_clamp = 0.5f; }, "stiffness_clamp = 0.5"},
+      {[](SimParams& q) { q.gravity.y = NAN; }, "gravity.y"},
+      {[](SimParams& q) { q.air_drag = 1000.0f; }, "air_drag = 1000"},
+      {[](SimParams& q) { q.target_connections = 0; }, "target_connections = 0"},
+      {[](SimParams& q) { q.threads = -2; }, "threads = -2"},
   };
-  SimParams q = p;
-  q.time_step = NAN;
-  expectProblem(q, "time_step = nan is not a finite number");
-  q = p;
-  q.time_step = -1e-3;
-  expectProblem(q, "time_step = -0.001 must be positive");
-  q = p;
-  q.h1 = 0;
-  expectProblem(q, "h1 = 0 must be positive");
-  q = p;
-  q.h2 = q.h1;
-  expectProblem(q, "must be smaller than h1");
-  q = p;
-  q.youngs_modulus = INFINITY;
-  expectProblem(q, "youngs_modulus = inf");
-  q = p;
-  q.alignment_threshold = 1.5f;
-  expectProblem(q, "alignment_threshold = 1.5 must lie in [0, 1]");
-  q = p;
-  q.stiffness_clamp = 0.5f;
-  expectProblem(q, "stiffness_clamp = 0.5");
-  q = p;
-  q.gravity.y = NAN;
-  expectProblem(q, "gravity.y");
-  q = p;
-  q.air_drag = 1000.0f;
-  expectProblem(q, "air_drag = 1000");
-  q = p;
-  q.target_connections = 0;
-  expectProblem(q, "target_connections = 0");
-  q = p;
-  q.threads = -2;
-  expectProblem(q, "threads = -2");
+  for (const auto& c : cases) {
+    SimParams q;
+    c.spoil(q);
+    const auto problems = validate(q);
+    ASSERT_FALSE(problems.empty()) << c.fragment;
+    bool found = false;
+    for (const auto& pr : problems) found = found || pr.find(c.fragment) != std::string::npos;
+    EXPECT_TRUE(found) << "no problem mentions '" << c.fragment << "', first: " << problems[0];
+  }
 }
 
 TEST(SolverInput, BadParticlesAreRejected) {

@@ -178,6 +178,23 @@ TEST(Springs, RigidlyMovedRestStateHasNoInternalForce) {
   EXPECT_GT(worst, 0.1f * one_percent);
 }
 
+TEST(Solver, SetKinematicStateRefreshesNeighboursAndDensity) {
+  Solver solver = buildSolver(lhtest::sphereScene(500));
+  const auto& p = solver.particles();
+  // Spread the hair particles 1 m apart: each is then alone, with only its
+  // own contribution m W(0, h2) to the density and no hair-hair force.
+  auto x = p.position;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!p.is_root[i]) x[i] = glm::vec3(static_cast<float>(i), 5.0f, 0.0f);
+  solver.setKinematicState(x, p.velocity, p.direction);
+  const CubicKernel k2(solver.params().h2);
+  const auto rho = solver.density();
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!p.is_root[i]) {
+      ASSERT_FLOAT_EQ(rho[i], p.mass[i] * k2.W(0.0f)) << "particle " << i;
+    }
+}
+
 TEST(Directions, TurnWithARigidRotationOfTheWholeHair) {
   // Without gravity and with the head sphere at the origin the dynamics are
   // rotation invariant: a rotated start gives the rotated result.

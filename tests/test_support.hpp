@@ -8,8 +8,8 @@
 
 namespace lhtest {
 
-/// The sphere-hang scene with `particles` particles and optional JSON
-/// fragments merged into "solver" and "motion".
+/// The sphere-hang scene with `particles` particles; `solver_json` and
+/// `motion_json` are the whole "solver" and "motion" objects; substeps 0 = auto.
 loosehair::SceneDesc sphereScene(int particles, const std::string& solver_json = "{}",
                                  const std::string& motion_json = R"({"type": "still"})",
                                  int substeps = 0);

@@ -35,8 +35,6 @@ class NeighborGrid {
   /// Number of ordered pairs (each unordered pair counts twice).
   std::size_t pairCount() const;
   std::size_t cellCount() const { return cell_key_.size(); }
-  /// Point indices sorted by cell (Morton order of cells, index order inside).
-  std::span<const std::uint32_t> sortedOrder() const { return order_; }
 
   /// The Morton key of the cell holding point p for a cell size 1/inv_cell.
   static std::uint64_t cellKey(const glm::vec3& p, float inv_cell);

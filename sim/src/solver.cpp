@@ -38,7 +38,8 @@ struct Solver::Scratch {
   std::vector<float> alpha;        // alpha_ij, eq. 14
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
-  std::size_t clamped = 0;
+  std::size_t clamped = 0;         // side factors held at the clamp
+  std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
 };
 
 namespace {
@@ -191,6 +192,9 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   }
   next.check();  // finite, unit directions
   particles_ = std::move(next);
+  // Queries between steps (internalForces, density) see the new state.
+  findNeighbors();
+  computeDensity();
 }
 
 void Solver::setThreadCount(int threads) {
@@ -234,8 +238,8 @@ void Solver::computeSpringFactors(Scratch& s) const {
   const float clamp = params_.stiffness_clamp;
   const auto& root = particles_.is_root;
   const Index n = static_cast<Index>(x.size());
-  std::size_t clamped = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped)
+  std::size_t clamped = 0, active = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped, active)
   for (Index ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     float sr = 0, st = 0;
@@ -243,6 +247,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
       const float r = glm::length(x[c.partner[e]] - x[i]);
       const float k = c.strength[e] * k1.W(r);
       s.k[e] = k;
+      active += k > 0.0f ? 1 : 0;
       (c.tip_side[e] ? st : sr) += c.rest_length[e] * k;
     }
     const double ea = young * cross_section_[i];
@@ -258,29 +263,27 @@ void Solver::computeSpringFactors(Scratch& s) const {
     s.factor_root[i] = factor(sr, rest_factor_root_[i]);
     s.factor_tip[i] = factor(st, rest_factor_tip_[i]);
   }
-  auto pairFactors = [&] {
 #pragma omp parallel for num_threads(threads_) schedule(static)
-    for (Index ii = 0; ii < n; ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-        const std::uint32_t j = c.partner[e];
-        // eq. 14: j on i's tip side means i on j's root side. A root particle
-        // is part of the head: a pair with a root takes the hair particle's
-        // factor alone, so the hair keeps its modulus where it is attached
-        // (a root's tip side gathers many connections and would halve it).
-        const float own = c.tip_side[e] ? s.factor_tip[i] : s.factor_root[i];
-        const float other = c.tip_side[e] ? s.factor_root[j] : s.factor_tip[j];
-        if (root[j])
-          s.alpha[e] = own;
-        else if (root[i])
-          s.alpha[e] = other;
-        else
-          s.alpha[e] = 0.5f * (own + other);
-      }
+  for (Index ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
+      const std::uint32_t j = c.partner[e];
+      // eq. 14: j on i's tip side means i on j's root side. A root particle
+      // is part of the head: a pair with a root takes the hair particle's
+      // factor alone, so the hair keeps its modulus where it is attached
+      // (a root's tip side gathers many connections and would halve it).
+      const float own = c.tip_side[e] ? s.factor_tip[i] : s.factor_root[i];
+      const float other = c.tip_side[e] ? s.factor_root[j] : s.factor_tip[j];
+      if (root[j])
+        s.alpha[e] = own;
+      else if (root[i])
+        s.alpha[e] = other;
+      else
+        s.alpha[e] = 0.5f * (own + other);
     }
-  };
-  pairFactors();
+  }
   s.clamped = clamped;
+  s.active_entries = active;
 }
 
 // ---- stage 3b: damped spring forces (SPEC §3.2) ----------------------------
@@ -562,9 +565,7 @@ void Solver::step() {
   stats_.clamped_sides = s.clamped;
   stats_.body_contacts = contacts;
   stats_.strain_limited = limited;
-  std::size_t active = 0;
-  for (float k : s.k) active += k > 0.0f ? 1 : 0;
-  stats_.active_connections = active / 2;
+  stats_.active_connections = s.active_entries / 2;
 }
 
 // ---- queries -----------------------------------------------------------------
