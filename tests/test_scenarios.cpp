@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -32,18 +33,24 @@ TEST(Scenario, HangingOnTheSphereForThreeSeconds) {
   EXPECT_LT(lowest, -0.15f);
 }
 
-TEST(Scenario, WithoutStrainLimitTheHairStillHangsStably) {
-  const auto scene = lhtest::sphereScene(1000, R"({"strain_limit": false})");
-  Solver solver = buildSolver(scene);
-  solver.advance(static_cast<int>(1.0 / solver.params().time_step));
-  ASSERT_TRUE(lhtest::allFinite(solver));
-  // springs alone sag more than the strain limit allows (SPEC §9), and a
-  // loosened tip may drop away, but nothing explodes
-  const float unlimited = lhtest::maxStretch(solver, scene.hair.length);
-  EXPECT_LE(unlimited, 0.5f);
-  Solver limited = buildSolver(lhtest::sphereScene(1000));
-  limited.advance(static_cast<int>(1.0 / limited.params().time_step));
-  EXPECT_LT(lhtest::maxStretch(limited, scene.hair.length), unlimited);
+TEST(Scenario, TethersAndStrainLimitEachHoldTheStretch) {
+  auto stretchAfterOneSecond = [](const std::string& solver_json) {
+    const auto scene = lhtest::sphereScene(1000, solver_json);
+    Solver solver = buildSolver(scene);
+    solver.advance(static_cast<int>(1.0 / solver.params().time_step));
+    EXPECT_TRUE(lhtest::allFinite(solver)) << solver_json;
+    return lhtest::maxStretch(solver, scene.hair.length);
+  };
+  // Soft springs alone sag (SPEC §9) and loosened particles drop away, but
+  // the state stays finite.
+  const float springs_only = stretchAfterOneSecond(R"({"strain_limit": false, "tether": false})");
+  EXPECT_GT(springs_only, 0.03f) << "soft springs alone should stretch; else this test shows nothing";
+  // Tethers alone: within their 1% slack of s, plus what the body pushes out.
+  const float tethers = stretchAfterOneSecond(R"({"strain_limit": false})");
+  EXPECT_LE(tethers, 0.025f);
+  // Both (the default) and the strain limit alone.
+  EXPECT_LE(stretchAfterOneSecond("{}"), 0.02f);
+  EXPECT_LT(stretchAfterOneSecond(R"({"tether": false})"), springs_only);
 }
 
 namespace {
@@ -73,8 +80,8 @@ double headYaw(const Solver& s) {
 }
 
 struct ShakeRun {
-  std::vector<double> t, head, hair;
-  float worst_stretch = -1, closest = 1, final_speed = 0;
+  std::vector<double> t, head, hair, mean_speed;
+  float worst_stretch = -1, closest = 1;
   double moved = 0;  // mean displacement from the pre-shake rest state (m)
 };
 
@@ -95,14 +102,15 @@ ShakeRun runShake(const std::string& solver_json) {
     run.t.push_back(solver.time());
     run.head.push_back(headYaw(solver));
     run.hair.push_back(hairYaw(solver, start));
+    double speed = 0;
+    for (const auto& v : solver.particles().velocity) speed += glm::length(v);
+    run.mean_speed.push_back(speed / static_cast<double>(solver.particles().size()));
     run.worst_stretch = std::max(run.worst_stretch, lhtest::maxStretch(solver, scene.hair.length));
     run.closest = std::min(run.closest, lhtest::minBodyDistance(solver, scene));
   }
   for (std::size_t i = 0; i < local_before.size(); ++i)
     run.moved += glm::length(solver.particles().position[i] - local_before[i]);
   run.moved /= static_cast<double>(local_before.size());
-  for (const auto& v : solver.particles().velocity)
-    run.final_speed = std::max(run.final_speed, glm::length(v));
   return run;
 }
 
@@ -135,16 +143,21 @@ TEST(Scenario, HeadShakeNoStretchNoPenetrationAndSettles) {
   // After the head stops (t = 2.5 s) the hair settles back near its old shape.
   EXPECT_LT(std::abs(r.hair.back()), 0.05);
   EXPECT_LT(r.moved, 0.015);
-  EXPECT_LT(r.final_speed, 0.2f);
+  // ... and comes to rest: its mean speed (head frame) falls to a small part
+  // of what it was during the shake.
+  const double busiest = *std::max_element(r.mean_speed.begin(), r.mean_speed.end());
+  EXPECT_LT(r.mean_speed.back(), 0.1 * busiest);
 }
 
-// KNOWN FAILING (issue 2 stays open): with the default E = 5e4 Pa the hair
-// volume behaves like a stiff elastic body and turns almost rigidly with the
-// head (measured lag about 1 ms, where the paper's hair visibly trails).
-// Enable once the hair's shear stiffness is brought down.
-TEST(Scenario, DISABLED_HeadShakeHairLagsBehindTheHead) {
+// The hair trails the head (SPEC §8, the paper's shaken head). With a stiff
+// medium (E = 5e4 Pa, SPEC §9) it turns like a solid: lag about 1 ms.
+TEST(Scenario, HeadShakeHairLagsBehindTheHead) {
   const ShakeRun r = runShake("{}");
   const auto [gain, lag] = gainAndLag(r);
+  std::printf("default hair: gain %.3f, lag %.1f ms\n", gain, lag * 1e3);
   EXPECT_GT(lag, 0.03) << "the hair should follow the head with a visible delay (s)";
   EXPECT_LT(lag, 0.3);
+  // and the delay comes from the medium's softness: a stiff one barely lags
+  const auto [stiff_gain, stiff_lag] = gainAndLag(runShake(R"({"youngs_modulus": 5e4})"));
+  EXPECT_LT(stiff_lag, 0.5 * lag);
 }

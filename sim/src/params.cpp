@@ -60,6 +60,7 @@ std::vector<std::string> validate(const SimParams& p) {
   c.range("stiffness_clamp", p.stiffness_clamp, 1.0, 1.0e6);
   c.nonNegative("spring_damping", p.spring_damping, "s");
   c.range("max_strain", p.max_strain, 0.0, 0.5);
+  c.range("tether_slack", p.tether_slack, 0.0, 1.0);
   c.range("strain_limit_iterations", p.strain_limit_iterations, 0, 1000);
   c.nonNegative("pressure_stiffness", p.pressure_stiffness, "m^2/s^2");
   c.positive("rest_density_scale", p.rest_density_scale, "dimensionless");

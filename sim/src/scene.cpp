@@ -151,6 +151,8 @@ void readSolver(Fields f, SceneDesc& s) {
   p.max_strain = f.real("max_strain", p.max_strain, 0.0, 0.5);
   p.strain_limit_iterations =
       static_cast<int>(f.integer("strain_limit_iterations", p.strain_limit_iterations, 0, 1000));
+  p.tether = f.boolean("tether", p.tether);
+  p.tether_slack = f.real("tether_slack", p.tether_slack, 0.0, 1.0);
   p.hair_hair = f.boolean("hair_hair", p.hair_hair);
   p.pressure_stiffness = f.real("pressure_stiffness", p.pressure_stiffness, 0.0, 1e6);
   p.rest_density_scale = f.real("rest_density_scale", p.rest_density_scale, 0.0, 100.0, true);
@@ -385,7 +387,7 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
                      " m, mean nearest-neighbour distance " + std::to_string(mean_nn) + " m)");
 
   // 5. Time step: the given substeps, or the fewest that keep the step at
-  //    60% of the stable limit.
+  //    60% of the stable limit and the damping rates stable.
   const double frame_time = 1.0 / scene.frame_rate;
   int substeps = scene.substeps > 0 ? scene.substeps : 1;
   params.time_step = frame_time / substeps;
@@ -398,8 +400,13 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   }
   Solver solver(params, std::move(p), head, scene.motion);
   if (scene.substeps == 0) {
-    const double stable = solver.initReport().stable_time_step;
-    substeps = std::max(1, static_cast<int>(std::ceil(frame_time / (0.6 * stable))));
+    // 60% of the stable spring step, and no velocity-decay rate above
+    // 0.25 per step (validate() rejects more).
+    const double fastest_rate = std::max({params.collision_rate, params.friction_rate,
+                                          params.air_drag, 1e-9f});
+    const double longest = std::min(0.6 * solver.initReport().stable_time_step,
+                                    0.25 / fastest_rate);
+    substeps = std::max(1, static_cast<int>(std::ceil(frame_time / longest)));
     solver.setTimeStep(frame_time / substeps);
   }
   if (report) {

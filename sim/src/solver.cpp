@@ -481,6 +481,26 @@ void Solver::step() {
     }
   }
 
+  // Tethers (long-range attachments; our addition to SPEC §5's strain limit):
+  // a particle may be no further from its own root point than its arc length
+  // allows, |x_i - r_i| <= (1 + slack) s_i. This is the no-stretch promise
+  // itself, enforced per particle in O(N) without adding shear stiffness, so
+  // the springs can be soft enough for the hair to bend and swing.
+  if (params_.tether) {
+    const auto& rp = particles_.root_point;
+    const auto& sarc = particles_.arc_length;
+    const float scale = 1.0f + params_.tether_slack;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      if (root[i]) continue;
+      const glm::vec3 d = x[i] - rp[i];
+      const float dist = glm::length(d);
+      const float reach = scale * sarc[i];
+      if (dist > reach) x[i] = rp[i] + (reach / dist) * d;
+    }
+  }
+
   // Project what is still inside the body to its surface and take the new
   // velocity from the corrected positions (no added normal speed, so nothing
   // is thrown off the body).

@@ -95,7 +95,8 @@ class Solver {
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay
   /// where they were put: they are never integrated). Neighbours and
-  /// densities are recomputed, so queries see the new state.
+  /// densities are recomputed, so queries see the new state. Root points
+  /// (the tethers' anchors) and rest lengths stay as they were built.
   /// Throws std::invalid_argument on wrong sizes or non-finite values.
   void setKinematicState(std::span<const glm::vec3> position, std::span<const glm::vec3> velocity,
                          std::span<const glm::vec3> direction);
