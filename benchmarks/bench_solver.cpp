@@ -44,6 +44,7 @@ void BM_NeighborSearch(benchmark::State& state) {
     benchmark::DoNotOptimize(grid.pairCount());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(x.size()));
+  state.counters["dense"] = grid.usedDenseLayout() ? 1 : 0;
   state.counters["pairs/particle"] =
       static_cast<double>(grid.pairCount()) / static_cast<double>(x.size());
 }

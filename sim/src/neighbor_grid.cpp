@@ -50,7 +50,7 @@ std::uint64_t NeighborGrid::cellKey(const glm::vec3& p, float inv_cell) {
   return mortonKey(cellCoord(p.x, inv_cell), cellCoord(p.y, inv_cell), cellCoord(p.z, inv_cell));
 }
 
-void NeighborGrid::sortByCell(std::span<const glm::vec3> x) {
+void NeighborGrid::sortHashed(std::span<const glm::vec3> x) {
   const std::size_t n = x.size();
   keys_.resize(n);
   keys_tmp_.resize(n);
@@ -120,74 +120,154 @@ std::uint32_t NeighborGrid::findCell(std::uint64_t key) const {
   }
 }
 
+bool NeighborGrid::chooseDenseLayout(std::span<const glm::vec3> x) {
+  const std::size_t n = x.size();
+  if (n == 0) return false;
+  std::int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+  constexpr double kLimit = 1e15;  // keeps the cell coordinates in int64
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) {
+      const double c = std::floor(static_cast<double>(x[i][a]) * inv_cell_);
+      if (!(std::abs(c) < kLimit)) return false;  // also NaN and infinity
+      lo[a] = std::min(lo[a], static_cast<std::int64_t>(c));
+      hi[a] = std::max(hi[a], static_cast<std::int64_t>(c));
+    }
+  // At most 16 cells a point (64 bytes of offsets): memory stays O(N)
+  // whatever the box. Hair is a thin shell, so its box is mostly empty.
+  const double budget = 16.0 * static_cast<double>(n) + 4096.0;
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    dims_[a] = hi[a] - lo[a] + 1;
+    origin_[a] = lo[a];
+    cells *= static_cast<double>(dims_[a]);
+  }
+  return cells <= budget;
+}
+
+void NeighborGrid::sortDense(std::span<const glm::vec3> x) {
+  const std::size_t n = x.size();
+  const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
+  keys_.resize(n);
+  order_.resize(n);
+  dense_start_.assign(cells + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int64_t c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(x[i][a]) * inv_cell_)) -
+             origin_[a];
+    keys_[i] = static_cast<std::uint64_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
+    ++dense_start_[keys_[i] + 1];
+  }
+  occupied_cells_ = 0;
+  for (std::size_t c = 0; c < cells; ++c) {
+    occupied_cells_ += dense_start_[c + 1] > 0 ? 1 : 0;
+    dense_start_[c + 1] += dense_start_[c];
+  }
+  // Counting sort, stable: points of a cell stay in index order.
+  keys_tmp_.resize(n);
+  std::vector<std::uint32_t>& fill = order_tmp_;
+  fill.assign(dense_start_.begin(), dense_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t dst = fill[keys_[i]]++;
+    order_[dst] = static_cast<std::uint32_t>(i);
+    keys_tmp_[dst] = keys_[i];
+  }
+  keys_.swap(keys_tmp_);
+  sorted_x_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) sorted_x_[k] = x[order_[k]];
+}
+
+int NeighborGrid::neighborRanges(std::uint64_t cell, std::uint32_t* begin,
+                                 std::uint32_t* end) const {
+  int nr = 0;
+  if (dense_) {
+    const std::int64_t nx = dims_[0], ny = dims_[1], nz = dims_[2];
+    const std::int64_t id = static_cast<std::int64_t>(cell);
+    const std::int64_t cx = id % nx, cy = (id / nx) % ny, cz = id / (nx * ny);
+    const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min(cx + 1, nx - 1);
+    for (std::int64_t z = cz - 1; z <= cz + 1; ++z) {
+      if (z < 0 || z >= nz) continue;
+      for (std::int64_t y = cy - 1; y <= cy + 1; ++y) {
+        if (y < 0 || y >= ny) continue;
+        // the row's cells x0..x1 are one contiguous range of points
+        const std::int64_t row = (z * ny + y) * nx;
+        const std::uint32_t b = dense_start_[static_cast<std::size_t>(row + x0)];
+        const std::uint32_t e = dense_start_[static_cast<std::size_t>(row + x1 + 1)];
+        if (b < e) {
+          begin[nr] = b;
+          end[nr] = e;
+          ++nr;
+        }
+      }
+    }
+    return nr;
+  }
+  const std::uint32_t c = findCell(cell);
+  const glm::vec3 p0 = sorted_x_[cell_start_[c]];  // any point of the cell
+  const std::int64_t cx = cellCoord(p0.x, inv_cell_), cy = cellCoord(p0.y, inv_cell_),
+                     cz = cellCoord(p0.z, inv_cell_);
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::int64_t ax = cx + dx, ay = cy + dy, az = cz + dz;
+        if (ax < 0 || ay < 0 || az < 0 || ax > kCoordMax || ay > kCoordMax || az > kCoordMax)
+          continue;
+        const std::uint32_t nc = findCell(mortonKey(ax, ay, az));
+        if (nc == UINT32_MAX) continue;
+        begin[nr] = cell_start_[nc];
+        end[nr] = cell_start_[nc + 1];
+        ++nr;
+      }
+  return nr;
+}
+
 void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads) {
   const std::size_t n = x.size();
   radius_ = radius;
   inv_cell_ = 1.0f / radius;
-  sortByCell(x);
-  buildCellTable();
+  dense_ = chooseDenseLayout(x);
+  if (dense_) {
+    sortDense(x);
+  } else {
+    sortHashed(x);
+    buildCellTable();
+    occupied_cells_ = cell_key_.size();
+  }
   begin_.assign(n, nullptr);
   count_.assign(n, 0);
   offset_.assign(n, 0);
   threads = std::max(1, threads);
   if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
-  const std::size_t ncells = cell_key_.size();
 
 #pragma omp parallel num_threads(threads)
   {
     const int tid = omp_get_thread_num();
     const int nth = omp_get_num_threads();
-    // Contiguous cell range holding about n/nth points.
-    auto boundary = [&](int t) {
-      const std::size_t k = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(nth);
-      return static_cast<std::size_t>(
-          std::lower_bound(cell_start_.begin(), cell_start_.end(), static_cast<std::uint32_t>(k)) -
-          cell_start_.begin());
-    };
-    const std::size_t c0 = boundary(tid), c1 = std::min(boundary(tid + 1), ncells);
+    // A contiguous run of sorted points; the cell's ranges are looked up
+    // once for all of its points.
+    const std::size_t k0 = n * static_cast<std::size_t>(tid) / static_cast<std::size_t>(nth);
+    const std::size_t k1 = n * static_cast<std::size_t>(tid + 1) / static_cast<std::size_t>(nth);
     std::vector<std::uint32_t>& buf = buffers_[tid];
     buf.clear();
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
-
-    for (std::size_t c = c0; c < c1; ++c) {
-      // Decode the cell coordinates from the first point of the cell.
-      const glm::vec3 p0 = sorted_x_[cell_start_[c]];
-      const std::int64_t cx = cellCoord(p0.x, inv_cell_), cy = cellCoord(p0.y, inv_cell_),
-                         cz = cellCoord(p0.z, inv_cell_);
-      int nr = 0;
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const std::int64_t ax = cx + dx, ay = cy + dy, az = cz + dz;
-            if (ax < 0 || ay < 0 || az < 0 || ax > kCoordMax || ay > kCoordMax || az > kCoordMax)
-              continue;
-            const std::uint32_t nc = findCell(mortonKey(ax, ay, az));
-            if (nc == UINT32_MAX) continue;
-            range_begin[nr] = cell_start_[nc];
-            range_end[nr] = cell_start_[nc + 1];
-            ++nr;
-          }
-      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-        const glm::vec3 xi = sorted_x_[k];
-        const std::uint32_t i = order_[k];
-        const std::size_t start = buf.size();
-        for (int r = 0; r < nr; ++r) {
-          for (std::uint32_t q = range_begin[r]; q < range_end[r]; ++q) {
-            const glm::vec3 d = sorted_x_[q] - xi;
-            if (d.x * d.x + d.y * d.y + d.z * d.z < r2 && q != k) buf.push_back(order_[q]);
-          }
+    int nr = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      if (k == k0 || keys_[k] != keys_[k - 1])
+        nr = neighborRanges(keys_[k], range_begin.data(), range_end.data());
+      const glm::vec3 xi = sorted_x_[k];
+      const std::size_t start = buf.size();
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t q = range_begin[r]; q < range_end[r]; ++q) {
+          const glm::vec3 d = sorted_x_[q] - xi;
+          if (d.x * d.x + d.y * d.y + d.z * d.z < r2 && q != k) buf.push_back(order_[q]);
         }
-        offset_[i] = static_cast<std::uint32_t>(start);
-        count_[i] = static_cast<std::uint32_t>(buf.size() - start);
-      }
+      const std::uint32_t i = order_[k];
+      offset_[i] = static_cast<std::uint32_t>(start);
+      count_[i] = static_cast<std::uint32_t>(buf.size() - start);
     }
     // The buffer no longer grows: turn offsets into pointers.
-    for (std::size_t c = c0; c < c1; ++c)
-      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-        const std::uint32_t i = order_[k];
-        begin_[i] = buf.data() + offset_[i];
-      }
+    for (std::size_t k = k0; k < k1; ++k) begin_[order_[k]] = buf.data() + offset_[order_[k]];
   }
 }
 

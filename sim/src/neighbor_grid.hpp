@@ -1,14 +1,19 @@
-// Fixed-radius neighbour search on a hashed voxel grid (SPEC §1 step 1).
+// Fixed-radius neighbour search on a voxel grid (SPEC §1 step 1), cell size
+// = the search radius, linear in N.
 //
-// Points are sorted by the Morton code of their cell (radix sort, stable, so
-// ties keep index order); occupied cells are found in an open-addressing hash
-// table. Memory is O(N) whatever the bounding box: a particle flung far away
-// costs one more occupied cell, not a larger grid. Build time is O(N) for a
-// bounded number of points per cell.
+// Two layouts, chosen per build:
+//  - dense: when the points' bounding box has at most 16N cells, points
+//    are counting-sorted by linear cell index (x fastest), so the three
+//    x-neighbouring cells of a row are one contiguous range and a cell's
+//    neighbourhood is 9 ranges read straight from an array;
+//  - hashed: otherwise (a particle flung far away, a huge box), points are
+//    radix-sorted by the Morton code of their cell and the 27 neighbouring
+//    cells are found in an open-addressing hash table.
+// Either way memory is O(N) whatever the bounding box.
 //
-// Neighbour order is stable: for each point, the neighbour cells are visited
-// in a fixed order (dz, dy, dx from -1 to 1) and the points of a cell in
-// index order. It does not depend on the thread count.
+// Neighbour order is stable: neighbouring cells are visited in a fixed order
+// (dz, dy, dx from -1 to 1) and the points of a cell in index order. It does
+// not depend on the thread count.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -24,7 +29,7 @@ class NeighborGrid {
  public:
   /// Finds, for every point i, every other point j with |x_i - x_j| < radius.
   /// The cell size is `radius` (2*h2 for the solver). Non-finite points get
-  /// no neighbours.
+  /// no neighbours (and send the build to the hashed layout).
   void build(std::span<const glm::vec3> x, float radius, int threads);
 
   /// Neighbours of point i (without i itself), in stable order.
@@ -34,17 +39,31 @@ class NeighborGrid {
   std::size_t pointCount() const { return count_.size(); }
   /// Number of ordered pairs (each unordered pair counts twice).
   std::size_t pairCount() const;
-  std::size_t cellCount() const { return cell_key_.size(); }
+  /// Occupied cells of the last build.
+  std::size_t cellCount() const { return occupied_cells_; }
+  /// True if the last build used the dense layout.
+  bool usedDenseLayout() const { return dense_; }
 
   /// The Morton key of the cell holding point p for a cell size 1/inv_cell.
   static std::uint64_t cellKey(const glm::vec3& p, float inv_cell);
 
  private:
-  void sortByCell(std::span<const glm::vec3> x);
+  bool chooseDenseLayout(std::span<const glm::vec3> x);
+  void sortDense(std::span<const glm::vec3> x);
+  void sortHashed(std::span<const glm::vec3> x);
   void buildCellTable();
   std::uint32_t findCell(std::uint64_t key) const;
+  /// Point ranges [begin, end) in sorted order of the cells around `cell`.
+  int neighborRanges(std::uint64_t cell, std::uint32_t* begin, std::uint32_t* end) const;
 
   float radius_ = 0, inv_cell_ = 0;
+  bool dense_ = false;
+  std::size_t occupied_cells_ = 0;
+  // dense layout: cell (ix, iy, iz) has index (iz * ny + iy) * nx + ix
+  std::int64_t origin_[3] = {0, 0, 0};
+  std::int64_t dims_[3] = {0, 0, 0};
+  std::vector<std::uint32_t> dense_start_;  // cells + 1 offsets into order_
+  // both layouts: the cell of each sorted point (dense index or Morton key)
   std::vector<std::uint64_t> keys_, keys_tmp_;
   std::vector<std::uint32_t> order_, order_tmp_;
   std::vector<glm::vec3> sorted_x_;
