@@ -35,10 +35,23 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
 // Per-step spring quantities, one entry per connection entry or particle.
 struct Solver::Scratch {
   std::vector<float> k;            // k_ij = c_ij W(|x_ij|, h1), eq. 7
-  std::vector<float> alpha;        // alpha_ij, eq. 14
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
   std::size_t clamped = 0;         // side factors held at the clamp
+  const std::uint8_t* is_root = nullptr;
+
+  // alpha_ij of entry e (owner i, partner j), eq. 14: j on i's tip side means
+  // i on j's root side. A root particle is part of the head: a pair with a
+  // root takes the hair particle's factor alone, so the hair keeps its
+  // modulus where it is attached (a root's tip side gathers many connections
+  // and would halve it). Computed where it is used, not stored.
+  float alpha(std::size_t i, std::uint32_t j, std::uint8_t tip_side) const {
+    const float own = tip_side ? factor_tip[i] : factor_root[i];
+    const float other = tip_side ? factor_root[j] : factor_tip[j];
+    if (is_root[j]) return own;
+    if (is_root[i]) return other;
+    return 0.5f * (own + other);
+  }
   std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
 };
 
@@ -88,6 +101,12 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   cross_section_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     cross_section_[i] = std::pow(particles_.mass[i] / params_.material_density, 2.0f / 3.0f);
+  inverse_rest_kernel_.resize(connections_.entryCount());
+  {
+    const CubicKernel k1(params_.h1);
+    for (std::size_t e = 0; e < connections_.entryCount(); ++e)
+      inverse_rest_kernel_[e] = 1.0f / k1.W(connections_.rest_length[e]);
+  }
   rest_factor_root_.assign(n, 0.0f);
   rest_factor_tip_.assign(n, 0.0f);
   {
@@ -114,7 +133,6 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
   scratch_->k.assign(connections_.entryCount(), 0.0f);
-  scratch_->alpha.assign(connections_.entryCount(), 0.0f);
   scratch_->factor_root.assign(n, 0.0f);
   scratch_->factor_tip.assign(n, 0.0f);
 
@@ -263,27 +281,9 @@ void Solver::computeSpringFactors(Scratch& s) const {
     s.factor_root[i] = factor(sr, rest_factor_root_[i]);
     s.factor_tip[i] = factor(st, rest_factor_tip_[i]);
   }
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-      const std::uint32_t j = c.partner[e];
-      // eq. 14: j on i's tip side means i on j's root side. A root particle
-      // is part of the head: a pair with a root takes the hair particle's
-      // factor alone, so the hair keeps its modulus where it is attached
-      // (a root's tip side gathers many connections and would halve it).
-      const float own = c.tip_side[e] ? s.factor_tip[i] : s.factor_root[i];
-      const float other = c.tip_side[e] ? s.factor_root[j] : s.factor_tip[j];
-      if (root[j])
-        s.alpha[e] = own;
-      else if (root[i])
-        s.alpha[e] = other;
-      else
-        s.alpha[e] = 0.5f * (own + other);
-    }
-  }
   s.clamped = clamped;
   s.active_entries = active;
+  s.is_root = root.data();
 }
 
 // ---- stage 3b: damped spring forces (SPEC §3.2) ----------------------------
@@ -297,9 +297,9 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
     const auto i = static_cast<std::size_t>(ii);
     glm::vec3 f(0.0f);
     for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-      const float ak = s.alpha[e] * s.k[e];
-      if (ak == 0.0f) continue;
+      if (s.k[e] == 0.0f) continue;
       const std::uint32_t j = c.partner[e];
+      const float ak = s.alpha(i, j, c.tip_side[e]) * s.k[e];
       const glm::vec3 xij = x[j] - x[i];
       const float r = glm::length(xij);
       if (!(r > 0.0f)) continue;
@@ -465,7 +465,7 @@ void Solver::step() {
           if (!(r > limit) || !(r < support)) continue;  // slack connections stay free
           // The correction follows the spring's looseness, so a connection
           // that is letting go (hair splitting) is not pulled back hard.
-          const float looseness = std::min(1.0f, k1.W(r) / k1.W(c.rest_length[e]));
+          const float looseness = std::min(1.0f, k1.W(r) * inverse_rest_kernel_[e]);
           const float wj = root[j] ? 0.0f : 1.0f / m[j];
           shift += (looseness * (r - limit) * wi / (wi + wj) / r) * xij;
           ++active;
@@ -535,9 +535,11 @@ void Solver::step() {
       const glm::vec3 ti = dir[i];
       glm::vec3 sum(0.0f);
       for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-        const float w = s.alpha[e] * s.k[e];
+        if (!(s.k[e] > 0.0f)) continue;
+        const std::uint32_t j = c.partner[e];
+        const float w = s.alpha(i, j, c.tip_side[e]) * s.k[e];
         if (!(w > 0.0f)) continue;
-        const glm::vec3 xij = x[c.partner[e]] - x[i];
+        const glm::vec3 xij = x[j] - x[i];
         const float r = glm::length(xij);
         if (!(r > 0.0f)) continue;
         const glm::vec3 xhat = xij / r;
@@ -610,7 +612,6 @@ std::uint64_t Solver::stateHash() const {
 Solver::Scratch Solver::springFactorsNow() const {
   Scratch s;
   s.k.resize(connections_.entryCount());
-  s.alpha.resize(connections_.entryCount());
   s.factor_root.resize(particles_.size());
   s.factor_tip.resize(particles_.size());
   computeSpringFactors(s);
@@ -624,7 +625,8 @@ double Solver::stableTimeStep() const {
     if (particles_.is_root[i]) continue;
     double stiff = 0;
     for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
-      stiff += static_cast<double>(s.alpha[e]) * s.k[e];
+      stiff += static_cast<double>(s.alpha(i, connections_.partner[e], connections_.tip_side[e])) *
+               s.k[e];
     worst = std::max(worst, stiff / particles_.mass[i]);
   }
   return worst > 0 ? 2.0 / std::sqrt(worst) : std::numeric_limits<double>::infinity();
@@ -638,7 +640,8 @@ std::vector<float> Solver::tensileModulus(Side side) const {
     double sum = 0;
     for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
       if (connections_.tip_side[e] == want)
-        sum += static_cast<double>(connections_.rest_length[e]) * s.alpha[e] * s.k[e];
+        sum += static_cast<double>(connections_.rest_length[e]) *
+               s.alpha(i, connections_.partner[e], connections_.tip_side[e]) * s.k[e];
     out[i] = static_cast<float>(sum / cross_section_[i]);
   }
   return out;

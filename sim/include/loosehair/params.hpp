@@ -61,7 +61,7 @@ struct SimParams {
   float max_strain = 0.01f;
   /// Jacobi iterations of the strain limit per step.
   /// Each pass also adds shear stiffness to the hair volume.
-  int strain_limit_iterations = 4;
+  int strain_limit_iterations = 2;
 
   /// Tether every hair particle to its root point: |x_i - r_i| <= (1 +
   /// tether_slack) s_i after each step (a long-range attachment; our

@@ -158,6 +158,7 @@ class Solver {
   // derived at initialisation
   std::vector<float> cross_section_;  // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
+  std::vector<float> inverse_rest_kernel_;  // 1 / W(l_ij, h1) per connection entry
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
 
   // per step
