@@ -154,7 +154,7 @@ int simulate(const Options& o) {
   } rows[] = {{"neighbors", s.neighbors}, {"density", s.density},
               {"springs", s.springs},     {"hair-hair", s.hair_hair},
               {"external", s.external},   {"integrate", s.integrate},
-              {"strain-limit", s.strain_limit}, {"directions", s.directions}};
+              {"constraints", s.strain_limit}, {"directions", s.directions}};
   const double total = s.total();
   for (const auto& row : rows)
     std::printf("  %-13s %8.3f  %5.1f%%\n", row.name, row.seconds / steps * 1e3,

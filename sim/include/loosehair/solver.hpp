@@ -26,7 +26,9 @@ namespace loosehair {
 
 class NeighborGrid;
 
-/// Wall-clock seconds spent in each stage of a step.
+/// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
+/// everything after integration that corrects positions: the strain limit,
+/// the tethers and the projection out of the body.
 struct StageTimes {
   double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0,
          integrate = 0, strain_limit = 0, directions = 0;
