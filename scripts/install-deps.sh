@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev    # scene files
   libopenmesh-dev       # mesh loading (OBJ, PLY, OFF, STL)
   libtinygltf-dev       # glTF / GLB loading
+  libopenvdb-dev        # signed-distance bake of body meshes
   libstb-dev            # PNG / image reading and writing
   libglfw3-dev libgl-dev  # interactive viewer window
   libosmesa6-dev        # headless OpenGL (software, no X server)

@@ -359,6 +359,84 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
   }
 }
 
+// ---- bodies (SPEC §5) ---------------------------------------------------------
+// A world body seen from the head frame at one time: q = M x + d in the
+// body's frame, n_head = M^T n_body.
+struct Solver::BodyFrame {
+  const Body* body = nullptr;
+  glm::mat3 m{1.0f};
+  glm::vec3 d{0.0f};
+  // for the surface velocity: world velocity vo + Ro (wo x q)
+  glm::mat3 ro{1.0f}, rh_t{1.0f};
+  glm::vec3 vo{0.0f}, wo{0.0f};
+};
+
+void Solver::addWorldBody(std::shared_ptr<const Body> body, HeadTrajectory motion, double begin,
+                          double end) {
+  if (!body) throw std::invalid_argument("addWorldBody: no body");
+  if (std::isnan(begin) || std::isnan(end) || !(begin < end))
+    throw std::invalid_argument("addWorldBody: the active time interval is empty");
+  world_bodies_.push_back({std::move(body), std::move(motion), begin, end});
+}
+
+void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head) const {
+  head = trajectory_.kinematics(t);
+  frames.clear();
+  for (const auto& wb : world_bodies_) {
+    if (!(t >= wb.begin && t < wb.end)) continue;
+    const HeadKinematics o = wb.motion.kinematics(t);
+    const glm::dmat3 ro_t = glm::transpose(o.pose.rotation);
+    BodyFrame f;
+    f.body = wb.body.get();
+    f.m = glm::mat3(ro_t * head.pose.rotation);
+    f.d = glm::vec3(ro_t * (head.pose.center - o.pose.center));
+    f.ro = glm::mat3(o.pose.rotation);
+    f.rh_t = glm::mat3(glm::transpose(head.pose.rotation));
+    f.vo = glm::vec3(o.velocity);
+    f.wo = glm::vec3(o.angular_velocity);
+    frames.push_back(f);
+  }
+}
+
+void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
+                         const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
+                         glm::vec3* surface_velocity) const {
+  head_->signedDistance(x, n, phi, normal);
+  if (surface_velocity)
+    for (std::size_t k = 0; k < n; ++k) surface_velocity[k] = glm::vec3(0.0f);
+  if (frames.empty()) return;
+  glm::vec3 q[kBodyBlock], nb[kBodyBlock];
+  float pb[kBodyBlock];
+  const glm::vec3 omega(head.angular_velocity);
+  const glm::vec3 frame_vel(glm::transpose(head.pose.rotation) * head.velocity);
+  for (std::size_t b = 0; b < n; b += kBodyBlock) {
+    const std::size_t len = std::min(kBodyBlock, n - b);
+    for (const BodyFrame& f : frames) {
+      for (std::size_t k = 0; k < len; ++k) q[k] = f.m * x[b + k] + f.d;
+      f.body->signedDistance(q, len, pb, nb);
+      for (std::size_t k = 0; k < len; ++k) {
+        if (!(pb[k] < phi[b + k])) continue;
+        phi[b + k] = pb[k];
+        normal[b + k] = glm::transpose(f.m) * nb[k];
+        if (surface_velocity) {
+          const glm::vec3 vw = f.vo + f.ro * glm::cross(f.wo, q[k]);
+          surface_velocity[b + k] = f.rh_t * vw - glm::cross(omega, x[b + k]) - frame_vel;
+        }
+      }
+    }
+  }
+}
+
+void Solver::bodyDistance(std::span<const glm::vec3> points, double t,
+                          std::vector<float>& phi) const {
+  std::vector<BodyFrame> frames;
+  HeadKinematics head;
+  placeBodies(t, frames, head);
+  phi.resize(points.size());
+  std::vector<glm::vec3> nrm(points.size());
+  queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
+}
+
 // ---- the step ---------------------------------------------------------------
 void Solver::step() {
   const float dt = static_cast<float>(params_.time_step);
@@ -413,23 +491,30 @@ void Solver::step() {
   // contact applied to the new velocity (SPEC §5 body collisions) ------------
   const float thickness = params_.contact_thickness, mu = params_.body_friction;
   std::size_t contacts = 0;
+  std::vector<BodyFrame> frames;
+  HeadKinematics head_now;
+  placeBodies(time_, frames, head_now);
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : contacts)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
     const std::size_t e = std::min(n, b + kBodyBlock);
-    head_->signedDistance(&x[b], e - b, &body_phi_[b], &body_normal_[b]);
+    glm::vec3 surface[kBodyBlock];
+    queryBodies(frames, head_now, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
     for (std::size_t i = b; i < e; ++i) {
       if (root[i]) continue;
       glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
       if (body_phi_[i] < thickness) {
+        // The response acts on the velocity relative to the body's surface.
+        const glm::vec3 us = surface[i - b];
         const glm::vec3 nrm = body_normal_[i];
-        const float vn = glm::dot(vi, nrm);
+        const glm::vec3 vr = vi - us;
+        const float vn = glm::dot(vr, nrm);
         if (vn < 0.0f) {
           ++contacts;
-          glm::vec3 vt = vi - vn * nrm;  // inelastic: normal approach removed
+          glm::vec3 vt = vr - vn * nrm;  // inelastic: normal approach removed
           const float vt_len = glm::length(vt);
           const float slip = vt_len - mu * (-vn);  // Coulomb: |dv_t| <= mu |dv_n|
-          vi = slip > 0.0f ? vt * (slip / vt_len) : glm::vec3(0.0f);
+          vi = us + (slip > 0.0f ? vt * (slip / vt_len) : glm::vec3(0.0f));
         }
       }
       v[i] = vi;
@@ -504,19 +589,37 @@ void Solver::step() {
   // Project what is still inside the body to its surface and take the new
   // velocity from the corrected positions (no added normal speed, so nothing
   // is thrown off the body).
+  // Several bodies (head, torso, obstacles) may meet in a crease, where
+  // leaving one can mean entering another: a few rounds settle it.
+  placeBodies(time_ + params_.time_step, frames, head_now);
+  const int rounds = frames.empty() ? 1 : 3;
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
     const std::size_t e = std::min(n, b + kBodyBlock);
-    head_->signedDistance(&x[b], e - b, &body_phi_[b], &body_normal_[b]);
+    glm::vec3 surface[kBodyBlock];
+    bool pushed[kBodyBlock] = {};
+    glm::vec3 push_normal[kBodyBlock];
+    for (int round = 0; round < rounds; ++round) {
+      queryBodies(frames, head_now, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
+      bool any = false;
+      for (std::size_t i = b; i < e; ++i) {
+        if (root[i] || !(body_phi_[i] < 0.0f)) continue;
+        x[i] -= body_phi_[i] * body_normal_[i];
+        if (!pushed[i - b]) push_normal[i - b] = body_normal_[i];
+        pushed[i - b] = true;
+        any = true;
+      }
+      if (!any) break;
+    }
     for (std::size_t i = b; i < e; ++i) {
       if (root[i]) continue;
-      if (body_phi_[i] < 0.0f) x[i] -= body_phi_[i] * body_normal_[i];
       glm::vec3 vi = v[i];
       if (x[i] != integrated_position_[i]) vi += (x[i] - integrated_position_[i]) / dt;
-      if (body_phi_[i] < 0.0f) {
-        const float vn = glm::dot(vi, body_normal_[i]);
-        if (vn > 0.0f) vi -= vn * body_normal_[i];  // the push-out is not a velocity
+      if (pushed[i - b]) {
+        const glm::vec3 nrm = push_normal[i - b];
+        const float vn = glm::dot(vi - surface[i - b], nrm);
+        if (vn > 0.0f) vi -= vn * nrm;  // the push-out is not a velocity
       }
       v[i] = vi;
     }

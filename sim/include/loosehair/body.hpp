@@ -4,6 +4,7 @@
 #pragma once
 
 #include <glm/vec3.hpp>
+#include <glm/ext/vector_int3.hpp>
 
 #include <cstddef>
 
@@ -31,6 +32,59 @@ class SphereBody final : public Body {
  private:
   glm::vec3 center_;
   float radius_;
+};
+
+}  // namespace loosehair
+
+#include "loosehair/mesh.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace loosehair {
+
+struct SdfBakeOptions {
+  /// Grid spacing (m); 0 chooses 1/128 of the mesh's largest extent.
+  float voxel_size = 0.0f;
+  /// The grid reaches this far beyond the mesh's bounding box (m); farther
+  /// out the distance is extrapolated from the box.
+  float margin = 0.04f;
+  /// Directory for baked grids, reused when the same mesh and options come
+  /// again; empty: no cache.
+  std::string cache_dir;
+};
+
+/// A closed triangle mesh as a signed-distance grid (SPEC §5): baked once
+/// with OpenVDB's mesh-to-level-set conversion, sampled trilinearly, with
+/// the normal from the gradient of the interpolant.
+class GridSdfBody final : public Body {
+ public:
+  /// Bakes `mesh` (or reads the cached grid). `source` names it in
+  /// messages. `from_cache` (optional) tells whether the cache was used.
+  static std::shared_ptr<GridSdfBody> bake(const TriangleMesh& mesh, const SdfBakeOptions& options,
+                                           bool* from_cache = nullptr);
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                      glm::vec3* normal) const override;
+  float voxelSize() const { return voxel_; }
+  glm::vec3 lower() const { return lower_; }
+  glm::ivec3 dims() const { return dims_; }
+  /// Default cache directory: $LOOSEHAIR_CACHE_DIR, else $XDG_CACHE_HOME/loosehair,
+  /// else $HOME/.cache/loosehair (empty if none of them is set).
+  static std::string defaultCacheDir();
+
+ private:
+  GridSdfBody() = default;
+  float at(int i, int j, int k) const {
+    return values_[(static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_.y) +
+                    static_cast<std::size_t>(j)) *
+                       static_cast<std::size_t>(dims_.x) +
+                   static_cast<std::size_t>(i)];
+  }
+  glm::vec3 lower_{0.0f};
+  float voxel_ = 0.0f;
+  glm::ivec3 dims_{0};
+  std::vector<float> values_;
 };
 
 }  // namespace loosehair

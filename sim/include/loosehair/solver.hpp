@@ -15,6 +15,7 @@
 #include "loosehair/params.hpp"
 #include "loosehair/particles.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -94,6 +95,21 @@ class Solver {
   /// parameters are no longer valid with it.
   void setTimeStep(double dt);
 
+  /// Adds a body that does not turn with the head (SPEC §5): a torso, or a
+  /// kinematic obstacle. `body` is given in its own frame, placed in the
+  /// world by `motion` (pose of its frame over time), and collides only
+  /// while begin <= t < end. Its surface velocity enters the contact
+  /// response, so a moving obstacle pushes the hair.
+  void addWorldBody(std::shared_ptr<const Body> body,
+                    HeadTrajectory motion = HeadTrajectory::still(),
+                    double begin = -INFINITY, double end = INFINITY);
+  std::size_t worldBodyCount() const { return world_bodies_.size(); }
+
+  /// Signed distance (m) from each head-frame point to the union of the
+  /// head and the world bodies active at time t; negative inside.
+  void bodyDistance(std::span<const glm::vec3> head_frame_points, double t,
+                    std::vector<float>& phi) const;
+
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay
   /// where they were put: they are never integrated). Neighbours and
@@ -149,8 +165,20 @@ class Solver {
   void computeDensity();
   void findNeighbors();
 
+  struct WorldBody {
+    std::shared_ptr<const Body> body;
+    HeadTrajectory motion;
+    double begin, end;
+  };
+  struct BodyFrame;  // per-step placement of the world bodies
+  void placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head) const;
+  void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
+                   const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
+                   glm::vec3* surface_velocity) const;
+
   SimParams params_;
   Particles particles_;
+  std::vector<WorldBody> world_bodies_;
   ConnectionSet connections_;
   std::shared_ptr<const Body> head_;
   HeadTrajectory trajectory_;

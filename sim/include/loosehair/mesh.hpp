@@ -1,0 +1,79 @@
+// Triangle meshes for heads and bodies (SPEC §5 body collisions, §6.1 scalp):
+// loading (OBJ, PLY, OFF, STL through OpenMesh; glTF and GLB through
+// tinygltf), conversion to the simulator's frame (metres, +Y up, face
+// towards +Z) and checks that reject meshes the simulator cannot use.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace loosehair {
+
+/// A mesh that cannot be used. what() names the file and the problem.
+class MeshError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct TriangleMesh {
+  std::vector<glm::vec3> vertices;
+  std::vector<glm::u32vec3> triangles;  // counter-clockwise seen from outside
+
+  std::size_t size() const { return triangles.size(); }
+  glm::vec3 corner(std::size_t t, int k) const { return vertices[triangles[t][k]]; }
+};
+
+/// A signed coordinate axis, as written in scene files: "+x", "-y", ...
+enum class Axis { PosX, NegX, PosY, NegY, PosZ, NegZ };
+/// Parses "+x", "x", "-y", ... (case-insensitive); throws std::invalid_argument.
+Axis parseAxis(const std::string& text);
+glm::vec3 axisVector(Axis a);
+
+struct MeshLoadOptions {
+  /// Multiplies the file's coordinates to get metres (e.g. 0.01 for cm).
+  float scale = 1.0f;
+  /// The file's up and front (face) axes; they become +Y and +Z.
+  Axis up = Axis::PosY;
+  Axis front = Axis::PosZ;
+  /// Added after scaling and turning (m).
+  glm::vec3 offset{0.0f};
+};
+
+/// What checkMesh found.
+struct MeshReport {
+  std::size_t vertices = 0, triangles = 0;
+  std::size_t degenerate_removed = 0;   // zero-area or repeated-index triangles dropped
+  std::size_t boundary_edges = 0;       // edges with one triangle (holes)
+  std::size_t nonmanifold_edges = 0;    // edges with three or more triangles
+  std::size_t misoriented_edges = 0;    // edges whose two triangles disagree in orientation
+  std::size_t components = 0;           // connected pieces
+  double volume = 0;                    // enclosed volume (m^3), after reorientation
+  bool flipped = false;                 // the whole mesh was turned inside out and fixed
+  glm::vec3 lower{0.0f}, upper{0.0f};   // bounding box (m)
+  bool closed() const { return boundary_edges == 0 && nonmanifold_edges == 0; }
+};
+
+/// Reads a mesh by its extension (.obj .ply .off .stl .gltf .glb), turns
+/// polygons into triangles, welds vertices at equal positions, converts to
+/// the simulator's frame and runs checkMesh. Throws MeshError.
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {},
+                      MeshReport* report = nullptr);
+
+/// Cleans and checks a mesh in place: drops degenerate triangles and
+/// unreferenced vertices, turns an inside-out mesh right way out. Throws
+/// MeshError (message starting with `source`) if it is empty, has
+/// non-finite coordinates, is flat, is mostly degenerate, has more than 1%
+/// non-manifold or misoriented edges, or more than 2% boundary edges.
+MeshReport checkMesh(TriangleMesh& mesh, const std::string& source);
+
+/// Writes a Wavefront OBJ (the whole file or nothing). Throws MeshError.
+void writeObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment = "");
+
+/// Area-weighted vertex normals (unit).
+std::vector<glm::vec3> vertexNormals(const TriangleMesh& mesh);
+
+}  // namespace loosehair

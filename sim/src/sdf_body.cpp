@@ -1,0 +1,189 @@
+// Signed-distance grid of a mesh (SPEC §5 body collisions). The bake uses
+// OpenVDB (tools::meshToSignedDistanceField); the solver samples a dense copy.
+#include "loosehair/body.hpp"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <mutex>
+
+namespace loosehair {
+namespace {
+
+constexpr std::uint32_t kCacheMagic = 0x4c485344;  // "LHSD"
+constexpr std::uint32_t kCacheVersion = 1;
+
+std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t k = 0; k < bytes; ++k) {
+    h ^= p[k];
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+struct CacheHeader {
+  std::uint32_t magic = kCacheMagic, version = kCacheVersion;
+  std::uint64_t key = 0;
+  float lower[3] = {0, 0, 0};
+  float voxel = 0;
+  std::int32_t dims[3] = {0, 0, 0};
+};
+
+}  // namespace
+
+std::string GridSdfBody::defaultCacheDir() {
+  if (const char* d = std::getenv("LOOSEHAIR_CACHE_DIR"); d && *d) return d;
+  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::string(d) + "/loosehair";
+  if (const char* d = std::getenv("HOME"); d && *d) return std::string(d) + "/.cache/loosehair";
+  return {};
+}
+
+std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const SdfBakeOptions& opt,
+                                               bool* from_cache) {
+  if (from_cache) *from_cache = false;
+  if (mesh.triangles.empty()) throw MeshError("signed-distance bake: the mesh has no triangles");
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& p : mesh.vertices) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  if (!(extent > 0.0f) || !std::isfinite(extent))
+    throw MeshError("signed-distance bake: the mesh has no extent");
+  const float voxel = opt.voxel_size > 0.0f ? opt.voxel_size : extent / 128.0f;
+  if (!(voxel > 0.0f) || !std::isfinite(voxel) || !(opt.margin >= 0.0f))
+    throw MeshError("signed-distance bake: voxel size and margin must be positive");
+  const float margin = std::max(opt.margin, 2.0f * voxel);
+  const glm::vec3 glo = glm::floor((lo - margin) / voxel);
+  const glm::vec3 ghi = glm::ceil((hi + margin) / voxel);
+  const glm::ivec3 dims = glm::ivec3(ghi - glo) + 1;
+  const double cells = static_cast<double>(dims.x) * dims.y * dims.z;
+  if (cells > 4.0e8)
+    throw MeshError("signed-distance bake: a grid of " + std::to_string(dims.x) + "x" +
+                    std::to_string(dims.y) + "x" + std::to_string(dims.z) +
+                    " is too large; use a larger voxel size");
+
+  auto body = std::shared_ptr<GridSdfBody>(new GridSdfBody());
+  body->lower_ = glo * voxel;
+  body->voxel_ = voxel;
+  body->dims_ = dims;
+
+  // Cache key: the mesh's bits and the grid's placement.
+  std::uint64_t key = 0xcbf29ce484222325ULL;
+  key = fnv(key, mesh.vertices.data(), mesh.vertices.size() * sizeof(glm::vec3));
+  key = fnv(key, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::u32vec3));
+  key = fnv(key, &voxel, sizeof voxel);
+  key = fnv(key, &margin, sizeof margin);
+  key = fnv(key, &kCacheVersion, sizeof kCacheVersion);
+  std::filesystem::path cache_file;
+  if (!opt.cache_dir.empty()) {
+    char name[40];
+    std::snprintf(name, sizeof name, "sdf-%016llx.bin", static_cast<unsigned long long>(key));
+    cache_file = std::filesystem::path(opt.cache_dir) / name;
+    std::ifstream in(cache_file, std::ios::binary);
+    CacheHeader h;
+    if (in && in.read(reinterpret_cast<char*>(&h), sizeof h) && h.magic == kCacheMagic &&
+        h.version == kCacheVersion && h.key == key && h.voxel == voxel && h.dims[0] == dims.x &&
+        h.dims[1] == dims.y && h.dims[2] == dims.z) {
+      body->values_.resize(static_cast<std::size_t>(cells));
+      if (in.read(reinterpret_cast<char*>(body->values_.data()),
+                  static_cast<std::streamsize>(body->values_.size() * sizeof(float)))) {
+        if (from_cache) *from_cache = true;
+        return body;
+      }
+    }
+  }
+
+  static std::once_flag init;
+  std::call_once(init, [] { openvdb::initialize(); });
+  std::vector<openvdb::Vec3s> points(mesh.vertices.size());
+  for (std::size_t v = 0; v < points.size(); ++v)
+    points[v] = openvdb::Vec3s(mesh.vertices[v].x, mesh.vertices[v].y, mesh.vertices[v].z);
+  // The conversion signs the distance by flooding the outside, so it needs a
+  // closed mesh (checkMesh) but not any particular winding.
+  std::vector<openvdb::Vec3I> tris(mesh.triangles.size());
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    tris[t] = openvdb::Vec3I(mesh.triangles[t].x, mesh.triangles[t].y, mesh.triangles[t].z);
+  std::vector<openvdb::Vec4I> quads;
+  auto xform = openvdb::math::Transform::createLinearTransform(static_cast<double>(voxel));
+  const float band = margin / voxel + 2.0f;
+  auto grid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
+      *xform, points, tris, quads, band, std::numeric_limits<float>::max());
+  auto acc = grid->getConstAccessor();
+  body->values_.resize(static_cast<std::size_t>(cells));
+  const glm::ivec3 base(glo);
+  std::size_t idx = 0;
+  for (int k = 0; k < dims.z; ++k)
+    for (int j = 0; j < dims.y; ++j)
+      for (int i = 0; i < dims.x; ++i)
+        body->values_[idx++] = acc.getValue(openvdb::Coord(base.x + i, base.y + j, base.z + k));
+
+  if (!cache_file.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(cache_file.parent_path(), ec);
+    const auto tmp = cache_file.string() + ".tmp" + std::to_string(key & 0xffff);
+    std::ofstream out(tmp, std::ios::binary);
+    CacheHeader h;
+    h.key = key;
+    for (int a = 0; a < 3; ++a) {
+      h.lower[a] = body->lower_[a];
+      h.dims[a] = dims[a];
+    }
+    h.voxel = voxel;
+    if (out && out.write(reinterpret_cast<const char*>(&h), sizeof h) &&
+        out.write(reinterpret_cast<const char*>(body->values_.data()),
+                  static_cast<std::streamsize>(body->values_.size() * sizeof(float)))) {
+      out.close();
+      std::filesystem::rename(tmp, cache_file, ec);
+    }
+    if (ec || !out) std::filesystem::remove(tmp, ec);  // a cache is optional
+  }
+  return body;
+}
+
+void GridSdfBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                                 glm::vec3* normal) const {
+  const glm::vec3 top = lower_ + voxel_ * glm::vec3(dims_ - 1);
+  const float inv = 1.0f / voxel_;
+  for (std::size_t k = 0; k < n; ++k) {
+    const glm::vec3 pc = glm::clamp(p[k], lower_, top);
+    const glm::vec3 q = (pc - lower_) * inv;
+    glm::ivec3 c = glm::min(glm::ivec3(q), dims_ - 2);
+    c = glm::max(c, glm::ivec3(0));
+    const glm::vec3 f = q - glm::vec3(c);
+    const float c000 = at(c.x, c.y, c.z), c100 = at(c.x + 1, c.y, c.z);
+    const float c010 = at(c.x, c.y + 1, c.z), c110 = at(c.x + 1, c.y + 1, c.z);
+    const float c001 = at(c.x, c.y, c.z + 1), c101 = at(c.x + 1, c.y, c.z + 1);
+    const float c011 = at(c.x, c.y + 1, c.z + 1), c111 = at(c.x + 1, c.y + 1, c.z + 1);
+    const float gx = f.x, hx = 1.0f - f.x, gy = f.y, hy = 1.0f - f.y, gz = f.z, hz = 1.0f - f.z;
+    const float value = hz * (hy * (hx * c000 + gx * c100) + gy * (hx * c010 + gx * c110)) +
+                        gz * (hy * (hx * c001 + gx * c101) + gy * (hx * c011 + gx * c111));
+    glm::vec3 grad;
+    grad.x = hz * (hy * (c100 - c000) + gy * (c110 - c010)) + gz * (hy * (c101 - c001) + gy * (c111 - c011));
+    grad.y = hz * (hx * (c010 - c000) + gx * (c110 - c100)) + gz * (hx * (c011 - c001) + gx * (c111 - c101));
+    grad.z = hy * (hx * (c001 - c000) + gx * (c101 - c100)) + gy * (hx * (c011 - c010) + gx * (c111 - c110));
+    const glm::vec3 out = p[k] - pc;
+    const float out_len = glm::length(out);
+    if (out_len > 0.0f) {
+      phi[k] = value + out_len;
+      normal[k] = out / out_len;
+      continue;
+    }
+    phi[k] = value;
+    const float gl = glm::length(grad);
+    normal[k] = gl > 0.0f ? grad / gl : glm::vec3(0.0f, 1.0f, 0.0f);
+  }
+}
+
+}  // namespace loosehair
