@@ -106,6 +106,12 @@ int simulate(const Options& o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
   const InitReport& r = solver.initReport();
   std::printf("scene: %s (%s), seed %" PRIu64 "\n", scene.name.c_str(), o.scene.c_str(), scene.seed);
+  if (build.head_triangles > 0)
+    std::printf("head mesh: %zu triangles (signed distance %s, %.2f s), scalp: %zu triangles, %.0f cm^2, "
+                "harmonic map %.2f s%s\n",
+                build.head_triangles, build.sdf_from_cache ? "from cache" : "baked",
+                build.seconds_sdf, build.scalp_triangles, build.scalp_area * 1e4, build.seconds_scalp,
+                build.scalp_mean_value ? " (mean-value weights)" : "");
   std::printf("particles: %zu (%zu roots), connections: %zu pairs, degree mean %.1f min %u max %u\n",
               r.particles, r.roots, r.connection_pairs, r.mean_degree, r.min_degree, r.max_degree);
   std::printf("Poisson radius %.4f m, mean nearest neighbour %.4f m, h1 = %.4f m, h2 = %.4f m\n",
@@ -133,6 +139,10 @@ int simulate(const Options& o) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%05d.ply", f);
       writeParticlePly((std::filesystem::path(o.dump_dir) / name).string(), solver);
+      if (solver.hasWind()) {
+        std::snprintf(name, sizeof name, "air_%05d.ply", f);
+        writeAirPly((std::filesystem::path(o.dump_dir) / name).string(), solver);
+      }
     }
     if (tty) {
       const double elapsed =
@@ -154,16 +164,22 @@ int simulate(const Options& o) {
   } rows[] = {{"neighbors", s.neighbors}, {"density", s.density},
               {"springs", s.springs},     {"hair-hair", s.hair_hair},
               {"external", s.external},   {"integrate", s.integrate},
-              {"constraints", s.strain_limit}, {"directions", s.directions}};
+              {"constraints", s.strain_limit}, {"directions", s.directions},
+              {"air", s.air}};
   const double total = s.total();
-  for (const auto& row : rows)
+  for (const auto& row : rows) {
+    if (std::string(row.name) == "air" && !solver.hasWind()) continue;
     std::printf("  %-13s %8.3f  %5.1f%%\n", row.name, row.seconds / steps * 1e3,
                 total > 0 ? 100.0 * row.seconds / total : 0.0);
+  }
   std::printf("  %-13s %8.3f  (%.2f M particle-steps/s)\n", "total", total / steps * 1e3,
               total > 0 ? static_cast<double>(r.particles) * steps / total * 1e-6 : 0.0);
   std::printf("last step: %zu neighbour pairs, %zu active connections, %zu body contacts, %zu "
               "clamped sides\n",
               st.neighbor_pairs / 2, st.active_connections, st.body_contacts, st.clamped_sides);
+  if (solver.hasWind())
+    std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles,
+                st.hair_air_pairs);
   std::printf("state-hash: %016" PRIx64 "\n", solver.stateHash());
   return 0;
 }

@@ -21,3 +21,8 @@ if(NOT TARGET loosehair_deps::openvdb)
     INTERFACE_INCLUDE_DIRECTORIES "${LOOSEHAIR_OPENVDB_INCLUDE}"
     INTERFACE_LINK_LIBRARIES "TBB::tbb;Imath::Imath")
 endif()
+if(NOT TARGET loosehair_deps::stb)
+  find_library(LOOSEHAIR_STB_LIBRARY NAMES stb REQUIRED)  # image reading (hair-length maps)
+  add_library(loosehair_deps::stb UNKNOWN IMPORTED)
+  set_target_properties(loosehair_deps::stb PROPERTIES IMPORTED_LOCATION "${LOOSEHAIR_STB_LIBRARY}")
+endif()

@@ -14,6 +14,51 @@ namespace loosehair {
 static_assert(std::endian::native == std::endian::little,
               "the PLY writer assumes a little-endian machine");
 
+namespace {
+
+void writeWhole(const std::string& path, const std::string& header,
+                const std::vector<unsigned char>& body) {
+  const std::string tmp = path + ".tmp";
+  std::FILE* file = std::fopen(tmp.c_str(), "wb");
+  if (!file) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  const bool ok = std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
+                  std::fwrite(body.data(), 1, body.size(), file) == body.size();
+  const bool closed = std::fclose(file) == 0;
+  if (!ok || !closed) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": write failed: " + std::strerror(errno));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the finished file: " + std::strerror(err));
+  }
+}
+
+}  // namespace
+
+void writeAirPly(const std::string& path, const Solver& solver) {
+  std::vector<glm::vec3> x, v;
+  solver.worldAirPositions(x);
+  solver.worldAirVelocities(v);
+  const auto density = solver.airDensity();
+  const std::size_t n = x.size();
+  std::string header = "ply\nformat binary_little_endian 1.0\ncomment loosehair air, time " +
+                       std::to_string(solver.time()) + " s\nelement vertex " + std::to_string(n) +
+                       "\n";
+  for (const char* name : {"x", "y", "z", "vx", "vy", "vz", "density"})
+    header += std::string("property float ") + name + "\n";
+  header += "end_header\n";
+  constexpr std::size_t kRecord = 7 * sizeof(float);
+  std::vector<unsigned char> body(n * kRecord);
+  for (std::size_t a = 0; a < n; ++a) {
+    const float f[7] = {x[a].x, x[a].y, x[a].z, v[a].x, v[a].y, v[a].z,
+                        a < density.size() ? density[a] : 0.0f};
+    std::memcpy(body.data() + a * kRecord, f, sizeof f);
+  }
+  writeWhole(path, header, body);
+}
+
 void writeParticlePly(const std::string& path, const Solver& solver) {
   std::vector<glm::vec3> x, t, v, r;
   solver.worldPositions(x);
@@ -44,21 +89,7 @@ void writeParticlePly(const std::string& path, const Solver& solver) {
     std::memcpy(rec + sizeof f + 1, &d, sizeof d);
   }
 
-  const std::string tmp = path + ".tmp";
-  std::FILE* file = std::fopen(tmp.c_str(), "wb");
-  if (!file) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
-  const bool ok = std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
-                  std::fwrite(body.data(), 1, body.size(), file) == body.size();
-  const bool closed = std::fclose(file) == 0;
-  if (!ok || !closed) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": write failed: " + std::strerror(errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the finished file: " + std::strerror(err));
-  }
+  writeWhole(path, header, body);
 }
 
 }  // namespace loosehair

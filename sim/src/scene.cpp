@@ -2,6 +2,8 @@
 
 #include "init/cantilever.hpp"
 #include "init/poisson_pillar.hpp"
+#include "init/length_map.hpp"
+#include "init/mesh_scalp.hpp"
 #include "init/scalp_surface.hpp"
 #include "neighbor_grid.hpp"
 
@@ -10,7 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numeric>
 #include <set>
@@ -20,6 +24,26 @@ namespace loosehair {
 namespace {
 
 using json = nlohmann::json;
+
+// A body fixed in the world seen from the head frame at one head pose.
+class PlacedBody final : public Body {
+ public:
+  PlacedBody(std::shared_ptr<const Body> body, const HeadPose& pose)
+      : body_(std::move(body)), r_(pose.rotation), c_(pose.center) {}
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                      glm::vec3* normal) const override {
+    std::vector<glm::vec3> q(n);
+    for (std::size_t k = 0; k < n; ++k) q[k] = r_ * p[k] + c_;
+    body_->signedDistance(q.data(), n, phi, normal);
+    const glm::mat3 rt = glm::transpose(r_);
+    for (std::size_t k = 0; k < n; ++k) normal[k] = rt * normal[k];
+  }
+
+ private:
+  std::shared_ptr<const Body> body_;
+  glm::mat3 r_;
+  glm::vec3 c_;
+};
 
 std::string show(const json& v) {
   std::string s = v.dump();
@@ -165,6 +189,117 @@ void readSolver(Fields f, SceneDesc& s) {
   f.finish();
 }
 
+std::string resolvePath(const std::string& source, const std::string& file) {
+  const std::filesystem::path p(file);
+  if (p.is_absolute()) return file;
+  return (std::filesystem::path(source).parent_path() / p).lexically_normal().string();
+}
+
+// The mesh fields shared by "head" (type "mesh") and "torso".
+void readMeshSpec(Fields& f, MeshSpec& m) {
+  if (!f.has("mesh")) f.fail("mesh", "is required (the mesh file, relative to the scene file)");
+  const std::string file = f.text("mesh", "");
+  if (file.empty()) f.fail("mesh", "must name a mesh file");
+  m.path = resolvePath(f.source(), file);
+  m.load.scale = f.real("scale", 1.0f, 0.0, 1e6, true);
+  try {
+    m.load.up = parseAxis(f.text("up", "+y"));
+  } catch (const std::invalid_argument& e) {
+    f.fail("up", e.what());
+  }
+  try {
+    m.load.front = parseAxis(f.text("front", "+z"));
+  } catch (const std::invalid_argument& e) {
+    f.fail("front", e.what());
+  }
+  if (std::abs(glm::dot(axisVector(m.load.up), axisVector(m.load.front))) > 0.5f)
+    f.fail("front", "must be a different axis from up");
+  m.load.offset = glm::vec3(f.vec3("offset", glm::dvec3(0.0), 100.0));
+  bool voxel_auto = true;
+  m.sdf_voxel = static_cast<float>(f.numberOrAuto("sdf_voxel", 0.0, voxel_auto, 0.0, 1.0));
+  if (voxel_auto) m.sdf_voxel = 0.0f;
+}
+
+std::vector<glm::vec3> readPoints(Fields& f, const std::string& key, std::size_t at_least) {
+  const json& v = f.at(key);
+  if (!v.is_array() || v.size() < at_least)
+    f.fail(key, "must be an array of at least " + std::to_string(at_least) + " points [x, y, z]");
+  std::vector<glm::vec3> out;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const json& q = v[k];
+    if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number())
+      f.fail(key + "[" + std::to_string(k) + "]", "must be a point [x, y, z], got " + show(q));
+    const glm::dvec3 d(q[0].get<double>(), q[1].get<double>(), q[2].get<double>());
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || glm::length(d) > 100.0)
+      f.fail(key + "[" + std::to_string(k) + "]", "must hold finite coordinates within 100 m, got " + show(q));
+    out.emplace_back(d);
+  }
+  return out;
+}
+
+HeadTrajectory readMotion(Fields f);
+
+WindParams readWind(Fields f) {
+  WindParams w;
+  w.direction = glm::vec3(f.vec3("direction", glm::dvec3(w.direction), 1e6));
+  if (!(glm::length(w.direction) > 1e-6f)) f.fail("direction", "must be a non-zero direction");
+  w.speed = f.real("speed", w.speed, 0.0, 100.0);
+  if (f.has("profile")) {
+    const json& pr = f.at("profile");
+    if (!pr.is_array() || pr.empty()) f.fail("profile", "must be a non-empty array of [time, scale] pairs");
+    for (std::size_t k = 0; k < pr.size(); ++k) {
+      const json& q = pr[k];
+      if (!q.is_array() || q.size() != 2 || !q[0].is_number() || !q[1].is_number())
+        f.fail("profile[" + std::to_string(k) + "]", "must be a pair [time s, speed scale], got " + show(q));
+      const double t = q[0].get<double>(), sc = q[1].get<double>();
+      if (!std::isfinite(t) || t < 0 || t > 1e6)
+        f.fail("profile[" + std::to_string(k) + "]", "time must be in [0, 1e6], got " + show(q[0]));
+      if (!std::isfinite(sc) || sc < 0 || sc > 10)
+        f.fail("profile[" + std::to_string(k) + "]", "scale must be in [0, 10], got " + show(q[1]));
+      if (k > 0 && !(t > w.profile.back().first))
+        f.fail("profile[" + std::to_string(k) + "]", "times must increase strictly");
+      w.profile.emplace_back(t, static_cast<float>(sc));
+    }
+  }
+  w.box_center = glm::vec3(f.vec3("box_center", glm::dvec3(w.box_center), 100.0));
+  const glm::dvec3 size = f.vec3("box_size", glm::dvec3(w.box_size), 20.0);
+  if (!(size.x > 0 && size.y > 0 && size.z > 0)) f.fail("box_size", "must be three positive lengths");
+  w.box_size = glm::vec3(size);
+  w.spacing = f.real("spacing", w.spacing, 0.0, 1.0, true);
+  w.h_scale = f.real("h_scale", w.h_scale, 0.5, 4.0);
+  w.density = f.real("density", w.density, 0.0, 1e4, true);
+  w.sound_speed = f.real("sound_speed", w.sound_speed, 0.0, 1e4);
+  w.viscosity_rate = f.real("viscosity_rate", w.viscosity_rate, 0.0, 1e5);
+  w.drag_rate = f.real("drag_rate", w.drag_rate, 0.0, 1e5);
+  const auto problems = validate(w);
+  if (!problems.empty()) f.fail("", problems.front());
+  f.finish();
+  return w;
+}
+
+ObstacleSpec readObstacle(Fields f) {
+  ObstacleSpec o;
+  const std::string type = f.text("type", "sphere");
+  if (type == "sphere") {
+    o.shape = ObstacleSpec::Shape::Sphere;
+    o.a = o.b = glm::vec3(f.vec3("center", glm::dvec3(0.0), 100.0));
+  } else if (type == "capsule") {
+    o.shape = ObstacleSpec::Shape::Capsule;
+    if (!f.has("a") || !f.has("b")) f.fail("a", "a capsule needs both end points a and b");
+    o.a = glm::vec3(f.vec3("a", glm::dvec3(0.0), 100.0));
+    o.b = glm::vec3(f.vec3("b", glm::dvec3(0.0), 100.0));
+  } else {
+    f.fail("type", "must be \"sphere\" or \"capsule\", got \"" + type + "\"");
+  }
+  o.radius = f.real("radius", o.radius, 0.0, 10.0, true);
+  if (f.has("motion")) o.motion = readMotion(f.child("motion"));
+  o.begin = f.number("begin", 0.0, 0.0, 1e6);
+  o.end = f.number("end", 1e30, 0.0, 1e30, true);
+  if (!(o.end > o.begin)) f.fail("end", "must be later than begin");
+  f.finish();
+  return o;
+}
+
 HeadTrajectory readMotion(Fields f) {
   const std::string type = f.text("type", "still");
   HeadTrajectory t;
@@ -230,17 +365,58 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
   {
     Fields head = top.child("head");
     const std::string type = head.text("type", "sphere");
-    if (type != "sphere") head.fail("type", "must be \"sphere\" (mesh heads come later), got \"" + type + "\"");
-    s.head_center = glm::vec3(head.vec3("center", glm::dvec3(0.0), 100.0));
-    s.head_radius = head.real("radius", s.head_radius, 0.0, 10.0, true);
+    if (type == "sphere") {
+      s.head_kind = HeadKind::Sphere;
+      s.head_center = glm::vec3(head.vec3("center", glm::dvec3(0.0), 100.0));
+      s.head_radius = head.real("radius", s.head_radius, 0.0, 10.0, true);
+      s.scalp_kind = ScalpKind::SphereCap;
+    } else if (type == "mesh") {
+      s.head_kind = HeadKind::Mesh;
+      readMeshSpec(head, s.head_mesh);
+      s.scalp_kind = ScalpKind::Auto;
+    } else {
+      head.fail("type", "must be \"sphere\" or \"mesh\", got \"" + type + "\"");
+    }
     head.finish();
+  }
+  if (top.has("torso")) {
+    Fields torso = top.child("torso");
+    readMeshSpec(torso, s.torso_mesh);
+    s.has_torso = true;
+    torso.finish();
   }
   if (top.has("scalp")) {
     Fields scalp = top.child("scalp");
-    const std::string type = scalp.text("type", "sphere-cap");
-    if (type != "sphere-cap") scalp.fail("type", "must be \"sphere-cap\", got \"" + type + "\"");
-    s.cap_angle_deg = scalp.real("cap_angle_deg", s.cap_angle_deg, 0.0, 180.0, true);
+    const bool mesh = s.head_kind == HeadKind::Mesh;
+    const std::string type = scalp.text("type", mesh ? "auto" : "sphere-cap");
+    if (type == "sphere-cap") {
+      if (mesh) scalp.fail("type", "\"sphere-cap\" needs a sphere head; use \"auto\" or \"curves\" on a mesh");
+      s.scalp_kind = ScalpKind::SphereCap;
+      s.cap_angle_deg = scalp.real("cap_angle_deg", s.cap_angle_deg, 0.0, 180.0, true);
+    } else if (type == "auto" || type == "curves") {
+      if (!mesh) scalp.fail("type", "\"" + type + "\" needs a mesh head; a sphere head takes \"sphere-cap\"");
+      s.scalp_kind = type == "auto" ? ScalpKind::Auto : ScalpKind::Curves;
+      if (type == "curves") {
+        const char* names[4] = {"front", "right", "back", "left"};
+        for (int k = 0; k < 4; ++k) {
+          if (!scalp.has(names[k])) scalp.fail(names[k], "is required: control points of the curve");
+          s.scalp_curves[static_cast<std::size_t>(k)] = readPoints(scalp, names[k], 2);
+        }
+      }
+    } else {
+      scalp.fail("type", "must be \"sphere-cap\", \"auto\" or \"curves\", got \"" + type + "\"");
+    }
     scalp.finish();
+  }
+  if (top.has("wind")) {
+    s.wind = readWind(top.child("wind"));
+    s.has_wind = true;
+  }
+  if (top.has("obstacles")) {
+    const json& list = top.at("obstacles");
+    if (!list.is_array()) top.fail("obstacles", "must be an array of obstacles");
+    for (std::size_t k = 0; k < list.size(); ++k)
+      s.obstacles.push_back(readObstacle(Fields(list[k], "obstacles[" + std::to_string(k) + "]", source)));
   }
   if (top.has("hair")) {
     Fields hair = top.child("hair");
@@ -256,6 +432,11 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
     if (!(h.w_t + h.w_n > 0.0f)) hair.fail("w_n", "w_t and w_n must not both be zero");
     h.bending_stiffness = hair.real("bending_stiffness", h.bending_stiffness, 0.0, 1e6, true);
     h.layering = hair.real("layering", h.layering, 0.0, 10.0);
+    if (hair.has("length_map")) {
+      const std::string file = hair.text("length_map", "");
+      if (file.empty()) hair.fail("length_map", "must name an image file");
+      h.length_map = resolvePath(source, file);
+    }
     h.h1_scale = hair.real("h1_scale", h.h1_scale, 0.0, 100.0, true);
     h.h2_scale = hair.real("h2_scale", h.h2_scale, 0.0, 100.0, true);
     hair.finish();
@@ -276,18 +457,97 @@ SceneDesc loadScene(const std::string& path) {
 }
 
 Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   const HairSpec& hair = scene.hair;
-  const float cap = glm::radians(scene.cap_angle_deg);
-  SphereCapScalp scalp(scene.head_center, scene.head_radius, cap);
-  auto head = std::make_shared<SphereBody>(scene.head_center, scene.head_radius);
+  BuildReport rep;
+
+  // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
+  std::shared_ptr<const Body> head;
+  std::unique_ptr<ScalpSurface> scalp_owner;
+  std::shared_ptr<const Body> torso;
+  const std::string cache = GridSdfBody::defaultCacheDir();
+  auto meshBody = [&](const MeshSpec& spec, const std::string& field, TriangleMesh& mesh) {
+    auto t0 = Clock::now();
+    try {
+      mesh = loadMesh(spec.path, spec.load);
+    } catch (const MeshError& e) {
+      throw SceneError(scene.source + ": " + field + ".mesh: " + e.what());
+    }
+    rep.seconds_meshes += since(t0);
+    t0 = Clock::now();
+    SdfBakeOptions opt;
+    opt.voxel_size = spec.sdf_voxel;
+    opt.cache_dir = cache;
+    bool cached = false;
+    std::shared_ptr<GridSdfBody> body;
+    try {
+      body = GridSdfBody::bake(mesh, opt, &cached);
+    } catch (const MeshError& e) {
+      throw SceneError(scene.source + ": " + field + ".sdf_voxel: " + e.what());
+    }
+    rep.sdf_from_cache = cached;
+    rep.seconds_sdf += since(t0);
+    return body;
+  };
+  if (scene.head_kind == HeadKind::Sphere) {
+    scalp_owner = std::make_unique<SphereCapScalp>(scene.head_center, scene.head_radius,
+                                                   glm::radians(scene.cap_angle_deg));
+    head = std::make_shared<SphereBody>(scene.head_center, scene.head_radius);
+  } else {
+    TriangleMesh mesh;
+    auto body = meshBody(scene.head_mesh, "head", mesh);
+    rep.head_vertices = mesh.vertices.size();
+    rep.head_triangles = mesh.triangles.size();
+    const auto t0 = Clock::now();
+    ScalpCurves curves;
+    if (scene.scalp_kind == ScalpKind::Curves) {
+      for (std::size_t k = 0; k < 4; ++k) curves.control[k] = scene.scalp_curves[k];
+    } else {
+      curves = automaticScalpCurves(mesh, *body);
+    }
+    try {
+      auto ms = std::make_unique<MeshScalp>(mesh, *body, curves, scene.head_mesh.path);
+      rep.scalp_triangles = ms->report().triangles;
+      rep.scalp_area = ms->report().area;
+      rep.scalp_mean_value = ms->report().mean_value_weights;
+      scalp_owner = std::move(ms);
+    } catch (const MeshError& e) {
+      throw SceneError(scene.source + ": scalp: " + e.what());
+    }
+    rep.seconds_scalp = since(t0);
+    head = body;
+  }
+  if (scene.has_torso) {
+    TriangleMesh mesh;
+    torso = meshBody(scene.torso_mesh, "torso", mesh);
+    rep.torso_triangles = mesh.triangles.size();
+  }
+  const ScalpSurface& scalp = *scalp_owner;
+  // What the initial strands must stay out of: the head and, placed where
+  // the head is at the start, the torso.
+  auto start_bodies = std::make_shared<UnionBody>();
+  start_bodies->add(head);
+  if (torso) start_bodies->add(std::make_shared<PlacedBody>(torso, scene.motion.pose(0.0)));
 
   // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
+  LengthMap length_map;
+  if (!hair.length_map.empty()) {
+    try {
+      length_map = LengthMap(hair.length_map);
+    } catch (const std::exception& e) {
+      throw SceneError(scene.source + ": hair.length_map: " + e.what());
+    }
+  }
+  const float min_fraction = 0.02f;
+  auto length_at = [&](glm::vec2 uv) { return hair.length * std::max(length_map(uv), min_fraction); };
+  const float max_length = hair.length * std::max(length_map.maximum(), min_fraction);
   PillarOptions popt;
   popt.target_count = hair.particles;
   popt.seed = scene.seed;
-  const float length = hair.length;
-  const PillarResult pillar =
-      samplePillar(scalp, [length](glm::vec2) { return length; }, length, popt);
+  auto t_sampling = Clock::now();
+  const PillarResult pillar = samplePillar(scalp, length_at, max_length, popt);
+  rep.seconds_sampling = since(t_sampling);
   const float rp = pillar.radius;
   const std::size_t n = pillar.samples.size();
   if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
@@ -298,8 +558,8 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   const bool has_gravity = glm::length(gdir) > 0.0f;
   if (has_gravity) gdir = glm::normalize(gdir);
   const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
-  const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
   const float total_mass = hair.mass;
+  auto t_strands = Clock::now();
 
   Particles p;
   p.resize(n);
@@ -323,13 +583,17 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
       p.direction[k] = root_dir;
     } else {
       p.is_root[k] = 0;
+      const float length = length_at(smp.uv);
+      const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
       const CantileverStrand strand(smp.point, root_dir, has_gravity ? gdir : root_dir, length,
-                                    hair.bending_stiffness, head.get(), clearance, hair.layering,
-                                    segments);
+                                    hair.bending_stiffness, start_bodies.get(), clearance,
+                                    hair.layering, segments);
       p.position[k] = strand.position(smp.s);
       p.direction[k] = strand.tangent(smp.s);
     }
   }
+
+  rep.seconds_strands = since(t_strands);
 
   // 3. Order the particles along a Morton curve so that neighbours are near
   //    in memory (SPEC-independent; keeps the gather loops cache-friendly).
@@ -399,21 +663,38 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
     throw SceneError(msg);
   }
   Solver solver(params, std::move(p), head, scene.motion);
+  if (torso) solver.addWorldBody(torso);
+  for (const ObstacleSpec& o : scene.obstacles) {
+    std::shared_ptr<const Body> shape;
+    if (o.shape == ObstacleSpec::Shape::Sphere)
+      shape = std::make_shared<SphereBody>(o.a, o.radius);
+    else
+      shape = std::make_shared<CapsuleBody>(o.a, o.b, o.radius);
+    solver.addWorldBody(shape, o.motion, o.begin, o.end);
+  }
+  if (scene.has_wind) {
+    try {
+      solver.setWind(scene.wind);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.source + ": " + e.what());
+    }
+  }
   if (scene.substeps == 0) {
     // 60% of the stable spring step, and no velocity-decay rate above
     // 0.25 per step (validate() rejects more).
     const double fastest_rate = std::max({params.collision_rate, params.friction_rate,
                                           params.air_drag, 1e-9f});
-    const double longest = std::min(0.6 * solver.initReport().stable_time_step,
-                                    0.25 / fastest_rate);
+    const double longest = std::min({0.6 * solver.initReport().stable_time_step,
+                                     0.25 / fastest_rate, solver.airStableTimeStep()});
     substeps = std::max(1, static_cast<int>(std::ceil(frame_time / longest)));
     solver.setTimeStep(frame_time / substeps);
   }
   if (report) {
-    report->poisson_radius = rp;
-    report->mean_neighbor_distance = mean_nn;
-    report->substeps = substeps;
-    report->time_step = solver.params().time_step;
+    rep.poisson_radius = rp;
+    rep.mean_neighbor_distance = mean_nn;
+    rep.substeps = substeps;
+    rep.time_step = solver.params().time_step;
+    *report = rep;
   }
   return solver;
 }

@@ -6,6 +6,7 @@
 
 #include "connection_builder.hpp"
 #include "kernel.hpp"
+#include "air.hpp"
 #include "neighbor_grid.hpp"
 
 #include <glm/geometric.hpp>
@@ -27,6 +28,7 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
   hair_hair += o.hair_hair;
   external += o.external;
   integrate += o.integrate;
+  air += o.air;
   strain_limit += o.strain_limit;
   directions += o.directions;
   return *this;
@@ -437,6 +439,53 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t,
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
+// ---- wind (SPEC §5) -----------------------------------------------------------
+void Solver::setWind(const WindParams& wind) {
+  auto air = std::make_unique<AirSystem>(wind);
+  std::vector<BodyFrame> frames;
+  HeadKinematics head;
+  placeBodies(time_, frames, head);
+  air->fill(time_, head, [&](const glm::vec3* w, std::size_t n, float* phi) {
+    worldBodyDistance(frames, head, w, n, phi);
+  });
+  air_ = std::move(air);
+}
+
+void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
+                               const glm::vec3* world, std::size_t n, float* phi) const {
+  const glm::dmat3 rt = glm::transpose(head.pose.rotation);
+  std::vector<glm::vec3> local(n), nrm(n);
+  for (std::size_t k = 0; k < n; ++k) local[k] = glm::vec3(rt * (glm::dvec3(world[k]) - head.pose.center));
+  queryBodies(frames, head, local.data(), n, phi, nrm.data(), nullptr);
+}
+
+std::size_t Solver::airCount() const { return air_ ? air_->size() : 0; }
+
+void Solver::worldAirPositions(std::vector<glm::vec3>& out) const {
+  out.clear();
+  if (!air_) return;
+  const HeadPose pose = trajectory_.pose(time_);
+  for (const auto& x : air_->positions()) out.emplace_back(pose.rotation * glm::dvec3(x) + pose.center);
+}
+
+void Solver::worldAirVelocities(std::vector<glm::vec3>& out) const {
+  out.clear();
+  if (!air_) return;
+  const HeadKinematics k = trajectory_.kinematics(time_);
+  const auto& x = air_->positions();
+  const auto& v = air_->velocities();
+  for (std::size_t a = 0; a < x.size(); ++a) {
+    const glm::dvec3 u = glm::dvec3(v[a]) + glm::cross(k.angular_velocity, glm::dvec3(x[a]));
+    out.emplace_back(k.pose.rotation * u + k.velocity);
+  }
+}
+
+std::span<const float> Solver::airDensity() const {
+  return air_ ? air_->density() : std::span<const float>();
+}
+
+double Solver::airStableTimeStep() const { return air_ ? air_->stableTimeStep() : INFINITY; }
+
 // ---- the step ---------------------------------------------------------------
 void Solver::step() {
   const float dt = static_cast<float>(params_.time_step);
@@ -466,6 +515,17 @@ void Solver::step() {
   t0 = Clock::now();
   st.hair_hair = seconds(t1, t0);
 
+  // ---- wind: air neighbours, density, pressure, viscosity and the hair-air
+  // drag (SPEC §5) -------------------------------------------------------------
+  if (air_) {
+    air_->setPose(trajectory_.pose(time_));
+    air_->findNeighbors(x, threads_);
+    air_->accumulateForces(x, v, m, root, force_, dt, threads_);
+    t1 = Clock::now();
+    st.air += seconds(t0, t1);
+    t0 = t1;
+  }
+
   // ---- external forces in the head frame (SPEC §5) --------------------------
   const HeadKinematics head = trajectory_.kinematics(time_);
   const glm::dmat3 rt = glm::transpose(head.pose.rotation);
@@ -494,6 +554,7 @@ void Solver::step() {
   std::vector<BodyFrame> frames;
   HeadKinematics head_now;
   placeBodies(time_, frames, head_now);
+  const HeadKinematics head_now_start = head_now;
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : contacts)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
@@ -627,6 +688,37 @@ void Solver::step() {
   t1 = Clock::now();
   st.strain_limit = seconds(t0, t1);
 
+  // ---- wind: move the air, keep it out of the bodies (free slip), emit
+  // upwind and remove what left the box ---------------------------------------
+  if (air_) {
+    air_->integrate(dt, head_now_start, threads_);
+    auto& ax = air_->positions();
+    auto& av = air_->velocities();
+    const std::size_t na = ax.size();
+#pragma omp parallel for num_threads(threads_) schedule(static)
+    for (Index bb = 0; bb < static_cast<Index>((na + kBodyBlock - 1) / kBodyBlock); ++bb) {
+      const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
+      const std::size_t e = std::min(na, b + kBodyBlock);
+      float phi[kBodyBlock];
+      glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
+      queryBodies(frames, head_now, &ax[b], e - b, phi, nrm, surface);
+      for (std::size_t a = b; a < e; ++a) {
+        const std::size_t k = a - b;
+        if (!(phi[k] < 0.0f)) continue;
+        ax[a] -= phi[k] * nrm[k];
+        const float vn = glm::dot(av[a] - surface[k], nrm[k]);
+        if (vn < 0.0f) av[a] -= vn * nrm[k];
+      }
+    }
+    air_->emitAndRemove(time_ + params_.time_step, dt, head_now,
+                        [&](const glm::vec3* w, std::size_t count, float* phi) {
+                          worldBodyDistance(frames, head_now, w, count, phi);
+                        });
+    const auto t2 = Clock::now();
+    st.air += seconds(t1, t2);
+    t1 = t2;
+  }
+
   // ---- hair directions, eq. 15 ----------------------------------------------
   {
     auto& dir = particles_.direction;
@@ -691,6 +783,8 @@ void Solver::step() {
   stats_.body_contacts = contacts;
   stats_.strain_limited = limited;
   stats_.active_connections = s.active_entries / 2;
+  stats_.air_particles = air_ ? air_->size() : 0;
+  stats_.hair_air_pairs = air_ ? air_->hairAirPairs() : 0;
 }
 
 // ---- queries -----------------------------------------------------------------
@@ -709,6 +803,12 @@ std::uint64_t Solver::stateHash() const {
   mix(particles_.position.data(), n * sizeof(glm::vec3));
   mix(particles_.velocity.data(), n * sizeof(glm::vec3));
   mix(particles_.direction.data(), n * sizeof(glm::vec3));
+  if (air_) {
+    const std::size_t na = air_->size();
+    mix(&na, sizeof na);
+    mix(air_->positions().data(), na * sizeof(glm::vec3));
+    mix(air_->velocities().data(), na * sizeof(glm::vec3));
+  }
   return h;
 }
 

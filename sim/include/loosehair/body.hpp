@@ -7,6 +7,8 @@
 #include <glm/ext/vector_int3.hpp>
 
 #include <cstddef>
+#include <memory>
+#include <vector>
 
 namespace loosehair {
 
@@ -32,6 +34,29 @@ class SphereBody final : public Body {
  private:
   glm::vec3 center_;
   float radius_;
+};
+
+/// An analytic capsule: the points within `radius` of the segment a-b.
+class CapsuleBody final : public Body {
+ public:
+  CapsuleBody(glm::vec3 a, glm::vec3 b, float radius);
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                      glm::vec3* normal) const override;
+
+ private:
+  glm::vec3 a_, b_;
+  float radius_;
+};
+
+/// The union of bodies given in one frame (the nearest surface wins).
+class UnionBody final : public Body {
+ public:
+  void add(std::shared_ptr<const Body> body) { parts_.push_back(std::move(body)); }
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                      glm::vec3* normal) const override;
+
+ private:
+  std::vector<std::shared_ptr<const Body>> parts_;
 };
 
 }  // namespace loosehair

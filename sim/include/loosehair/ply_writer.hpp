@@ -20,4 +20,8 @@ class Solver;
 /// Throws std::runtime_error naming the file on failure.
 void writeParticlePly(const std::string& path, const Solver& solver);
 
+/// Writes the wind's air particles (world coordinates): float x y z,
+/// float vx vy vz, float density. Same guarantees as writeParticlePly.
+void writeAirPly(const std::string& path, const Solver& solver);
+
 }  // namespace loosehair

@@ -3,9 +3,12 @@
 #pragma once
 
 #include "loosehair/head_motion.hpp"
+#include "loosehair/mesh.hpp"
 #include "loosehair/params.hpp"
 #include "loosehair/solver.hpp"
+#include "loosehair/wind.hpp"
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -19,7 +22,7 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The hair to grow (SPEC §6.1 on an analytic sphere-cap scalp for now).
+/// The hair to grow (SPEC §6.1).
 struct HairSpec {
   int particles = 3000;        // target particle count, roots included
   float length = 0.25f;        // hair length L (m)
@@ -33,10 +36,36 @@ struct HairSpec {
   /// Strands lying on the head keep layering * s off it at arc length s
   /// (dimensionless), so hair from the crown lies over hair rooted lower.
   float layering = 0.2f;
+  /// Grayscale image of the length over the scalp square (resolved path;
+  /// empty: every hair is `length` long). Hair length = grey * length.
+  std::string length_map;
   float h1_scale = 1.2f;  // h1 = h1_scale * Poisson radius (SPEC §9)
   /// h2 = min(h2_scale * mean nearest-neighbour distance, 0.8 h1) (SPEC §9)
   float h2_scale = 0.9f;
 };
+
+/// A mesh named by a scene: its file and how to place it (metres, +Y up,
+/// face towards +Z after conversion).
+struct MeshSpec {
+  std::string path;  // resolved against the scene file's folder
+  MeshLoadOptions load;
+  float sdf_voxel = 0.0f;  // grid spacing of its signed-distance bake (m); 0 = auto
+};
+
+/// A kinematic obstacle in the world (for example a comb or a hand that
+/// parts the hair): a sphere or capsule in its own frame, moved by `motion`
+/// and present while begin <= t < end.
+struct ObstacleSpec {
+  enum class Shape { Sphere, Capsule };
+  Shape shape = Shape::Sphere;
+  glm::vec3 a{0.0f}, b{0.0f};  // sphere centre = a; capsule axis a-b (m)
+  float radius = 0.02f;        // m
+  HeadTrajectory motion = HeadTrajectory::still();
+  double begin = 0.0, end = 1e30;  // s
+};
+
+enum class HeadKind { Sphere, Mesh };
+enum class ScalpKind { SphereCap, Auto, Curves };
 
 struct SceneDesc {
   std::string source;  // file the scene came from (for messages)
@@ -45,9 +74,20 @@ struct SceneDesc {
   int frames = 90;
   double frame_rate = 30.0;  // output frames per simulated second
   int substeps = 0;          // solver steps per frame; 0 = choose from the stable step
+  HeadKind head_kind = HeadKind::Sphere;
   glm::vec3 head_center{0.0f};
   float head_radius = 0.1f;  // m
+  MeshSpec head_mesh;        // head_kind == Mesh: head and neck, turning with the head
+  bool has_torso = false;
+  MeshSpec torso_mesh;       // shoulders and chest, fixed in the world
+  ScalpKind scalp_kind = ScalpKind::SphereCap;
   float cap_angle_deg = 100.0f;  // scalp: spherical cap up to this angle from the crown (+Y)
+  /// Control points of the front, right, back and left trimming curves
+  /// (scalp_kind == Curves), head frame (m).
+  std::array<std::vector<glm::vec3>, 4> scalp_curves;
+  std::vector<ObstacleSpec> obstacles;
+  bool has_wind = false;
+  WindParams wind;
   HairSpec hair;
   SimParams sim;
   bool h1_auto = true, h2_auto = true;
@@ -65,6 +105,14 @@ struct BuildReport {
   float mean_neighbor_distance = 0;  // after the cantilever placement (m)
   int substeps = 0;
   double time_step = 0;  // s
+  // mesh heads
+  std::size_t head_vertices = 0, head_triangles = 0, torso_triangles = 0;
+  std::size_t scalp_triangles = 0;
+  double scalp_area = 0;            // m^2
+  bool scalp_mean_value = false;    // the harmonic map fell back to mean-value weights
+  bool sdf_from_cache = false;
+  double seconds_meshes = 0, seconds_sdf = 0, seconds_scalp = 0, seconds_sampling = 0,
+         seconds_strands = 0;
 };
 
 /// Grows the hair of `scene` and returns a solver ready to step. Throws

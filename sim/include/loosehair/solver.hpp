@@ -14,6 +14,7 @@
 #include "loosehair/head_motion.hpp"
 #include "loosehair/params.hpp"
 #include "loosehair/particles.hpp"
+#include "loosehair/wind.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -26,6 +27,7 @@
 namespace loosehair {
 
 class NeighborGrid;
+class AirSystem;
 
 /// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
 /// everything after integration that corrects positions: the strain limit,
@@ -33,9 +35,12 @@ class NeighborGrid;
 struct StageTimes {
   double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0,
          integrate = 0, strain_limit = 0, directions = 0;
+  /// The wind's air particles: neighbours, density, forces, integration,
+  /// body contact, emission and removal (0 without wind).
+  double air = 0;
   double total() const {
     return neighbors + density + springs + hair_hair + external + integrate + strain_limit +
-           directions;
+           directions + air;
   }
   StageTimes& operator+=(const StageTimes& o);
 };
@@ -49,6 +54,8 @@ struct StepStats {
   std::size_t clamped_sides = 0;       // side factors held at the clamp, last step
   std::size_t body_contacts = 0;       // particles in contact with the body, last step
   std::size_t strain_limited = 0;      // connections corrected by the strain limit, last step
+  std::size_t air_particles = 0;       // wind: air particles after the last step
+  std::size_t hair_air_pairs = 0;      // wind: hair-air pairs within 2 h_air, last step
 };
 
 /// What initialisation found; printed by the CLI and checked by tests.
@@ -104,6 +111,18 @@ class Solver {
                     HeadTrajectory motion = HeadTrajectory::still(),
                     double begin = -INFINITY, double end = INFINITY);
   std::size_t worldBodyCount() const { return world_bodies_.size(); }
+
+  /// Turns on wind (SPEC §5): fills the air box at the current time.
+  /// Throws std::invalid_argument with every problem of `wind`.
+  void setWind(const WindParams& wind);
+  bool hasWind() const { return air_ != nullptr; }
+  /// Air particles (0 without wind) and their state in world coordinates.
+  std::size_t airCount() const;
+  void worldAirPositions(std::vector<glm::vec3>& out) const;
+  void worldAirVelocities(std::vector<glm::vec3>& out) const;
+  std::span<const float> airDensity() const;
+  /// The air's own stable step (s); infinity without wind.
+  double airStableTimeStep() const;
 
   /// Signed distance (m) from each head-frame point to the union of the
   /// head and the world bodies active at time t; negative inside.
@@ -175,10 +194,13 @@ class Solver {
   void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                    const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
                    glm::vec3* surface_velocity) const;
+  void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
+                         const glm::vec3* world, std::size_t n, float* phi) const;
 
   SimParams params_;
   Particles particles_;
   std::vector<WorldBody> world_bodies_;
+  std::unique_ptr<AirSystem> air_;
   ConnectionSet connections_;
   std::shared_ptr<const Body> head_;
   HeadTrajectory trajectory_;

@@ -1,0 +1,51 @@
+// Wind as SPH air particles (SPEC §5): emitted upwind in a box around the
+// head with the wind velocity, removed when they leave it, weakly
+// compressible pressure and viscosity, and drag forces exchanged with the
+// hair, equal and opposite:
+//
+//   f_hair_i += dw W(|x_ia|, h_air) (v_a - v_i),   f_air_a -= the same.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace loosehair {
+
+struct WindParams {
+  /// Direction the wind blows towards (world, normalised when used).
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};
+  /// Wind speed far upwind (m/s), times the gust profile.
+  float speed = 3.0f;
+  /// Gusts: (time s, multiplier) keys, piecewise linear, held before the
+  /// first and after the last; empty means a constant multiplier of 1.
+  std::vector<std::pair<double, float>> profile;
+  /// The air box (world): centre and size along the wind, vertically (world
+  /// +Y made perpendicular to the wind) and across (m). Air enters through
+  /// the upwind face and is removed when it leaves the box.
+  glm::vec3 box_center{0.0f, -0.1f, 0.0f};
+  glm::vec3 box_size{0.7f, 0.8f, 0.6f};
+  /// Spacing of the emitted air particles (m); h_air = h_scale * spacing.
+  float spacing = 0.03f;
+  float h_scale = 1.0f;
+  /// Density of air (kg/m^3): sets the mass of an air particle.
+  float density = 1.2f;
+  /// Speed of sound of the weakly compressible air, P = c^2 (rho - rho0)
+  /// (m/s); 0 = twice the largest wind speed (density varies by about 1/8).
+  float sound_speed = 0.0f;
+  /// Air viscosity as the rate at which neighbouring air velocities even
+  /// out (1/s).
+  float viscosity_rate = 5.0f;
+  /// Hair-air drag as the rate at which a hair particle's velocity relative
+  /// to the surrounding air decays (1/s). The air feels the opposite force,
+  /// so dense hair slows the air. Pair forces are limited so that no
+  /// particle's relative velocity is overshot in one step.
+  float drag_rate = 20.0f;
+};
+
+/// Every problem with `w`, one sentence each naming the field and value.
+std::vector<std::string> validate(const WindParams& w);
+
+}  // namespace loosehair

@@ -1,0 +1,450 @@
+#include "air.hpp"
+
+#include "kernel.hpp"
+
+#include <glm/geometric.hpp>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+namespace loosehair {
+namespace {
+
+using Index = std::int64_t;
+
+std::uint64_t cellKeyOf(glm::ivec3 c) {
+  constexpr std::int64_t kBias = 1 << 20;
+  auto part = [](std::int32_t v) {
+    return static_cast<std::uint64_t>(std::clamp<std::int64_t>(v + kBias, 0, (1 << 21) - 1));
+  };
+  return (part(c.z) << 42) | (part(c.y) << 21) | part(c.x);
+}
+
+glm::ivec3 cellOf(const glm::vec3& p, float inv_cell) {
+  return glm::ivec3(static_cast<int>(std::floor(p.x * inv_cell)), static_cast<int>(std::floor(p.y * inv_cell)),
+                    static_cast<int>(std::floor(p.z * inv_cell)));
+}
+
+// A hash of integers to [-0.5, 0.5) for the jitter of emitted layers.
+float jitter(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+  std::uint64_t z = a * 0x9e3779b97f4a7c15ULL ^ (b + 0x632be59bd9b4e019ULL) * 0xbf58476d1ce4e5b9ULL ^
+                    (c + 0x85157af5ULL) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  z *= 0xd6e8feb86659fd93ULL;
+  z ^= z >> 32;
+  return static_cast<float>(static_cast<double>(z >> 11) * 0x1.0p-53 - 0.5);
+}
+
+}  // namespace
+
+std::vector<std::string> validate(const WindParams& w) {
+  std::vector<std::string> out;
+  auto say = [&](const std::string& field, double value, const std::string& rule) {
+    std::ostringstream os;
+    os << field << " = " << value << ": " << rule;
+    out.push_back(os.str());
+  };
+  const float dl = glm::length(w.direction);
+  if (!std::isfinite(dl) || !(dl > 1e-6f)) say("wind.direction length", dl, "must be a non-zero finite direction");
+  if (!std::isfinite(w.speed) || w.speed < 0.0f || w.speed > 100.0f) say("wind.speed", w.speed, "must be in [0, 100] m/s");
+  for (std::size_t k = 0; k < w.profile.size(); ++k) {
+    const auto& [t, s] = w.profile[k];
+    if (!std::isfinite(t) || !std::isfinite(s) || s < 0.0f || s > 10.0f)
+      say("wind.profile[" + std::to_string(k) + "] scale", s, "must be finite, in [0, 10]");
+    if (k > 0 && !(t > w.profile[k - 1].first))
+      say("wind.profile[" + std::to_string(k) + "] time", t, "times must increase strictly");
+  }
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(w.box_size[a]) || !(w.box_size[a] > 0.0f) || w.box_size[a] > 20.0f)
+      say("wind.box_size[" + std::to_string(a) + "]", w.box_size[a], "must be in (0, 20] m");
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(w.box_center[a])) say("wind.box_center[" + std::to_string(a) + "]", w.box_center[a], "must be finite");
+  if (!std::isfinite(w.spacing) || !(w.spacing > 0.0f) || w.spacing > 1.0f) say("wind.spacing", w.spacing, "must be in (0, 1] m");
+  else {
+    double count = 1;
+    for (int a = 0; a < 3; ++a) count *= std::ceil(w.box_size[a] / w.spacing);
+    if (count > 2.0e7) say("wind.spacing", w.spacing, "gives more than 20 million air particles in the box");
+  }
+  if (!std::isfinite(w.h_scale) || w.h_scale < 0.5f || w.h_scale > 4.0f) say("wind.h_scale", w.h_scale, "must be in [0.5, 4]");
+  if (!std::isfinite(w.density) || !(w.density > 0.0f) || w.density > 1e4f) say("wind.density", w.density, "must be in (0, 1e4] kg/m^3");
+  if (!std::isfinite(w.sound_speed) || w.sound_speed < 0.0f || w.sound_speed > 1e4f) say("wind.sound_speed", w.sound_speed, "must be in [0, 1e4] m/s");
+  if (!std::isfinite(w.viscosity_rate) || w.viscosity_rate < 0.0f || w.viscosity_rate > 1e5f) say("wind.viscosity_rate", w.viscosity_rate, "must be in [0, 1e5] 1/s");
+  if (!std::isfinite(w.drag_rate) || w.drag_rate < 0.0f || w.drag_rate > 1e5f) say("wind.drag_rate", w.drag_rate, "must be in [0, 1e5] 1/s");
+  return out;
+}
+
+AirSystem::AirSystem(const WindParams& params) : p_(params) {
+  const auto problems = validate(p_);
+  if (!problems.empty()) {
+    std::string msg = "invalid wind parameters:";
+    for (const auto& pr : problems) msg += "\n  " + pr;
+    throw std::invalid_argument(msg);
+  }
+  e_wind_ = glm::normalize(p_.direction);
+  glm::vec3 up(0.0f, 1.0f, 0.0f);
+  if (std::abs(glm::dot(up, e_wind_)) > 0.95f) up = glm::vec3(1.0f, 0.0f, 0.0f);
+  e_up_ = glm::normalize(up - glm::dot(up, e_wind_) * e_wind_);
+  e_side_ = glm::cross(e_wind_, e_up_);
+  h_ = p_.h_scale * p_.spacing;
+  mass_ = p_.density * p_.spacing * p_.spacing * p_.spacing;
+  // Rest density: the SPH density of the emission lattice.
+  const CubicKernel k(h_);
+  const int reach = static_cast<int>(std::ceil(2.0f * h_ / p_.spacing));
+  double sum = 0;
+  for (int z = -reach; z <= reach; ++z)
+    for (int y = -reach; y <= reach; ++y)
+      for (int x = -reach; x <= reach; ++x)
+        sum += k.W(p_.spacing * std::sqrt(static_cast<float>(x * x + y * y + z * z)));
+  rest_density_ = static_cast<float>(mass_ * sum);
+  // Kernel mass beyond a plane at distance d (0 <= d <= 2h), by quadrature
+  // over slabs: A(z) = int_0^sqrt(4h^2 - z^2) W(sqrt(rho^2 + z^2)) 2 pi rho d rho.
+  constexpr int kTable = 65, kQuad = 400;
+  const double support = 2.0 * h_;
+  std::vector<double> slab(kQuad + 1);
+  for (int q = 0; q <= kQuad; ++q) {
+    const double z = support * q / kQuad;
+    const double rmax = std::sqrt(std::max(0.0, support * support - z * z));
+    double area = 0;
+    for (int r = 0; r < kQuad; ++r) {
+      const double rho = rmax * (r + 0.5) / kQuad;
+      area += k.W(static_cast<float>(std::sqrt(rho * rho + z * z))) * 2.0 * std::numbers::pi * rho * (rmax / kQuad);
+    }
+    slab[static_cast<std::size_t>(q)] = area;
+  }
+  beyond_.assign(kTable, 0.0f);
+  for (int t = 0; t < kTable; ++t) {
+    const double d = support * t / (kTable - 1);
+    double mass = 0;
+    for (int q = 0; q < kQuad; ++q) {
+      const double z = support * (q + 0.5) / kQuad;
+      if (z < d) continue;
+      mass += 0.5 * (slab[static_cast<std::size_t>(q)] + slab[static_cast<std::size_t>(q + 1)]) * (support / kQuad);
+    }
+    beyond_[static_cast<std::size_t>(t)] = static_cast<float>(mass);
+  }
+  sound_speed_ = p_.sound_speed > 0.0f ? p_.sound_speed : std::max(0.5f, 2.0f * maxSpeed());
+}
+
+float AirSystem::missingDensity(float d) const {
+  const float support = 2.0f * h_;
+  if (!(d < support)) return 0.0f;
+  const float f = std::max(0.0f, d) / support * static_cast<float>(beyond_.size() - 1);
+  const auto k = std::min(static_cast<std::size_t>(f), beyond_.size() - 2);
+  const float w = f - static_cast<float>(k);
+  return rest_density_ * ((1.0f - w) * beyond_[k] + w * beyond_[k + 1]);
+}
+
+float AirSystem::speedAt(double t) const {
+  const auto& pr = p_.profile;
+  float scale = 1.0f;
+  if (!pr.empty()) {
+    if (t <= pr.front().first) scale = pr.front().second;
+    else if (t >= pr.back().first) scale = pr.back().second;
+    else {
+      std::size_t k = 1;
+      while (pr[k].first < t) ++k;
+      const double f = (t - pr[k - 1].first) / (pr[k].first - pr[k - 1].first);
+      scale = static_cast<float>((1.0 - f) * pr[k - 1].second + f * pr[k].second);
+    }
+  }
+  return p_.speed * scale;
+}
+
+float AirSystem::maxSpeed() const {
+  float s = p_.profile.empty() ? 1.0f : 0.0f;
+  for (const auto& [t, v] : p_.profile) s = std::max(s, v);
+  return p_.speed * s;
+}
+
+double AirSystem::stableTimeStep() const {
+  return 0.5 * static_cast<double>(h_) / (static_cast<double>(sound_speed_) + maxSpeed());
+}
+
+void AirSystem::emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies,
+                          float speed) {
+  const glm::vec3 size = p_.box_size;
+  const int n_up = std::max(1, static_cast<int>(std::floor(size.y / p_.spacing)));
+  const int n_side = std::max(1, static_cast<int>(std::floor(size.z / p_.spacing)));
+  std::vector<glm::vec3> world;
+  world.reserve(static_cast<std::size_t>(n_up) * static_cast<std::size_t>(n_side));
+  for (int j = 0; j < n_up; ++j)
+    for (int k = 0; k < n_side; ++k) {
+      const float a = along + 0.2f * p_.spacing * jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 0);
+      const float u = -0.5f * size.y + (static_cast<float>(j) + 0.5f + 0.3f * jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 1)) * p_.spacing;
+      const float s = -0.5f * size.z + (static_cast<float>(k) + 0.5f + 0.3f * jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 2)) * p_.spacing;
+      world.push_back(p_.box_center + a * e_wind_ + u * e_up_ + s * e_side_);
+    }
+  ++layer_counter_;
+  std::vector<float> phi(world.size(), 1.0f);
+  if (bodies) bodies(world.data(), world.size(), phi.data());
+  const glm::dmat3 rt = glm::transpose(head.pose.rotation);
+  const glm::vec3 omega(head.angular_velocity);
+  const glm::dvec3 vw = glm::dvec3(speed * e_wind_) - head.velocity;
+  for (std::size_t q = 0; q < world.size(); ++q) {
+    if (phi[q] < 0.5f * p_.spacing) continue;  // not inside the head or torso
+    const glm::vec3 xh(rt * (glm::dvec3(world[q]) - head.pose.center));
+    x_.push_back(xh);
+    v_.push_back(glm::vec3(rt * vw) - glm::cross(omega, xh));
+    density_.push_back(rest_density_);
+    ++emitted_;
+  }
+}
+
+void AirSystem::fill(double t, const HeadKinematics& head, const WorldDistance& bodies) {
+  x_.clear();
+  v_.clear();
+  density_.clear();
+  const float speed = speedAt(t);
+  const int layers = std::max(1, static_cast<int>(std::floor(p_.box_size.x / p_.spacing)));
+  for (int l = 0; l < layers; ++l)
+    emitLayer(-0.5f * p_.box_size.x + (static_cast<float>(l) + 0.5f) * p_.spacing, head, bodies, speed);
+  advance_ = 0.5 * p_.spacing;
+}
+
+void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
+  const std::size_t na = x_.size(), nh = hair_x.size();
+  const CubicKernel k(h_);
+  const float support = k.support(), support2 = k.support2();
+  grid_.build(x_, support, threads);
+
+  // Air sorted by cell for the hair-air search, as unique cells and ranges.
+  const float inv_cell = 1.0f / support;
+  sorted_index_.resize(na);
+  for (std::uint32_t a = 0; a < na; ++a) sorted_index_[a] = a;
+  std::vector<std::uint64_t> key(na);
+  for (std::size_t a = 0; a < na; ++a) key[a] = cellKeyOf(cellOf(x_[a], inv_cell));
+  std::stable_sort(sorted_index_.begin(), sorted_index_.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  cell_key_.clear();
+  cell_begin_.clear();
+  for (std::uint32_t q = 0; q < na; ++q) {
+    const std::uint64_t kq = key[sorted_index_[q]];
+    if (cell_key_.empty() || cell_key_.back() != kq) {
+      cell_key_.push_back(kq);
+      cell_begin_.push_back(q);
+    }
+  }
+  cell_begin_.push_back(static_cast<std::uint32_t>(na));
+
+  // Hair -> air lists: each thread takes a contiguous block of hair
+  // particles (which are ordered along a Morton curve, so consecutive ones
+  // share a cell and reuse its 27 ranges) into its own buffer; the blocks
+  // are joined in order, so the lists do not depend on the thread count.
+  const int nt = std::max(1, threads);
+  std::vector<std::vector<std::uint32_t>> buffers(static_cast<std::size_t>(nt));
+  hair_start_.assign(nh + 1, 0);
+#pragma omp parallel num_threads(nt)
+  {
+    const int t = omp_get_thread_num();
+    const std::size_t chunk = (nh + static_cast<std::size_t>(nt) - 1) / static_cast<std::size_t>(nt);
+    const std::size_t b = std::min(nh, chunk * static_cast<std::size_t>(t)), e = std::min(nh, b + chunk);
+    auto& out = buffers[static_cast<std::size_t>(t)];
+    out.clear();
+    glm::ivec3 cached(INT32_MIN);
+    std::uint32_t rb[27], re[27];
+    int ranges = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      const glm::ivec3 c = cellOf(hair_x[i], inv_cell);
+      if (c != cached) {
+        cached = c;
+        ranges = 0;
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const std::uint64_t kc = cellKeyOf(c + glm::ivec3(dx, dy, dz));
+              const auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), kc);
+              if (it == cell_key_.end() || *it != kc) continue;
+              const auto ci = static_cast<std::size_t>(it - cell_key_.begin());
+              rb[ranges] = cell_begin_[ci];
+              re[ranges] = cell_begin_[ci + 1];
+              ++ranges;
+            }
+      }
+      std::uint32_t count = 0;
+      for (int r = 0; r < ranges; ++r)
+        for (std::uint32_t q = rb[r]; q < re[r]; ++q) {
+          const std::uint32_t a = sorted_index_[q];
+          const glm::vec3 d = hair_x[i] - x_[a];
+          if (glm::dot(d, d) < support2) {
+            out.push_back(a);
+            ++count;
+          }
+        }
+      hair_start_[i + 1] = count;
+    }
+  }
+  for (std::size_t i = 0; i < nh; ++i) hair_start_[i + 1] += hair_start_[i];
+  hair_list_.clear();
+  hair_list_.reserve(hair_start_[nh]);
+  for (const auto& buf : buffers) hair_list_.insert(hair_list_.end(), buf.begin(), buf.end());
+  // Transpose: each air particle's hair neighbours in increasing order,
+  // remembering which hair-list entry each came from.
+  air_start_.assign(na + 1, 0);
+  for (std::uint32_t a : hair_list_) ++air_start_[a + 1];
+  for (std::size_t a = 0; a < na; ++a) air_start_[a + 1] += air_start_[a];
+  air_list_.resize(hair_list_.size());
+  air_pair_.resize(hair_list_.size());
+  std::vector<std::uint32_t> fill(air_start_.begin(), air_start_.end() - 1);
+  for (std::uint32_t i = 0; i < nh; ++i)
+    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) {
+      const std::uint32_t slot = fill[hair_list_[q]]++;
+      air_list_[slot] = i;
+      air_pair_[slot] = q;
+    }
+
+  // Air density (air only: the hair is not air).
+  density_.resize(na);
+  pressure_.resize(na);
+  const float c2 = sound_speed_ * sound_speed_;
+  // The box is open: the air beyond its faces is missing from the sums, so
+  // its density is added from the kernel mass beyond each face. Without it
+  // the air at the faces would be thin and pulled inwards.
+  const glm::vec3 half = 0.5f * p_.box_size;
+  const glm::mat3 rot(pose_.rotation);
+  const glm::vec3 centre(pose_.center);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
+    const auto a = static_cast<std::size_t>(aa);
+    float rho = mass_ * k.W(0.0f);
+    for (std::uint32_t b : grid_.neighbors(a)) rho += mass_ * k.W(glm::length(x_[a] - x_[b]));
+    const glm::vec3 q = rot * x_[a] + centre - p_.box_center;
+    const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
+    rho += missingDensity(half.x + al) + missingDensity(half.x - al) + missingDensity(half.y + up) +
+           missingDensity(half.y - up) + missingDensity(half.z + side) + missingDensity(half.z - side);
+    density_[a] = rho;
+    // Weakly compressible; thinned air pulls (so a wake fills), but never
+    // harder than a vacuum would.
+    pressure_[a] = std::max(-c2 * rest_density_, c2 * (rho - rest_density_));
+  }
+}
+
+void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
+                                 std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
+                                 std::span<glm::vec3> hair_force, float dt, int threads) {
+  const std::size_t na = x_.size(), nh = hair_x.size();
+  const CubicKernel k(h_);
+  const float k_over_rho = p_.drag_rate / rest_density_;
+  // Kernel values of the hair-air pairs and the drag limiters: a particle
+  // whose relative velocity would decay by more than half in one step,
+  // dt * (k / rho0) sum m W > 0.5, has its pair forces scaled down so that
+  // it does not overshoot; a pair uses the smaller of its two limiters, so
+  // its two forces stay equal and opposite.
+  pair_w_.resize(hair_list_.size());
+  hair_limiter_.resize(nh);
+  air_limiter_.resize(na);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index ii = 0; ii < static_cast<Index>(nh); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    float sum = 0;
+    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) {
+      const float w = k.W(glm::length(hair_x[i] - x_[hair_list_[q]]));
+      pair_w_[q] = w;
+      sum += mass_ * w;
+    }
+    const float rate = k_over_rho * sum;
+    hair_limiter_[i] = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
+  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
+    const auto a = static_cast<std::size_t>(aa);
+    float sum = 0;
+    for (std::uint32_t q = air_start_[a]; q < air_start_[a + 1]; ++q) {
+      const std::uint32_t i = air_list_[q];
+      if (!hair_root[i]) sum += hair_m[i] * pair_w_[air_pair_[q]];
+    }
+    const float rate = k_over_rho * sum;
+    air_limiter_[a] = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
+  }
+  // The pair force on hair i from air a (hair-list entry q); the air gets
+  // exactly its negative, from the same expression.
+  auto drag = [&](std::size_t i, std::size_t a, std::uint32_t q) {
+    const float c = k_over_rho * hair_m[i] * mass_ * std::min(hair_limiter_[i], air_limiter_[a]);
+    return (c * pair_w_[q]) * (v_[a] - hair_v[i]);
+  };
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index ii = 0; ii < static_cast<Index>(nh); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    if (hair_root[i]) continue;  // roots are held by the head
+    glm::vec3 f(0.0f);
+    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) f += drag(i, hair_list_[q], q);
+    hair_force[i] += f;
+  }
+  force_.resize(na);
+  drag_on_air_.resize(na);
+  const float mu = p_.viscosity_rate;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
+    const auto a = static_cast<std::size_t>(aa);
+    glm::vec3 f(0.0f);
+    const float pa = pressure_[a] / (density_[a] * density_[a]);
+    for (std::uint32_t b : grid_.neighbors(a)) {
+      const glm::vec3 d = x_[a] - x_[b];
+      const float r = glm::length(d);
+      const float pb = pressure_[b] / (density_[b] * density_[b]);
+      f -= (mass_ * mass_ * (pa + pb)) * k.gradW(d, r);
+      f += (mu * 2.0f * mass_ * mass_ / (density_[a] + density_[b]) * k.W(r)) * (v_[b] - v_[a]);
+    }
+    glm::vec3 g(0.0f);
+    for (std::uint32_t q = air_start_[a]; q < air_start_[a + 1]; ++q) {
+      const std::uint32_t i = air_list_[q];
+      if (hair_root[i]) continue;
+      g -= drag(i, a, air_pair_[q]);
+    }
+    drag_on_air_[a] = g;
+    force_[a] = f + g;
+  }
+}
+
+void AirSystem::integrate(float dt, const HeadKinematics& head, int threads) {
+  const std::size_t na = x_.size();
+  const glm::dmat3 rt = glm::transpose(head.pose.rotation);
+  const glm::vec3 frame_accel(rt * head.acceleration);
+  const glm::vec3 omega(head.angular_velocity), alpha(head.angular_acceleration);
+  const float inv_m = 1.0f / mass_;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
+    const auto a = static_cast<std::size_t>(aa);
+    const glm::vec3 r = x_[a], u = v_[a];
+    const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
+                               glm::cross(omega, glm::cross(omega, r));
+    v_[a] = u + dt * (inv_m * force_[a] - inertial);
+    x_[a] = r + dt * v_[a];
+  }
+}
+
+void AirSystem::emitAndRemove(double t, float dt, const HeadKinematics& head, const WorldDistance& bodies) {
+  // Remove what left the box (world frame), keeping the order of the rest.
+  const glm::vec3 half = 0.5f * p_.box_size;
+  const float slack = p_.spacing;
+  std::size_t kept = 0;
+  for (std::size_t a = 0; a < x_.size(); ++a) {
+    const glm::vec3 w(head.pose.rotation * glm::dvec3(x_[a]) + head.pose.center);
+    const glm::vec3 q = w - p_.box_center;
+    const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
+    const bool inside = al < half.x && al > -half.x - 2.0f * slack && std::abs(up) < half.y + slack &&
+                        std::abs(side) < half.z + slack && std::isfinite(al + up + side);
+    if (!inside) {
+      ++removed_;
+      continue;
+    }
+    x_[kept] = x_[a];
+    v_[kept] = v_[a];
+    if (a < density_.size()) density_[kept] = density_[a];
+    ++kept;
+  }
+  x_.resize(kept);
+  v_.resize(kept);
+  density_.resize(kept);
+  // New layers through the upwind face for the wind run of this step.
+  const float speed = speedAt(t);
+  advance_ += static_cast<double>(speed) * dt;
+  while (advance_ >= p_.spacing) {
+    advance_ -= p_.spacing;
+    emitLayer(-half.x + static_cast<float>(advance_), head, bodies, speed);
+  }
+}
+
+}  // namespace loosehair
