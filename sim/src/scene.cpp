@@ -670,7 +670,7 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
       shape = std::make_shared<SphereBody>(o.a, o.radius);
     else
       shape = std::make_shared<CapsuleBody>(o.a, o.b, o.radius);
-    solver.addWorldBody(shape, o.motion, o.begin, o.end);
+    solver.addWorldBody(shape, o.motion, o.begin, o.end, true);
   }
   if (scene.has_wind) {
     try {

@@ -374,18 +374,20 @@ struct Solver::BodyFrame {
 };
 
 void Solver::addWorldBody(std::shared_ptr<const Body> body, HeadTrajectory motion, double begin,
-                          double end) {
+                          double end, bool obstacle) {
   if (!body) throw std::invalid_argument("addWorldBody: no body");
   if (std::isnan(begin) || std::isnan(end) || !(begin < end))
     throw std::invalid_argument("addWorldBody: the active time interval is empty");
-  world_bodies_.push_back({std::move(body), std::move(motion), begin, end});
+  world_bodies_.push_back({std::move(body), std::move(motion), begin, end, obstacle});
 }
 
-void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head) const {
+void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head,
+                         bool include_obstacles) const {
   head = trajectory_.kinematics(t);
   frames.clear();
   for (const auto& wb : world_bodies_) {
     if (!(t >= wb.begin && t < wb.end)) continue;
+    if (wb.obstacle && !include_obstacles) continue;
     const HeadKinematics o = wb.motion.kinematics(t);
     const glm::dmat3 ro_t = glm::transpose(o.pose.rotation);
     BodyFrame f;
@@ -430,10 +432,10 @@ void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinemat
 }
 
 void Solver::bodyDistance(std::span<const glm::vec3> points, double t,
-                          std::vector<float>& phi) const {
+                          std::vector<float>& phi, bool include_obstacles) const {
   std::vector<BodyFrame> frames;
   HeadKinematics head;
-  placeBodies(t, frames, head);
+  placeBodies(t, frames, head, include_obstacles);
   phi.resize(points.size());
   std::vector<glm::vec3> nrm(points.size());
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
@@ -653,7 +655,10 @@ void Solver::step() {
   // Several bodies (head, torso, obstacles) may meet in a crease, where
   // leaving one can mean entering another: a few rounds settle it.
   placeBodies(time_ + params_.time_step, frames, head_now);
+  std::vector<BodyFrame> solid_frames;  // without obstacles: the last round
+  placeBodies(time_ + params_.time_step, solid_frames, head_now, false);
   const int rounds = frames.empty() ? 1 : 3;
+  const bool has_obstacles = solid_frames.size() != frames.size();
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
@@ -661,8 +666,9 @@ void Solver::step() {
     glm::vec3 surface[kBodyBlock];
     bool pushed[kBodyBlock] = {};
     glm::vec3 push_normal[kBodyBlock];
-    for (int round = 0; round < rounds; ++round) {
-      queryBodies(frames, head_now, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
+    for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
+      queryBodies(round < rounds ? frames : solid_frames, head_now, &x[b], e - b, &body_phi_[b],
+                  &body_normal_[b], surface);
       bool any = false;
       for (std::size_t i = b; i < e; ++i) {
         if (root[i] || !(body_phi_[i] < 0.0f)) continue;

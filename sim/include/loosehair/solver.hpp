@@ -107,9 +107,12 @@ class Solver {
   /// world by `motion` (pose of its frame over time), and collides only
   /// while begin <= t < end. Its surface velocity enters the contact
   /// response, so a moving obstacle pushes the hair.
+  /// An obstacle (`obstacle` true) pushes hair like any body, but where it
+  /// squeezes hair against the head or torso the head and torso win: the
+  /// last projection of a step keeps particles out of them only.
   void addWorldBody(std::shared_ptr<const Body> body,
                     HeadTrajectory motion = HeadTrajectory::still(),
-                    double begin = -INFINITY, double end = INFINITY);
+                    double begin = -INFINITY, double end = INFINITY, bool obstacle = false);
   std::size_t worldBodyCount() const { return world_bodies_.size(); }
 
   /// Turns on wind (SPEC §5): fills the air box at the current time.
@@ -125,9 +128,10 @@ class Solver {
   double airStableTimeStep() const;
 
   /// Signed distance (m) from each head-frame point to the union of the
-  /// head and the world bodies active at time t; negative inside.
+  /// head and the world bodies active at time t (obstacles too if asked);
+  /// negative inside.
   void bodyDistance(std::span<const glm::vec3> head_frame_points, double t,
-                    std::vector<float>& phi) const;
+                    std::vector<float>& phi, bool include_obstacles = false) const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay
@@ -188,9 +192,11 @@ class Solver {
     std::shared_ptr<const Body> body;
     HeadTrajectory motion;
     double begin, end;
+    bool obstacle;
   };
   struct BodyFrame;  // per-step placement of the world bodies
-  void placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head) const;
+  void placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head,
+                   bool include_obstacles = true) const;
   void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                    const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
                    glm::vec3* surface_velocity) const;

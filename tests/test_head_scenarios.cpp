@@ -1,0 +1,280 @@
+// The paper's scenarios on the bundled head, torso and scalp (SPEC §5, §6.1,
+// §8): each runs at least 3 simulated seconds and checks, at the end of every
+// step, that nothing is non-finite, inside the head or torso, or stretched.
+// These are the slowest tests; they have their own label ("scenario").
+#include "test_support.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+using namespace loosehair;
+
+namespace {
+
+SceneDesc bundled(const std::string& name, int particles) {
+  SceneDesc s = loadScene(lhtest::sourceDir() + "/data/scenes/" + name + ".json");
+  s.hair.particles = particles;
+  return s;
+}
+
+// Penetration is measured against the same signed-distance grids the solver
+// uses; the projection leaves particles on the interpolated surface, up to
+// rounding and the crease between head and torso.
+constexpr float kInsideTolerance = 2e-4f;  // m
+
+struct Watch {
+  float worst_stretch = -1;  // max (|x - r| - s) / L_max
+  float deepest = 1;         // min signed distance to the bodies (m)
+  bool finite = true;
+};
+
+// Steps to `until` seconds, checking the invariants after every step;
+// `each_frame` is called every 1/30 s.
+template <class F>
+Watch run(Solver& solver, double until, float max_length, F each_frame) {
+  Watch w;
+  const int per_frame = std::max(1, static_cast<int>(std::lround(1.0 / 30.0 / solver.params().time_step)));
+  std::vector<glm::vec3> hair;
+  std::vector<float> phi;
+  int step = 0;
+  while (solver.time() < until - 1e-9) {
+    solver.step();
+    ++step;
+    const auto& p = solver.particles();
+    hair.clear();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (!p.is_root[i]) hair.push_back(p.position[i]);
+    solver.bodyDistance(hair, solver.time(), phi);
+    for (float d : phi) w.deepest = std::min(w.deepest, d);
+    w.worst_stretch = std::max(w.worst_stretch, lhtest::maxStretch(solver, max_length));
+    w.finite = w.finite && lhtest::allFinite(solver);
+    if (!w.finite) break;
+    if (step % per_frame == 0) each_frame();
+  }
+  return w;
+}
+
+float maxLength(const SceneDesc& s) { return s.hair.length; }  // the length map peaks at 1
+
+void expectInvariants(const Watch& w, const char* what) {
+  EXPECT_TRUE(w.finite) << what;
+  EXPECT_GE(w.deepest, -kInsideTolerance) << what << ": a particle ended a step inside the body";
+  EXPECT_LE(w.worst_stretch, 0.02f) << what << ": |x_i - r_i| <= s_i + 2% of the longest hair";
+  std::printf("%s: deepest %.2e m, worst stretch %.4f\n", what, w.deepest, w.worst_stretch);
+}
+
+}  // namespace
+
+TEST(HeadScenario, HangSettlesOnHeadAndShoulders) {
+  const SceneDesc scene = bundled("hang", 2500);
+  Solver solver = buildSolver(scene);
+  EXPECT_TRUE(solver.worldBodyCount() == 1) << "the torso is a world body";
+  const Watch w = run(solver, 3.0, maxLength(scene), [] {});
+  expectInvariants(w, "hang");
+  // It hangs: long back hair reaches below the chin (y ~ -0.095), and after
+  // 3 s it is nearly at rest.
+  float lowest = 1, speed = 0;
+  for (std::size_t i = 0; i < solver.particles().size(); ++i) {
+    lowest = std::min(lowest, solver.particles().position[i].y);
+    speed += glm::length(solver.particles().velocity[i]);
+  }
+  EXPECT_LT(lowest, -0.15f);
+  EXPECT_LT(speed / static_cast<float>(solver.particles().size()), 0.05f);
+}
+
+namespace {
+
+struct SplitRun {
+  std::vector<double> t, cross, middle;
+};
+
+// Back hair: particles rooted behind the ears; the wisps are the left and
+// right halves (root x < 0, > 0). `cross`: the fraction of back hair that is
+// on the other wisp's side of the parting plane x = 0 by more than 5 mm
+// (the wisps interpenetrate). `middle`: back-hair particles within 1 cm of
+// the plane at the height of the obstacle (the gap of the split).
+SplitRun runSplit(bool hair_hair) {
+  SceneDesc scene = bundled("back-hair-split", 3000);
+  scene.sim.hair_hair = hair_hair;
+  Solver solver = buildSolver(scene);
+  SplitRun r;
+  const Watch w = run(solver, 3.0, maxLength(scene), [&] {
+    const auto& p = solver.particles();
+    double back = 0, cross = 0, middle = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.is_root[i] || p.root_point[i].z > -0.03f || p.arc_length[i] < 0.02f) continue;
+      back += 1;
+      const float x = p.position[i].x, side = p.root_point[i].x;
+      if ((side < 0 && x > 0.005f) || (side > 0 && x < -0.005f)) cross += 1;
+      if (std::abs(x) < 0.01f && p.position[i].y < -0.12f && p.position[i].y > -0.26f) middle += 1;
+    }
+    r.t.push_back(solver.time());
+    r.cross.push_back(cross / back);
+    r.middle.push_back(middle);
+  });
+  expectInvariants(w, hair_hair ? "back-hair-split" : "back-hair-split without hair-hair");
+  return r;
+}
+
+double meanOver(const SplitRun& r, const std::vector<double>& v, double from, double to) {
+  double sum = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < r.t.size(); ++k)
+    if (r.t[k] >= from && r.t[k] <= to) {
+      sum += v[k];
+      ++n;
+    }
+  return sum / n;
+}
+
+}  // namespace
+
+TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
+  const SplitRun on = runSplit(true);
+  const SplitRun off = runSplit(false);
+  // The obstacle parts the back hair (0.3-1.5 s) and is gone after 1.5 s.
+  const double before = meanOver(on, on.middle, 0.1, 0.3);
+  const double split = meanOver(on, on.middle, 1.3, 1.5);
+  const double after = meanOver(on, on.middle, 2.6, 3.0);
+  std::printf("particles in the parting: before %.0f, split %.0f, merged %.0f\n", before, split, after);
+  EXPECT_LT(split, 0.2 * before) << "the back hair splits into two wisps";
+  EXPECT_GT(after, 0.6 * before) << "and comes back together under gravity";
+  // While they fall back together, the wisps pass through each other
+  // without hair-hair interactions and much less with them.
+  const double cross_on = meanOver(on, on.cross, 1.5, 3.0), cross_off = meanOver(off, off.cross, 1.5, 3.0);
+  std::printf("interpenetration while merging: %.4f with hair-hair interactions, %.4f without\n", cross_on,
+              cross_off);
+  EXPECT_LT(cross_on, 0.7 * cross_off);
+}
+
+namespace {
+
+double headYaw(const Solver& s) {
+  const glm::dvec3 z = s.head().pose.rotation * glm::dvec3(0, 0, 1);
+  return std::atan2(z.x, z.z);
+}
+
+// Mean world yaw (about the neck axis) of the hanging hair relative to its
+// start, weighted by the distance from the axis.
+double hairYaw(const Solver& s, const std::vector<glm::vec3>& start) {
+  std::vector<glm::vec3> w;
+  s.worldPositions(w);
+  double sum = 0, weight = 0;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (s.particles().arc_length[i] < 0.12f) continue;  // the part near the scalp turns with it
+    const double r = std::hypot(w[i].x, w[i].z);
+    double d = std::atan2(w[i].x, w[i].z) - std::atan2(start[i].x, start[i].z);
+    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
+    sum += r * d;
+    weight += r;
+  }
+  return sum / weight;
+}
+
+}  // namespace
+
+TEST(HeadScenario, HeadShakeHairLagsTheHeadWithoutStretchOrPenetration) {
+  const SceneDesc scene = bundled("head-shake", 2500);
+  Solver solver = buildSolver(scene);
+  std::vector<glm::vec3> start;
+  solver.worldPositions(start);
+  std::vector<double> t, head, hair;
+  const Watch w = run(solver, 3.5, maxLength(scene), [&] {
+    t.push_back(solver.time());
+    head.push_back(headYaw(solver));
+    hair.push_back(hairYaw(solver, start));
+  });
+  expectInvariants(w, "head-shake");
+  // Fit hair(t) ~ A head(t) - tau head'(t) over the shake (0.5-2.5 s).
+  double shh = 0, shd = 0, sdd = 0, syh = 0, syd = 0;
+  for (std::size_t k = 1; k + 1 < t.size(); ++k) {
+    if (t[k] < 0.6 || t[k] > 2.5) continue;
+    const double h = head[k], d = (head[k + 1] - head[k - 1]) / (t[k + 1] - t[k - 1]);
+    shh += h * h;
+    shd += h * d;
+    sdd += d * d;
+    syh += hair[k] * h;
+    syd += hair[k] * d;
+  }
+  const double det = shh * sdd - shd * shd;
+  const double gain = (syh * sdd - syd * shd) / det, lag = -(shh * syd - shd * syh) / det;
+  std::printf("hair follows the shaken head with gain %.2f and lag %.0f ms\n", gain, lag * 1e3);
+  EXPECT_GT(gain, 0.3) << "the hair turns with the head";
+  EXPECT_GT(lag, 0.03) << "the hair's angular motion lags the head's (s)";
+  EXPECT_LT(lag, 0.4);
+}
+
+TEST(HeadScenario, HeadNodRunsWithoutStretchOrPenetration) {
+  const SceneDesc scene = bundled("head-nod", 2000);
+  Solver solver = buildSolver(scene);
+  const Watch w = run(solver, 3.0, maxLength(scene), [] {});
+  expectInvariants(w, "head-nod");
+}
+
+TEST(HeadScenario, WindBlowsTheHairDownwindAndTheHairSlowsTheAir) {
+  const SceneDesc scene = bundled("wind", 2500);
+  Solver solver = buildSolver(scene);
+  ASSERT_TRUE(solver.hasWind());
+  const glm::vec3 e = glm::normalize(scene.wind.direction);
+  const glm::vec3 up = glm::normalize(glm::vec3(0, 1, 0) - e.y * e), side = glm::cross(e, up);
+  auto hairAlong = [&] {
+    std::vector<glm::vec3> w;
+    solver.worldPositions(w);
+    double sum = 0;
+    for (const auto& p : w) sum += glm::dot(p, e);
+    return sum / static_cast<double>(w.size());
+  };
+  const double start = hairAlong();
+  double behind_sum = 0, beside_sum = 0;
+  int samples = 0;
+  const Watch w = run(solver, 3.0, maxLength(scene), [&] {
+    if (solver.time() < 1.0) return;  // let the flow establish itself
+    std::vector<glm::vec3> x, v;
+    solver.worldAirPositions(x);
+    solver.worldAirVelocities(v);
+    double behind = 0, beside = 0;
+    int nb = 0, ns = 0;
+    for (std::size_t a = 0; a < x.size(); ++a) {
+      const glm::vec3 q = x[a] - scene.wind.box_center;
+      const float al = glm::dot(q, e), u = glm::dot(q, up), s = glm::dot(q, side);
+      if (al < 0.15f || u < -0.2f || u > 0.15f) continue;  // downwind of the head, at its height
+      if (std::abs(s) < 0.06f) {
+        behind += glm::dot(v[a], e);
+        ++nb;
+      } else if (std::abs(s) > 0.18f) {
+        beside += glm::dot(v[a], e);
+        ++ns;
+      }
+    }
+    if (nb > 0 && ns > 0) {
+      behind_sum += behind / nb;
+      beside_sum += beside / ns;
+      ++samples;
+    }
+  });
+  expectInvariants(w, "wind");
+  const double moved = hairAlong() - start;
+  std::printf("hair centre of mass moved %.1f mm downwind; air speed along the wind behind the head %.2f m/s, beside it %.2f m/s\n",
+              moved * 1e3, behind_sum / samples, beside_sum / samples);
+  EXPECT_GT(moved, 0.005) << "the hair's centre of mass moves downwind";
+  ASSERT_GT(samples, 30);
+  EXPECT_LT(behind_sum / samples, 0.5 * beside_sum / samples) << "air behind the hair is slower than beside it";
+  EXPECT_GT(beside_sum / samples, 0.5 * scene.wind.speed) << "the wind blows past the head";
+}
+
+TEST(HeadScenario, MeshHeadAndWindAreDeterministicAcrossThreadCounts) {
+  SceneDesc scene = bundled("wind", 800);
+  auto hashAfter = [&](int threads) {
+    scene.sim.threads = threads;
+    Solver solver = buildSolver(scene);
+    solver.advance(40);
+    return solver.stateHash();
+  };
+  EXPECT_EQ(hashAfter(1), hashAfter(2));
+  EXPECT_EQ(hashAfter(2), hashAfter(2));
+}
