@@ -81,6 +81,62 @@ TEST(SceneFiles, BadScenesNameTheFieldAndTheProblem) {
                  "motion.keys[1].euler: unknown field");
 }
 
+namespace {
+
+// A mesh-head scene around the bundled assets, from the tests' own folder.
+std::string meshScene(const std::string& head_extra, const std::string& rest = "") {
+  const std::string data = lhtest::sourceDir() + "/data";
+  return R"({"name": "m", "substeps": 5,
+    "head": {"type": "mesh", "mesh": ")" + data + R"(/meshes/head.obj")" + head_extra + R"(},
+    "hair": {"particles": 300, "length": 0.2, "mass": 0.03, "length_map": ")" + data +
+         R"(/maps/hair_length.png"})" + rest + "}";
+}
+
+}  // namespace
+
+TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
+  // The bundled scenes on the head, with paths relative to the scene file.
+  for (const char* name : {"hang", "back-hair-split", "head-shake", "head-nod", "wind"}) {
+    SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/" + name + ".json");
+    EXPECT_EQ(scene.head_kind, HeadKind::Mesh) << name;
+    EXPECT_TRUE(scene.has_torso) << name;
+    EXPECT_TRUE(std::filesystem::exists(scene.head_mesh.path)) << scene.head_mesh.path;
+    EXPECT_TRUE(std::filesystem::exists(scene.hair.length_map)) << scene.hair.length_map;
+  }
+  EXPECT_NO_THROW((void)buildSolver(parseScene(meshScene(""), "ok.json")));
+  expectRejected(meshScene(R"(, "up": "sideways")"), "head.up: must be one of");
+  expectRejected(meshScene(R"(, "up": "+z", "front": "-z")"), "head.front: must be a different axis from up");
+  expectRejected(meshScene(R"(, "scale": 0)"), "head.scale: must be a number in (0,");
+  expectRejected(meshScene(R"(, "sdf_voxel": -1)"), "head.sdf_voxel");
+  expectRejected(R"({"head": {"type": "mesh", "mesh": "nowhere/head.obj"}})", "head.mesh: nowhere/head.obj: no such file");
+  expectRejected(R"({"head": {"type": "mesh"}})", "head.mesh: is required");
+  expectRejected(meshScene("", R"(, "scalp": {"type": "sphere-cap"})"), R"(scalp.type: "sphere-cap" needs a sphere head)");
+  expectRejected(meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0,0],[1,1,1]]})"), "scalp.right: is required");
+  expectRejected(meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0]], "right": [], "back": [], "left": []})"),
+                 "scalp.front: must be an array of at least 2 points");
+  // Curves far from each other's ends.
+  expectRejected(meshScene("", R"(, "scalp": {"type": "curves",
+      "front": [[-0.06,0.08,0.06],[0.06,0.08,0.06]], "right": [[0.07,0.0,0.0],[0.06,0.0,-0.08]],
+      "back": [[0.06,0.0,-0.08],[-0.06,0.0,-0.08]], "left": [[-0.06,0.0,-0.08],[-0.06,0.08,0.06]]})"),
+                 "consecutive curves must meet");
+  expectRejected(replaced(R"("scalp": {"type": "sphere-cap", "cap_angle_deg": 100})", R"("scalp": {"type": "auto"})"),
+                 "needs a mesh head");
+  // A broken length map.
+  std::string missing_map = meshScene("");
+  missing_map.replace(missing_map.find("hair_length.png"), 15, "no_such_map.png");
+  expectRejected(missing_map, "hair.length_map:");
+  // Torso, obstacles and wind.
+  expectRejected(meshScene("", R"(, "torso": {"mesh": "none.obj"})"), "torso.mesh: none.obj: no such file");
+  expectRejected(meshScene("", R"(, "obstacles": [{"type": "cone"}])"), "obstacles[0].type: must be");
+  expectRejected(meshScene("", R"(, "obstacles": [{"type": "capsule", "a": [0,0,0]}])"), "obstacles[0].a: a capsule needs both");
+  expectRejected(meshScene("", R"(, "obstacles": [{"radius": 0.1, "begin": 2, "end": 1}])"), "obstacles[0].end: must be later");
+  expectRejected(meshScene("", R"(, "wind": {"speed": -3})"), "wind.speed: must be a number in [0, 100]");
+  expectRejected(meshScene("", R"(, "wind": {"direction": [0, 0, 0]})"), "wind.direction: must be a non-zero");
+  expectRejected(meshScene("", R"(, "wind": {"profile": [[1, 1], [0.5, 1]]})"), "wind.profile[1]: times must increase");
+  expectRejected(meshScene("", R"(, "wind": {"spacing": 0.0001})"), "more than 20 million air particles");
+  expectRejected(meshScene("", R"(, "wind": {"gust": 1})"), "wind.gust: unknown field");
+}
+
 TEST(SceneFiles, MissingRequiredPartsAndFiles) {
   try {
     (void)parseScene(R"({"name": "x"})", "bad.json");

@@ -398,19 +398,31 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
   }
 }
 
-void AirSystem::integrate(float dt, const HeadKinematics& head, int threads) {
+void AirSystem::integrate(double t, float dt, const HeadKinematics& head, int threads) {
   const std::size_t na = x_.size();
   const glm::dmat3 rt = glm::transpose(head.pose.rotation);
   const glm::vec3 frame_accel(rt * head.acceleration);
+  const glm::vec3 frame_vel(rt * head.velocity);
   const glm::vec3 omega(head.angular_velocity), alpha(head.angular_acceleration);
+  const glm::mat3 rot(head.pose.rotation);
+  const glm::vec3 centre(head.pose.center);
+  // Inflow: the air within one kernel support of the upwind face moves with
+  // the wind (it is the boundary condition the rest of the air feels).
+  const float inflow_end = -0.5f * p_.box_size.x + 2.0f * h_;
+  const glm::vec3 wind_head = glm::vec3(rt * glm::dvec3(speedAt(t) * e_wind_)) - frame_vel;
   const float inv_m = 1.0f / mass_;
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
     const auto a = static_cast<std::size_t>(aa);
     const glm::vec3 r = x_[a], u = v_[a];
-    const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
-                               glm::cross(omega, glm::cross(omega, r));
-    v_[a] = u + dt * (inv_m * force_[a] - inertial);
+    const float along = glm::dot(rot * r + centre - p_.box_center, e_wind_);
+    if (along < inflow_end) {
+      v_[a] = wind_head - glm::cross(omega, r);
+    } else {
+      const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
+                                 glm::cross(omega, glm::cross(omega, r));
+      v_[a] = u + dt * (inv_m * force_[a] - inertial);
+    }
     x_[a] = r + dt * v_[a];
   }
 }

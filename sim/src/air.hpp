@@ -45,8 +45,9 @@ class AirSystem {
                         std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
                         std::span<glm::vec3> hair_force, float dt, int threads);
   /// Symplectic Euler with the head-frame inertial forces (no gravity: air
-  /// is neutrally buoyant).
-  void integrate(float dt, const HeadKinematics& head, int threads);
+  /// is neutrally buoyant); the inflow layer (within 2 h_air of the upwind
+  /// face) moves with the wind speed at time t.
+  void integrate(double t, float dt, const HeadKinematics& head, int threads);
   /// Head pose at the time of the positions (for the box faces).
   void setPose(const HeadPose& pose) { pose_ = pose; }
   /// Emits air through the upwind face for the time the step advanced and
@@ -62,6 +63,8 @@ class AirSystem {
   /// The drag force on the hair from the last accumulateForces (N); its sum
   /// is minus the sum of airDragForce.
   std::span<const glm::vec3> airDragForce() const { return drag_on_air_; }
+  /// The whole force on each air particle from the last accumulateForces (N).
+  std::span<const glm::vec3> airForce() const { return force_; }
   std::size_t hairAirPairs() const { return hair_list_.size(); }
   std::size_t emitted() const { return emitted_; }
   std::size_t removed() const { return removed_; }

@@ -697,7 +697,7 @@ void Solver::step() {
   // ---- wind: move the air, keep it out of the bodies (free slip), emit
   // upwind and remove what left the box ---------------------------------------
   if (air_) {
-    air_->integrate(dt, head_now_start, threads_);
+    air_->integrate(time_, dt, head_now_start, threads_);
     auto& ax = air_->positions();
     auto& av = air_->velocities();
     const std::size_t na = ax.size();
