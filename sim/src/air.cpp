@@ -208,20 +208,34 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   const std::size_t na = x_.size(), nh = hair_x.size();
   const CubicKernel k(h_);
   const float support = k.support(), support2 = k.support2();
-  grid_.build(x_, support, threads);
 
-  // Air sorted by cell for the hair-air search, as unique cells and ranges.
+  // Keep the air sorted by cell (a stable sort, so the order is
+  // deterministic): neighbours are then near in memory, and the cells are
+  // contiguous ranges for the hair-air search.
   const float inv_cell = 1.0f / support;
-  sorted_index_.resize(na);
-  for (std::uint32_t a = 0; a < na; ++a) sorted_index_[a] = a;
   std::vector<std::uint64_t> key(na);
   for (std::size_t a = 0; a < na; ++a) key[a] = cellKeyOf(cellOf(x_[a], inv_cell));
+  sorted_index_.resize(na);
+  for (std::uint32_t a = 0; a < na; ++a) sorted_index_[a] = a;
   std::stable_sort(sorted_index_.begin(), sorted_index_.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  {
+    std::vector<glm::vec3> xs(na), vs(na);
+    std::vector<std::uint64_t> ks(na);
+    for (std::size_t q = 0; q < na; ++q) {
+      xs[q] = x_[sorted_index_[q]];
+      vs[q] = v_[sorted_index_[q]];
+      ks[q] = key[sorted_index_[q]];
+    }
+    x_.swap(xs);
+    v_.swap(vs);
+    key.swap(ks);
+  }
+  grid_.build(x_, support, threads);
   cell_key_.clear();
   cell_begin_.clear();
   for (std::uint32_t q = 0; q < na; ++q) {
-    const std::uint64_t kq = key[sorted_index_[q]];
+    const std::uint64_t kq = key[q];
     if (cell_key_.empty() || cell_key_.back() != kq) {
       cell_key_.push_back(kq);
       cell_begin_.push_back(q);
@@ -266,7 +280,7 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
       std::uint32_t count = 0;
       for (int r = 0; r < ranges; ++r)
         for (std::uint32_t q = rb[r]; q < re[r]; ++q) {
-          const std::uint32_t a = sorted_index_[q];
+          const std::uint32_t a = q;  // the air is in cell order
           const glm::vec3 d = hair_x[i] - x_[a];
           if (glm::dot(d, d) < support2) {
             out.push_back(a);

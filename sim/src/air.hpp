@@ -96,7 +96,7 @@ class AirSystem {
   std::vector<float> hair_limiter_;       // drag limiters, see accumulateForces
   // air sorted by cell for the cross search: unique cell keys and ranges
   std::vector<std::uint64_t> cell_key_;
-  std::vector<std::uint32_t> cell_begin_, sorted_index_;
+  std::vector<std::uint32_t> cell_begin_, sorted_index_;  // sorted_index_: scratch of the sort
 };
 
 }  // namespace loosehair
