@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 
 using namespace loosehair;
@@ -277,4 +279,60 @@ TEST(HeadScenario, MeshHeadAndWindAreDeterministicAcrossThreadCounts) {
   };
   EXPECT_EQ(hashAfter(1), hashAfter(2));
   EXPECT_EQ(hashAfter(2), hashAfter(2));
+}
+
+TEST(HeadScenario, ResetIntoTheHeadIsResolvedWithoutEjection) {
+  SceneDesc scene = bundled("hang", 1500);
+  Solver solver = buildSolver(scene);
+  solver.advance(30);
+  // Reset: every hair particle 2 cm towards the head's centre, at rest, so
+  // that many start inside the head.
+  auto x = solver.particles().position;
+  const auto dir = solver.particles().direction;
+  std::vector<glm::vec3> v(x.size(), glm::vec3(0.0f));
+  const glm::vec3 centre(0.0f, 0.03f, 0.0f);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!solver.particles().is_root[i]) x[i] -= 0.02f * glm::normalize(x[i] - centre);
+  std::vector<float> phi;
+  solver.bodyDistance(x, solver.time(), phi);
+  std::size_t inside = 0;
+  for (float d : phi) inside += d < 0 ? 1 : 0;
+  ASSERT_GT(inside, 100u) << "the reset should put hair inside the head";
+  solver.setKinematicState(x, v, dir);
+  solver.step();
+  const auto& p = solver.particles();
+  std::vector<glm::vec3> hair;
+  float fastest = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_root[i]) continue;
+    hair.push_back(p.position[i]);
+    fastest = std::max(fastest, glm::length(p.velocity[i]));
+  }
+  solver.bodyDistance(hair, solver.time(), phi);
+  EXPECT_GE(*std::min_element(phi.begin(), phi.end()), -kInsideTolerance) << "all out after one step";
+  // Pushed out, not thrown: no particle leaves faster than a brisk hair
+  // swing (the push-out's normal speed is removed).
+  EXPECT_LT(fastest, 1.0f);
+}
+
+TEST(HeadScenario, AUserHeadMeshWithTheAutomaticScalpJustWorks) {
+  // Another head, as a user might bring it: Y-forward, Z-up, in millimetres,
+  // 10% larger, glTF-free OBJ without a torso.
+  const std::string dir = ::testing::TempDir() + "loosehair-user-head";
+  std::filesystem::create_directories(dir);
+  TriangleMesh h = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  for (auto& p : h.vertices) p = 1100.0f * glm::vec3(p.x, -p.z, p.y);
+  writeObj(h, dir + "/user_head.obj");
+  const std::string text = R"({"name": "user", "substeps": "auto",
+    "head": {"type": "mesh", "mesh": "user_head.obj", "scale": 0.001, "up": "+z", "front": "-y"},
+    "hair": {"particles": 1500, "length": 0.25, "mass": 0.05}})";
+  std::ofstream(dir + "/user.json") << text;
+  const SceneDesc scene = loadScene(dir + "/user.json");
+  BuildReport report;
+  Solver solver = buildSolver(scene, &report);
+  EXPECT_GT(report.scalp_area, 0.04) << "a larger head has a larger scalp";
+  EXPECT_LE(solver.initReport().unanchored, solver.particles().size() / 200) << "at most 0.5% hang on tethers only";
+  const Watch w = run(solver, 1.0, scene.hair.length, [] {});
+  expectInvariants(w, "user head");
+  std::filesystem::remove_all(dir);
 }

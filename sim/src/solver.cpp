@@ -215,6 +215,9 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   // Queries between steps (internalForces, density) see the new state.
   findNeighbors();
   computeDensity();
+  // A reset may leave particles inside the body or over-stretched; the
+  // first step moves them back without turning the move into velocity.
+  absorb_corrections_ = true;
 }
 
 void Solver::setThreadCount(int threads) {
@@ -659,6 +662,8 @@ void Solver::step() {
   placeBodies(time_ + params_.time_step, solid_frames, head_now, false);
   const int rounds = frames.empty() ? 1 : 3;
   const bool has_obstacles = solid_frames.size() != frames.size();
+  const bool absorb = absorb_corrections_;
+  absorb_corrections_ = false;
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
@@ -682,7 +687,7 @@ void Solver::step() {
     for (std::size_t i = b; i < e; ++i) {
       if (root[i]) continue;
       glm::vec3 vi = v[i];
-      if (x[i] != integrated_position_[i]) vi += (x[i] - integrated_position_[i]) / dt;
+      if (x[i] != integrated_position_[i] && !absorb) vi += (x[i] - integrated_position_[i]) / dt;
       if (pushed[i - b]) {
         const glm::vec3 nrm = push_normal[i - b];
         const float vn = glm::dot(vi - surface[i - b], nrm);

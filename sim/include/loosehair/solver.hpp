@@ -137,7 +137,10 @@ class Solver {
   /// resets, user interaction and tests, roots included (roots then stay
   /// where they were put: they are never integrated). Neighbours and
   /// densities are recomputed, so queries see the new state. Root points
-  /// (the tethers' anchors) and rest lengths stay as they were built.
+  /// (the tethers' anchors) and rest lengths stay as they were built. The
+  /// next step moves particles out of the body and back within the strain
+  /// limit and tethers without turning those moves into velocity, so a
+  /// reset into the head does not throw hair off it.
   /// Throws std::invalid_argument on wrong sizes or non-finite values.
   void setKinematicState(std::span<const glm::vec3> position, std::span<const glm::vec3> velocity,
                          std::span<const glm::vec3> direction);
@@ -212,6 +215,7 @@ class Solver {
   HeadTrajectory trajectory_;
   int threads_ = 1;
   double time_ = 0.0;
+  bool absorb_corrections_ = false;  // the step after setKinematicState
 
   // derived at initialisation
   std::vector<float> cross_section_;  // A_i
