@@ -37,6 +37,7 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
 // Per-step spring quantities, one entry per connection entry or particle.
 struct Solver::Scratch {
   std::vector<float> k;            // k_ij = c_ij W(|x_ij|, h1), eq. 7
+  std::vector<float> r;            // |x_ij| when k was computed
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
   std::size_t clamped = 0;         // side factors held at the clamp
@@ -135,6 +136,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
   scratch_->k.assign(connections_.entryCount(), 0.0f);
+  scratch_->r.assign(connections_.entryCount(), 0.0f);
   scratch_->factor_root.assign(n, 0.0f);
   scratch_->factor_tip.assign(n, 0.0f);
 
@@ -270,6 +272,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
       const float r = glm::length(x[c.partner[e]] - x[i]);
       const float k = c.strength[e] * k1.W(r);
       s.k[e] = k;
+      s.r[e] = r;
       active += k > 0.0f ? 1 : 0;
       (c.tip_side[e] ? st : sr) += c.rest_length[e] * k;
     }
@@ -306,7 +309,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
       const std::uint32_t j = c.partner[e];
       const float ak = s.alpha(i, j, c.tip_side[e]) * s.k[e];
       const glm::vec3 xij = x[j] - x[i];
-      const float r = glm::length(xij);
+      const float r = s.r[e];  // |x_ij|, from computeSpringFactors
       if (!(r > 0.0f)) continue;
       const glm::vec3 n = xij / r;
       const float stretch = r - c.rest_length[e];
@@ -595,7 +598,7 @@ void Solver::step() {
   std::size_t limited = 0;
   if (params_.strain_limit && params_.strain_limit_iterations > 0) {
     const CubicKernel k1(params_.h1);
-    const float support = k1.support();
+    const float support2 = k1.support2();
     const float max_len_scale = 1.0f + params_.max_strain;
     const auto& c = connections_;
     for (int it = 0; it < params_.strain_limit_iterations; ++it) {
@@ -611,9 +614,13 @@ void Solver::step() {
         for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
           const std::uint32_t j = c.partner[e];
           const glm::vec3 xij = x[j] - x[i];
-          const float r = glm::length(xij);
+          const float r2 = glm::dot(xij, xij);
           const float limit = max_len_scale * c.rest_length[e];
-          if (!(r > limit) || !(r < support)) continue;  // slack connections stay free
+          // Most connections are not over-stretched: decide on squares and
+          // take the root only for the few that are.
+          if (!(r2 > limit * limit) || !(r2 < support2)) continue;  // slack connections stay free
+          const float r = std::sqrt(r2);
+          if (!(r > limit)) continue;
           // The correction follows the spring's looseness, so a connection
           // that is letting go (hair splitting) is not pulled back hard.
           const float looseness = std::min(1.0f, k1.W(r) * inverse_rest_kernel_[e]);
@@ -826,6 +833,7 @@ std::uint64_t Solver::stateHash() const {
 Solver::Scratch Solver::springFactorsNow() const {
   Scratch s;
   s.k.resize(connections_.entryCount());
+  s.r.resize(connections_.entryCount());
   s.factor_root.resize(particles_.size());
   s.factor_tip.resize(particles_.size());
   computeSpringFactors(s);
