@@ -227,5 +227,8 @@ TEST(Directions, TurnWithARigidRotationOfTheWholeHair) {
   }
   std::printf("turned %.3f rad, mismatch %.5f\n", turned, mismatch);
   EXPECT_GT(turned, 0.05f) << "the directions should have changed";
-  EXPECT_LT(mismatch, 1e-2f);
+  // The two runs differ only by rounding, which 25 steps of collisions
+  // amplify to about 1e-2; a direction update that ignored the rotation
+  // would miss by about |R t - t| ~ 1.
+  EXPECT_LT(mismatch, 2e-2f);
 }
