@@ -1,11 +1,16 @@
 // loosehair: headless command line.
 //
 //   loosehair simulate SCENE [--frames N] [--threads T] [--dump DIR] [--seed S]
+//   loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]
+//                          [--video FILE.mp4] [...]
 //
 // Runs the scene, shows progress on a terminal, prints per-stage timings and
 // ends with the line "state-hash: <hex>". Errors go to stderr with a
 // non-zero exit code (2 for bad usage, 1 for anything else).
+#include "headless_gl.hpp"
 #include "loosehair/loosehair.hpp"
+#include "loosehair/render/frame.hpp"
+#include "loosehair/render/renderer.hpp"
 
 #include <unistd.h>
 
@@ -22,12 +27,24 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: loosehair simulate SCENE [--frames N] [--threads T] [--dump DIR] [--seed S]\n"
+    "       loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
+    "                              [--video FILE.mp4] [--threads T] [--seed S] [--color C]\n"
+    "                              [--no-shadows] [--debug VIEW]\n"
     "\n"
     "  simulate   run SCENE (a JSON scene file) headless and print the state hash\n"
     "    --frames N   number of frames (default: the scene's \"frames\")\n"
     "    --threads T  worker threads (default: all cores); results do not depend on it\n"
     "    --dump DIR   write DIR/frame_00001.ply ... (binary PLY, world coordinates)\n"
-    "    --seed S     random seed of the hair sampling (default: the scene's \"seed\")\n";
+    "    --seed S     random seed of the hair sampling (default: the scene's \"seed\")\n"
+    "  render     simulate SCENE and draw every frame to DIR/frame_00001.png ... with\n"
+    "             software OpenGL (OSMesa: no display, no GPU)\n"
+    "    --size WxH       image size (default 640x480)\n"
+    "    --camera PRESET  front, side, back or three-quarter (default)\n"
+    "    --out DIR        where the PNGs go (default render-out)\n"
+    "    --video FILE     also encode the frames to FILE (H.264 MP4) with ffmpeg\n"
+    "    --color C        hair colour: black, brown (default), blonde or red\n"
+    "    --no-shadows     no self-shadowing (opacity shadow maps)\n"
+    "    --debug VIEW     density, speed (points), connections or directions (lines)\n";
 
 struct UsageError {
   std::string message;
@@ -184,6 +201,134 @@ int simulate(const Options& o) {
   return 0;
 }
 
+// ---- render -------------------------------------------------------------------
+struct RenderOptions {
+  std::string scene, out_dir = "render-out", video, camera = "three-quarter";
+  std::optional<int> frames, threads;
+  std::optional<std::uint64_t> seed;
+  int width = 640, height = 480;
+  loosehair::render::RenderSettings settings;
+};
+
+RenderOptions parseRender(const std::vector<std::string>& args) {
+  RenderOptions o;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& a = args[k];
+    auto value = [&]() -> const std::string& {
+      if (k + 1 >= args.size()) throw UsageError{a + " needs a value"};
+      return args[++k];
+    };
+    try {
+      if (a == "--frames") o.frames = static_cast<int>(parseInteger(a, value(), 1, 10000000));
+      else if (a == "--threads") o.threads = static_cast<int>(parseInteger(a, value(), 1, 1024));
+      else if (a == "--seed") o.seed = static_cast<std::uint64_t>(parseInteger(a, value(), 0, INT64_MAX));
+      else if (a == "--out") o.out_dir = value();
+      else if (a == "--video") o.video = value();
+      else if (a == "--camera") {
+        o.camera = value();
+        (void)loosehair::render::Camera::preset(o.camera);
+      } else if (a == "--color") o.settings.color = loosehair::render::parseHairColor(value());
+      else if (a == "--debug") o.settings.debug = loosehair::render::parseDebugView(value());
+      else if (a == "--no-shadows") o.settings.shadows = false;
+      else if (a == "--size") {
+        const std::string v = value();
+        const auto x = v.find('x');
+        if (x == std::string::npos) throw UsageError{"--size needs WxH, got '" + v + "'"};
+        o.width = static_cast<int>(parseInteger("--size width", v.substr(0, x), 16, 8192));
+        o.height = static_cast<int>(parseInteger("--size height", v.substr(x + 1), 16, 8192));
+      } else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a};
+      else if (o.scene.empty()) o.scene = a;
+      else throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'"};
+    } catch (const loosehair::render::RenderError& e) {
+      throw UsageError{a + ": " + e.what()};
+    }
+  }
+  if (o.scene.empty()) throw UsageError{"render needs a scene file"};
+  return o;
+}
+
+// A sphere head as a mesh for drawing.
+loosehair::TriangleMesh sphereMesh(glm::vec3 centre, float radius) {
+  loosehair::TriangleMesh m;
+  const int rings = 48, segments = 96;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s <= segments; ++s) {
+      const float th = 3.14159265f * static_cast<float>(r) / rings, ph = 6.2831853f * static_cast<float>(s) / segments;
+      m.vertices.push_back(centre + radius * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
+    }
+  auto id = [&](int r, int s) { return static_cast<std::uint32_t>(r * (segments + 1) + s); };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      m.triangles.emplace_back(id(r, s), id(r, s + 1), id(r + 1, s));
+      m.triangles.emplace_back(id(r + 1, s), id(r, s + 1), id(r + 1, s + 1));
+    }
+  return m;
+}
+
+bool haveFfmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+
+int renderScene(const RenderOptions& o) {
+  using namespace loosehair;
+  SceneDesc scene = loadScene(o.scene);
+  if (o.seed) scene.seed = *o.seed;
+  if (o.threads) scene.sim.threads = *o.threads;
+  const int frames = o.frames.value_or(scene.frames);
+  if (!o.video.empty() && !haveFfmpeg())
+    throw std::runtime_error("--video needs ffmpeg, which is not installed (scripts/install-deps.sh installs it)");
+  std::error_code ec;
+  std::filesystem::create_directories(o.out_dir, ec);
+  if (ec) throw std::runtime_error(o.out_dir + ": cannot create the output directory: " + ec.message());
+
+  BuildReport build;
+  Solver solver = buildSolver(scene, &build);
+  app::HeadlessGL gl(o.width, o.height);
+  render::Renderer renderer;
+  TriangleMesh head, torso;
+  if (scene.head_kind == HeadKind::Mesh) head = loadMesh(scene.head_mesh.path, scene.head_mesh.load);
+  else head = sphereMesh(scene.head_center, scene.head_radius);
+  if (scene.has_torso) torso = loadMesh(scene.torso_mesh.path, scene.torso_mesh.load);
+  renderer.setBodies(&head, scene.has_torso ? &torso : nullptr);
+  const render::Camera camera = render::Camera::preset(o.camera);
+  std::printf("scene: %s, %zu particles, %d frames of %dx%d, camera %s, %s\n", scene.name.c_str(),
+              solver.particles().size(), frames, o.width, o.height, o.camera.c_str(), gl.renderer().c_str());
+
+  const bool tty = isatty(fileno(stderr)) != 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  render::FrameTimes sum;
+  double sim_seconds = 0;
+  for (int f = 1; f <= frames; ++f) {
+    const auto ts = std::chrono::steady_clock::now();
+    solver.advance(build.substeps);
+    sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
+    const render::FrameInput input = render::frameFromSolver(solver, build.mean_neighbor_distance);
+    renderer.render(input, camera, o.settings, o.width, o.height);
+    const auto& t = renderer.lastTimes();
+    sum.sort += t.sort;
+    sum.upload += t.upload;
+    sum.light_pass += t.light_pass;
+    sum.camera_pass += t.camera_pass;
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.png", f);
+    app::writePng((std::filesystem::path(o.out_dir) / name).string(), gl.pixels(), o.width, o.height);
+    if (tty)
+      drawProgress(f, frames, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("rendered %d frames in %.2f s (%.1f frames/s); per frame: simulation %.1f ms, sort %.2f ms, "
+              "light pass %.1f ms, camera pass %.1f ms\n",
+              frames, wall, frames / wall, 1e3 * sim_seconds / frames, 1e3 * sum.sort / frames,
+              1e3 * sum.light_pass / frames, 1e3 * sum.camera_pass / frames);
+  std::printf("frames: %s/frame_00001.png ... frame_%05d.png\n", o.out_dir.c_str(), frames);
+  if (!o.video.empty()) {
+    const std::string cmd = "ffmpeg -y -loglevel error -framerate " + std::to_string(scene.frame_rate) + " -i '" +
+                            (std::filesystem::path(o.out_dir) / "frame_%05d.png").string() +
+                            "' -c:v libx264 -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '" + o.video + "'";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("ffmpeg could not encode " + o.video);
+    std::printf("video: %s\n", o.video.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -195,6 +340,8 @@ int main(int argc, char** argv) {
     }
     if (args[0] == "simulate")
       return simulate(parseSimulate(std::vector<std::string>(args.begin() + 1, args.end())));
+    if (args[0] == "render")
+      return renderScene(parseRender(std::vector<std::string>(args.begin() + 1, args.end())));
     throw UsageError{"unknown command '" + args[0] + "'"};
   } catch (const UsageError& e) {
     std::fprintf(stderr, "loosehair: %s\n\n%s", e.message.c_str(), kUsage);

@@ -1,0 +1,115 @@
+// The hair renderer (SPEC §7): one textured billboard per particle along its
+// hair direction, Goldman shading, two-pass light attenuation with 16
+// opacity slices, the head and torso shaded and shadowed by the hair, and
+// debug views. It draws into the OpenGL 3.3 core context that is current
+// when it is created and used; it never creates one (app/ does, with OSMesa
+// or GLFW). It is built against the GL headers only.
+#pragma once
+
+#include "loosehair/mesh.hpp"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace loosehair::render {
+
+class RenderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// An orbit camera around `target`: yaw about +Y (0 = looking at the face,
+/// from +Z), pitch above the horizontal, distance and vertical field of view.
+struct Camera {
+  glm::vec3 target{0.0f, -0.05f, 0.0f};
+  float yaw_deg = 0.0f, pitch_deg = 5.0f;
+  float distance = 0.75f;
+  float fov_deg = 40.0f;
+  float near_plane = 0.02f, far_plane = 10.0f;
+
+  /// "front", "side" (from the right), "back", "three-quarter"; throws
+  /// RenderError on anything else.
+  static Camera preset(const std::string& name);
+  glm::vec3 eye() const;
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;
+};
+
+enum class HairColor { Black, Brown, Blonde, Red };
+/// "black", "brown", "blonde", "red"; throws RenderError otherwise.
+HairColor parseHairColor(const std::string& name);
+
+enum class DebugView { None, Density, Speed, Connections, Directions };
+DebugView parseDebugView(const std::string& name);
+
+struct RenderSettings {
+  HairColor color = HairColor::Brown;
+  /// Direction the light comes from (towards the light, world), parallel.
+  glm::vec3 light_direction{0.4f, 0.8f, 0.6f};
+  bool shadows = true;
+  float kappa = 5.5f;        // transmittance exp(-kappa * Omega) (SPEC §7.2)
+  float shadow_offset = 0.6f;  // lookup offset along the light, in slices
+  /// Billboard size as multiples of the particle spacing: width across the
+  /// hair and length along it (before the sin(phi) foreshortening).
+  float billboard_width = 2.5f, billboard_length = 9.0f;
+  float max_opacity_boost = 4.0f;  // clamp of 1/sin(phi)
+  float hair_opacity = 0.8f;       // alpha of one billboard at its brightest
+  glm::vec3 background{0.92f, 0.93f, 0.95f};
+  DebugView debug = DebugView::None;
+};
+
+/// What one frame shows, in world coordinates.
+struct FrameInput {
+  std::vector<glm::vec3> position, direction;
+  std::vector<float> density, speed;  // for the debug views (may be empty)
+  /// Connection lines (pairs of indices into position) for DebugView::Connections.
+  std::vector<std::uint32_t> connections;
+  float spacing = 0.01f;  // typical distance between neighbouring particles (m)
+  glm::mat4 head_pose{1.0f};  // head frame -> world for the head mesh
+};
+
+/// Wall-clock seconds of the last frame's parts.
+struct FrameTimes {
+  double sort = 0, light_pass = 0, camera_pass = 0, upload = 0;
+};
+
+class Renderer {
+ public:
+  /// Needs a current OpenGL 3.3 core context; throws RenderError if shaders
+  /// do not compile or the context lacks what is needed.
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// The head (moving with FrameInput::head_pose) and the torso (fixed).
+  void setBodies(const TriangleMesh* head, const TriangleMesh* torso);
+
+  /// Draws a frame into the framebuffer bound now, `width` x `height`.
+  void render(const FrameInput& frame, const Camera& camera, const RenderSettings& settings,
+              int width, int height);
+
+  const FrameTimes& lastTimes() const { return times_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  FrameTimes times_;
+};
+
+/// Back-to-front order of `depth` (larger first) by an O(N) radix sort of
+/// the float bits; ties keep index order.
+void sortBackToFront(const std::vector<float>& depth, std::vector<std::uint32_t>& order,
+                     std::vector<std::uint32_t>& scratch);
+
+/// The hair-strand texture (RGBA, `width` x `height`, rows bottom to top):
+/// thin vertical strands, alpha fading towards the ends. Deterministic.
+std::vector<std::uint8_t> makeHairTexture(int width, int height, std::uint64_t seed = 7);
+
+}  // namespace loosehair::render
