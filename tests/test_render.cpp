@@ -1,0 +1,246 @@
+// The renderer on software OpenGL (OSMesa), as in CI (SPEC §7): billboard
+// orientation and foreshortening, the default scene drawn over the head,
+// shadows that darken, repeatability and a reference image.
+#include "headless_gl.hpp"
+#include "loosehair/render/frame.hpp"
+#include "loosehair/render/renderer.hpp"
+#include "test_support.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <stb/stb_image.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+using namespace loosehair;
+using namespace loosehair::render;
+
+namespace {
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<std::uint8_t> rgba;
+  glm::vec3 at(int x, int y) const {
+    const std::size_t k = (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4;
+    return glm::vec3(rgba[k], rgba[k + 1], rgba[k + 2]) / 255.0f;
+  }
+};
+
+Image draw(app::HeadlessGL& gl, Renderer& r, const FrameInput& in, const Camera& cam, const RenderSettings& st) {
+  r.render(in, cam, st, gl.width(), gl.height());
+  return {gl.width(), gl.height(), gl.pixels()};
+}
+
+// Bounding box and mean contrast of the pixels that differ from the background.
+struct Blob {
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1, count = 0;
+  float contrast = 0, peak = 0;
+  int width() const { return x1 - x0 + 1; }
+  int height() const { return y1 - y0 + 1; }
+};
+Blob blob(const Image& img, glm::vec3 background) {
+  Blob b;
+  for (int y = 0; y < img.h; ++y)
+    for (int x = 0; x < img.w; ++x) {
+      const float d = glm::length(img.at(x, y) - background);
+      if (d < 0.05f) continue;
+      b.x0 = std::min(b.x0, x);
+      b.x1 = std::max(b.x1, x);
+      b.y0 = std::min(b.y0, y);
+      b.y1 = std::max(b.y1, y);
+      ++b.count;
+      b.contrast += d;
+      b.peak = std::max(b.peak, d);
+    }
+  if (b.count) b.contrast /= static_cast<float>(b.count);
+  return b;
+}
+
+FrameInput oneParticle(glm::vec3 direction) {
+  FrameInput in;
+  in.position = {glm::vec3(0.0f)};
+  in.direction = {glm::normalize(direction)};
+  in.spacing = 0.01f;
+  return in;
+}
+
+Camera frontCamera() {
+  Camera c;
+  c.target = glm::vec3(0.0f);
+  c.yaw_deg = 0;
+  c.pitch_deg = 0;
+  c.distance = 0.3f;
+  return c;
+}
+
+RenderSettings plain() {
+  RenderSettings st;
+  st.shadows = false;
+  return st;
+}
+
+// The bundled hang scene, settled for a moment.
+struct HangScene {
+  SceneDesc scene;
+  BuildReport build;
+  std::unique_ptr<Solver> solver;
+  TriangleMesh head, torso;
+  HangScene() {
+    scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
+    scene.hair.particles = 2500;
+    solver = std::make_unique<Solver>(buildSolver(scene, &build));
+    solver->advance(10 * build.substeps);
+    head = loadMesh(scene.head_mesh.path);
+    torso = loadMesh(scene.torso_mesh.path);
+  }
+};
+const HangScene& hang() {
+  static const HangScene s;
+  return s;
+}
+
+}  // namespace
+
+TEST(Render, ParticleAlongScreenXIsAHorizontalStreakAndEndOnIsShortAndDense) {
+  app::HeadlessGL gl(160, 120);
+  Renderer r;
+  const RenderSettings st = plain();
+  const Blob side = blob(draw(gl, r, oneParticle({1, 0, 0}), frontCamera(), st), st.background);
+  ASSERT_GT(side.count, 0) << "nothing drawn";
+  EXPECT_GT(side.width(), 3 * side.height()) << side.width() << " x " << side.height();
+  const Blob end_on = blob(draw(gl, r, oneParticle({0, 0, 1}), frontCamera(), st), st.background);
+  ASSERT_GT(end_on.count, 0);
+  EXPECT_LT(end_on.width(), side.width() / 2) << "seen end-on the billboard is short";
+  EXPECT_LT(end_on.height(), side.width() / 2);
+  EXPECT_GT(end_on.contrast, 1.3f * side.contrast) << "and denser (opacity / sin(phi))";
+  // Along screen y: vertical.
+  const Blob up = blob(draw(gl, r, oneParticle({0, 1, 0}), frontCamera(), st), st.background);
+  EXPECT_GT(up.height(), 3 * up.width());
+}
+
+TEST(Render, DefaultSceneShowsHairOverTheHead) {
+  const HangScene& s = hang();
+  app::HeadlessGL gl(200, 150);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  const Camera cam = Camera::preset("front");
+  RenderSettings st;
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  const Image img = draw(gl, r, in, cam, st);
+  // Where the crown is on screen.
+  const glm::vec4 clip = cam.projection(200.0f / 150.0f) * cam.view() * glm::vec4(0, 0.12f, 0, 1);
+  const int cx = static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * 200), cy = static_cast<int>((0.5f - clip.y / clip.w * 0.5f) * 150);
+  int hair = 0, skin = 0, near_crown = 0;
+  for (int y = 0; y < img.h; ++y)
+    for (int x = 0; x < img.w; ++x) {
+      const glm::vec3 c = img.at(x, y);
+      const bool is_hair = c.r > c.g && c.g > c.b && c.r < 0.6f && c.r - c.b > 0.08f;
+      const bool is_skin = c.r > 0.45f && c.r > c.g && c.g > c.b && !is_hair;
+      hair += is_hair;
+      skin += is_skin;
+      if (is_hair && std::abs(x - cx) < 15 && std::abs(y - cy) < 12) ++near_crown;
+    }
+  const int total = img.w * img.h;
+  EXPECT_GT(hair, total / 20) << "the image shows hair";
+  EXPECT_GT(skin, total / 20) << "and the head and torso";
+  EXPECT_GT(near_crown, 100) << "hair covers the crown (around pixel " << cx << ", " << cy << ")";
+}
+
+TEST(Render, ShadowsDarkenHairAwayFromTheLightAndTheHeadUnderIt) {
+  const HangScene& s = hang();
+  app::HeadlessGL gl(200, 150);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  const Camera cam = Camera::preset("three-quarter");
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  RenderSettings on, off;
+  off.shadows = false;
+  const Image a = draw(gl, r, in, cam, on), b = draw(gl, r, in, cam, off);
+  double hair_on = 0, hair_off = 0, darker_skin = 0, skin = 0;
+  int hair = 0;
+  for (int y = 0; y < a.h; ++y)
+    for (int x = 0; x < a.w; ++x) {
+      const glm::vec3 ca = a.at(x, y), cb = b.at(x, y);
+      if (glm::length(cb - off.background) < 0.05f) continue;
+      const bool is_skin = cb.r > 0.5f && cb.g > 0.35f && cb.r > cb.b;
+      if (is_skin && glm::length(ca - cb) < 0.6f) {
+        skin += 1;
+        darker_skin += (ca.r + ca.g + ca.b) < 0.9f * (cb.r + cb.g + cb.b) ? 1 : 0;
+      } else if (!is_skin) {
+        hair_on += ca.r + ca.g + ca.b;
+        hair_off += cb.r + cb.g + cb.b;
+        ++hair;
+      }
+    }
+  ASSERT_GT(hair, 500);
+  EXPECT_LT(hair_on, 0.85 * hair_off) << "self-shadowed hair is darker";
+  EXPECT_GT(darker_skin, 0.03 * skin) << "the hair shadows part of the head";
+  EXPECT_LT(darker_skin, 0.9 * skin) << "but not all of the skin: bare skin stays lit";
+}
+
+TEST(Render, TheSameSceneRendersTheSameImageTwice) {
+  const HangScene& s = hang();
+  app::HeadlessGL gl(120, 90);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  const Image a = draw(gl, r, in, Camera::preset("side"), RenderSettings{});
+  const Image b = draw(gl, r, in, Camera::preset("side"), RenderSettings{});
+  EXPECT_EQ(a.rgba, b.rgba);
+}
+
+TEST(Render, StillFrameMatchesTheReferenceImage) {
+  const HangScene& s = hang();
+  const int w = 96, h = 72;
+  app::HeadlessGL gl(w, h);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  const Image img = draw(gl, r, in, Camera::preset("three-quarter"), RenderSettings{});
+  const std::string ref_path = lhtest::sourceDir() + "/tests/golden/render_hang_96x72.png";
+  if (std::getenv("LOOSEHAIR_UPDATE_GOLDEN")) {
+    app::writePng(ref_path, img.rgba, w, h);
+    GTEST_SKIP() << "reference renewed";
+  }
+  int rw = 0, rh = 0, rc = 0;
+  unsigned char* ref = stbi_load(ref_path.c_str(), &rw, &rh, &rc, 4);
+  ASSERT_NE(ref, nullptr) << "missing " << ref_path;
+  ASSERT_EQ(rw, w);
+  ASSERT_EQ(rh, h);
+  double sum = 0;
+  int far = 0;
+  for (int k = 0; k < w * h * 4; ++k) {
+    const int d = std::abs(static_cast<int>(ref[k]) - static_cast<int>(img.rgba[static_cast<std::size_t>(k)]));
+    sum += d;
+    far += d > 48 ? 1 : 0;
+  }
+  stbi_image_free(ref);
+  EXPECT_LT(sum / (w * h * 4), 2.0) << "mean difference per channel (of 255)";
+  EXPECT_LT(far, w * h * 4 / 100) << "channels off by more than 48";
+}
+
+TEST(Render, DebugViewsDrawPointsAndLines) {
+  const HangScene& s = hang();
+  app::HeadlessGL gl(120, 90);
+  Renderer r;
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  ASSERT_FALSE(in.connections.empty());
+  for (DebugView v : {DebugView::Density, DebugView::Speed, DebugView::Connections, DebugView::Directions}) {
+    RenderSettings st;
+    st.debug = v;
+    const Blob b = blob(draw(gl, r, in, Camera::preset("front"), st), st.background);
+    EXPECT_GT(b.count, 200) << static_cast<int>(v);
+  }
+  EXPECT_THROW(parseDebugView("x-ray"), RenderError);
+  EXPECT_THROW(Camera::preset("top"), RenderError);
+  EXPECT_THROW(parseHairColor("green"), RenderError);
+}
+
+TEST(Render, RadixSortIsBackToFrontAndStable) {
+  std::vector<float> depth = {0.5f, 2.0f, -1.0f, 2.0f, 0.0f, 1e-8f, -3.5f, 7.25f};
+  std::vector<std::uint32_t> order, scratch;
+  sortBackToFront(depth, order, scratch);
+  const std::vector<std::uint32_t> expected = {7, 1, 3, 0, 5, 4, 2, 6};
+  EXPECT_EQ(order, expected);
+}
