@@ -24,19 +24,18 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr int kSlices = 16;
-constexpr int kShadowSize = 512;
+constexpr int kShadowSize = 256;  // opacity varies smoothly; 256^2 keeps the light pass cheap
 
 // ---- shaders ------------------------------------------------------------------
 // Billboard geometry (SPEC §7.1), shared by both passes: the vertical axis is
 // the hair direction made perpendicular to the projection direction d, whose
 // length is foreshortened by sin(phi); opacity is boosted by 1/sin(phi).
-const char* kBillboardVS = R"(#version 330 core
+const char* kBillboardVS = R"(
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_dir;
 layout(location = 2) in float a_value;
 uniform mat4 u_view_proj;
-uniform vec3 u_eye;        // perspective: eye position
-uniform vec3 u_proj_dir;   // orthographic: projection direction
+uniform vec3 u_proj_dir;   // (u_eye, the perspective eye, is declared before)   // orthographic: projection direction
 uniform int u_ortho;
 uniform float u_width, u_length, u_max_boost, u_opacity;
 out vec2 v_uv;
@@ -44,6 +43,9 @@ out vec3 v_T;
 out vec3 v_world;
 out float v_alpha;
 out float v_value;
+#ifdef SHADE
+out vec3 v_color;
+#endif
 void main() {
   vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, (gl_VertexID & 2) == 0 ? -1.0 : 1.0);
   vec3 d = u_ortho == 1 ? u_proj_dir : normalize(a_pos - u_eye);
@@ -62,6 +64,9 @@ void main() {
   v_world = p;
   v_alpha = u_opacity * min(1.0 / max(s, 1e-4), u_max_boost);
   v_value = a_value;
+#ifdef SHADE
+  v_color = shade(T, a_pos);
+#endif
   gl_Position = u_view_proj * vec4(p, 1.0);
 }
 )";
@@ -120,34 +125,38 @@ float transmittance(vec3 world) {
 }
 )";
 
-const char* kHairFSBody = R"(
-in vec2 v_uv;
-in vec3 v_T;
-in vec3 v_world;
-in float v_alpha;
-in float v_value;
-uniform sampler2D u_hair;
-uniform vec3 u_eye, u_light, u_color, u_spec_color;
+// Goldman shading (SPEC §7.3) of a billboard, once per vertex at the
+// particle (the direction and the light are constant over a billboard, and
+// so is the opacity lookup at this size), so fragments only texture.
+const char* kHairShade = R"(
+uniform vec3 u_light, u_color, u_spec_color;
 uniform float u_kd, u_ks, u_shine, u_reflect, u_transmit, u_ambient;
-out vec4 o_color;
-void main() {
-  float a = texture(u_hair, v_uv).a * v_alpha;
-  if (a < 2e-3) discard;
-  vec3 T = normalize(v_T);
+vec3 shade(vec3 T, vec3 world) {
   vec3 L = normalize(u_light);
-  vec3 E = normalize(u_eye - v_world);
+  vec3 E = normalize(u_eye - world);
   float tl = dot(T, L), te = dot(T, E);
   float sin_tl = sqrt(max(0.0, 1.0 - tl * tl)), sin_te = sqrt(max(0.0, 1.0 - te * te));
-  // Goldman (SPEC §7.3): Kajiya-Kay terms and the directionality factor.
   float diffuse = u_kd * sin_tl;
   float specular = u_ks * pow(max(0.0, sin_tl * sin_te - tl * te), u_shine);
   vec3 txl = cross(T, L), txe = cross(T, E);
   float denom = length(txl) * length(txe);
   float kd = denom > 1e-6 ? dot(txl, txe) / denom : 1.0;
   float f_dir = u_reflect * (1.0 + kd) * 0.5 + u_transmit * (1.0 - kd) * 0.5;
-  float light = transmittance(v_world);
-  vec3 c = u_color * (u_ambient + f_dir * diffuse * light) + u_spec_color * (f_dir * specular * light);
-  o_color = vec4(c, min(a, 1.0));
+  float light = transmittance(world);
+  return u_color * (u_ambient + f_dir * diffuse * light) + u_spec_color * (f_dir * specular * light);
+}
+)";
+
+const char* kHairFS = R"(#version 330 core
+in vec2 v_uv;
+in float v_alpha;
+in vec3 v_color;
+uniform sampler2D u_hair;
+out vec4 o_color;
+void main() {
+  float a = texture(u_hair, v_uv).a * v_alpha;
+  if (a < 2e-3) discard;
+  o_color = vec4(v_color, min(a, 1.0));
 }
 )";
 
@@ -441,8 +450,10 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   if (!version) throw RenderError("no current OpenGL context");
   Impl& r = *impl_;
   const std::string frag_head = "#version 330 core\n";
-  r.hair_prog = program(kBillboardVS, frag_head + kShadowLookup + kHairFSBody);
-  r.opacity_prog = program(kBillboardVS, kOpacityFS);
+  r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") + kShadowLookup +
+                            kHairShade + kBillboardVS,
+                        kHairFS);
+  r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + kBillboardVS, kOpacityFS);
   r.body_prog = program(kBodyVS, frag_head + kShadowLookup + kBodyFSBody);
   r.debug_prog = program(kDebugVS, kDebugFS);
 
