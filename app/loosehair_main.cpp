@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -29,7 +30,8 @@ constexpr const char* kUsage =
     "usage: loosehair simulate SCENE [--frames N] [--threads T] [--dump DIR] [--seed S]\n"
     "       loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
     "                              [--video FILE.mp4] [--threads T] [--seed S] [--color C]\n"
-    "                              [--no-shadows] [--debug VIEW]\n"
+    "                              [--no-shadows] [--debug VIEW] [--yaw D] [--pitch D]\n"
+    "                              [--distance M] [--fov D] [--light X,Y,Z]\n"
     "\n"
     "  simulate   run SCENE (a JSON scene file) headless and print the state hash\n"
     "    --frames N   number of frames (default: the scene's \"frames\")\n"
@@ -44,7 +46,9 @@ constexpr const char* kUsage =
     "    --video FILE     also encode the frames to FILE (H.264 MP4) with ffmpeg\n"
     "    --color C        hair colour: black, brown (default), blonde or red\n"
     "    --no-shadows     no self-shadowing (opacity shadow maps)\n"
-    "    --debug VIEW     density, speed (points), connections or directions (lines)\n";
+    "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
+    "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
+    "    --light X,Y,Z    direction towards the (parallel) light\n";
 
 struct UsageError {
   std::string message;
@@ -202,7 +206,17 @@ int simulate(const Options& o) {
 }
 
 // ---- render -------------------------------------------------------------------
+double parseReal(const std::string& flag, const std::string& value, double lo, double hi) {
+  char* end = nullptr;
+  const double v = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
+    throw UsageError{flag + " needs a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
+                     value + "'"};
+  return v;
+}
+
 struct RenderOptions {
+  std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter";
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
@@ -230,6 +244,18 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       } else if (a == "--color") o.settings.color = loosehair::render::parseHairColor(value());
       else if (a == "--debug") o.settings.debug = loosehair::render::parseDebugView(value());
       else if (a == "--no-shadows") o.settings.shadows = false;
+      else if (a == "--yaw") o.yaw = parseReal(a, value(), -360, 360);
+      else if (a == "--pitch") o.pitch = parseReal(a, value(), -89, 89);
+      else if (a == "--distance") o.distance = parseReal(a, value(), 0.05, 100);
+      else if (a == "--fov") o.fov = parseReal(a, value(), 5, 150);
+      else if (a == "--light") {
+        const std::string v = value();
+        float c[3];
+        if (std::sscanf(v.c_str(), "%f,%f,%f", &c[0], &c[1], &c[2]) != 3 || !std::isfinite(c[0] + c[1] + c[2]) ||
+            !(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 1e-12f))
+          throw UsageError{"--light needs a non-zero direction x,y,z, got '" + v + "'"};
+        o.settings.light_direction = glm::vec3(c[0], c[1], c[2]);
+      }
       else if (a == "--size") {
         const std::string v = value();
         const auto x = v.find('x');
@@ -288,7 +314,11 @@ int renderScene(const RenderOptions& o) {
   else head = sphereMesh(scene.head_center, scene.head_radius);
   if (scene.has_torso) torso = loadMesh(scene.torso_mesh.path, scene.torso_mesh.load);
   renderer.setBodies(&head, scene.has_torso ? &torso : nullptr);
-  const render::Camera camera = render::Camera::preset(o.camera);
+  render::Camera camera = render::Camera::preset(o.camera);
+  if (o.yaw) camera.yaw_deg = static_cast<float>(*o.yaw);
+  if (o.pitch) camera.pitch_deg = static_cast<float>(*o.pitch);
+  if (o.distance) camera.distance = static_cast<float>(*o.distance);
+  if (o.fov) camera.fov_deg = static_cast<float>(*o.fov);
   std::printf("scene: %s, %zu particles, %d frames of %dx%d, camera %s, %s\n", scene.name.c_str(),
               solver.particles().size(), frames, o.width, o.height, o.camera.c_str(), gl.renderer().c_str());
 
