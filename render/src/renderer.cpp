@@ -126,11 +126,13 @@ float transmittance(vec3 world) {
 )";
 
 // Goldman shading (SPEC §7.3) of a billboard, once per vertex at the
-// particle (the direction and the light are constant over a billboard, and
-// so is the opacity lookup at this size), so fragments only texture.
+// particle (the hair direction and the parallel light are constant over a
+// billboard): the ambient part and the lit part, which the fragment scales
+// by its own light transmittance (the opacity lookup stays per fragment).
 const char* kHairShade = R"(
 uniform vec3 u_light, u_color, u_spec_color;
 uniform float u_kd, u_ks, u_shine, u_reflect, u_transmit, u_ambient;
+out vec3 v_lit;
 vec3 shade(vec3 T, vec3 world) {
   vec3 L = normalize(u_light);
   vec3 E = normalize(u_eye - world);
@@ -142,21 +144,23 @@ vec3 shade(vec3 T, vec3 world) {
   float denom = length(txl) * length(txe);
   float kd = denom > 1e-6 ? dot(txl, txe) / denom : 1.0;
   float f_dir = u_reflect * (1.0 + kd) * 0.5 + u_transmit * (1.0 - kd) * 0.5;
-  float light = transmittance(world);
-  return u_color * (u_ambient + f_dir * diffuse * light) + u_spec_color * (f_dir * specular * light);
+  v_lit = u_color * (f_dir * diffuse) + u_spec_color * (f_dir * specular);
+  return u_color * u_ambient;
 }
 )";
 
-const char* kHairFS = R"(#version 330 core
+const char* kHairFSBody = R"(
 in vec2 v_uv;
+in vec3 v_world;
 in float v_alpha;
-in vec3 v_color;
+in vec3 v_color;  // ambient
+in vec3 v_lit;    // diffuse and specular before attenuation
 uniform sampler2D u_hair;
 out vec4 o_color;
 void main() {
   float a = texture(u_hair, v_uv).a * v_alpha;
   if (a < 2e-3) discard;
-  o_color = vec4(v_color, min(a, 1.0));
+  o_color = vec4(v_color + v_lit * transmittance(v_world), min(a, 1.0));
 }
 )";
 
@@ -450,9 +454,9 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   if (!version) throw RenderError("no current OpenGL context");
   Impl& r = *impl_;
   const std::string frag_head = "#version 330 core\n";
-  r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") + kShadowLookup +
+  r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
                             kHairShade + kBillboardVS,
-                        kHairFS);
+                        frag_head + kShadowLookup + kHairFSBody);
   r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + kBillboardVS, kOpacityFS);
   r.body_prog = program(kBodyVS, frag_head + kShadowLookup + kBodyFSBody);
   r.debug_prog = program(kDebugVS, kDebugFS);
