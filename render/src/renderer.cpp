@@ -97,7 +97,7 @@ void main() {
 
 // The opacity lookup shared by the hair and the bodies (SPEC §7.2).
 const char* kShadowLookup = R"(
-uniform sampler2D u_s0, u_s1, u_s2, u_s3;
+uniform sampler2DArray u_slices;  // 4 layers x RGBA = slices 0..15
 uniform mat4 u_light_view, u_light_proj;
 uniform float u_zmin, u_dz, u_kappa, u_offset;
 uniform int u_shadows;
@@ -109,26 +109,23 @@ float transmittance(vec3 world) {
   if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return 1.0;
   float z = (-lv.z - u_zmin) / u_dz - u_offset;
   if (z <= 0.0) return 1.0;
-  vec4 s[4];
-  s[0] = texture(u_s0, st); s[1] = texture(u_s1, st); s[2] = texture(u_s2, st); s[3] = texture(u_s3, st);
   // Omega(z) = sum_k Omega_k max(0, 1 - |z - k|): only the two slices
-  // around z contribute.
+  // around z contribute, read from one or two layers.
   float omega;
   if (z >= 15.0) {
-    omega = s[3].w;
+    omega = texture(u_slices, vec3(st, 3.0)).w;
   } else {
     int k = int(floor(z));
     float f = z - float(k);
-    omega = mix(s[k / 4][k % 4], s[(k + 1) / 4][(k + 1) % 4], f);
+    vec4 a = texture(u_slices, vec3(st, float(k / 4)));
+    float ok = a[k % 4];
+    float next = (k + 1) / 4 == k / 4 ? a[(k + 1) % 4] : texture(u_slices, vec3(st, float((k + 1) / 4))).x;
+    omega = mix(ok, next, f);
   }
   return exp(-u_kappa * omega);
 }
 )";
 
-// Goldman shading (SPEC §7.3) of a billboard, once per vertex at the
-// particle (the hair direction and the parallel light are constant over a
-// billboard): the ambient part and the lit part, which the fragment scales
-// by its own light transmittance (the opacity lookup stays per fragment).
 const char* kHairShade = R"(
 uniform vec3 u_light, u_color, u_spec_color;
 uniform float u_kd, u_ks, u_shine, u_reflect, u_transmit, u_ambient;
@@ -396,7 +393,7 @@ struct Renderer::Impl {
   GLuint instance_vao = 0, instance_vbo = 0;
   GLuint debug_vao = 0, debug_vbo = 0;
   GLuint shadow_fbo = 0;
-  std::array<GLuint, 4> slice_tex{};
+  GLuint slice_tex = 0;  // 2-D array, 4 layers of RGBA16F: the 16 slices
   BodyMesh head, torso;
   std::vector<float> depth, instance, lines;
   std::vector<std::uint32_t> order, scratch;
@@ -407,7 +404,7 @@ struct Renderer::Impl {
     glDeleteProgram(body_prog);
     glDeleteProgram(debug_prog);
     glDeleteTextures(1, &hair_tex);
-    glDeleteTextures(4, slice_tex.data());
+    glDeleteTextures(1, &slice_tex);
     glDeleteFramebuffers(1, &shadow_fbo);
     glDeleteVertexArrays(1, &instance_vao);
     glDeleteBuffers(1, &instance_vbo);
@@ -498,17 +495,15 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   // 16 opacity slices in 4 RGBA float targets (SPEC §7.2).
   glGenFramebuffers(1, &r.shadow_fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
-  glGenTextures(4, r.slice_tex.data());
-  for (int k = 0; k < 4; ++k) {
-    glBindTexture(GL_TEXTURE_2D, r.slice_tex[static_cast<std::size_t>(k)]);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, kShadowSize, kShadowSize, 0, GL_RGBA, GL_FLOAT, nullptr);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(k), GL_TEXTURE_2D,
-                           r.slice_tex[static_cast<std::size_t>(k)], 0);
-  }
+  glGenTextures(1, &r.slice_tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA16F, kShadowSize, kShadowSize, 4, 0, GL_RGBA, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  for (int k = 0; k < 4; ++k)
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(k), r.slice_tex, 0, k);
   const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
   glDrawBuffers(4, bufs);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
@@ -601,12 +596,9 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setF(p, "u_kappa", st.kappa);
     setF(p, "u_offset", st.shadow_offset);
     setI(p, "u_shadows", st.shadows ? 1 : 0);
-    const char* names[4] = {"u_s0", "u_s1", "u_s2", "u_s3"};
-    for (int k = 0; k < 4; ++k) {
-      glActiveTexture(GL_TEXTURE1 + static_cast<GLenum>(k));
-      glBindTexture(GL_TEXTURE_2D, r.slice_tex[static_cast<std::size_t>(k)]);
-      setI(p, names[k], 1 + k);
-    }
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
+    setI(p, "u_slices", 1);
     glActiveTexture(GL_TEXTURE0);
   };
 
