@@ -147,6 +147,19 @@ void writeCubeGltf(const fs::path& path, bool binary) {
   ASSERT_TRUE(writer.WriteGltfSceneToFile(&model, path.string(), true, true, true, binary));
 }
 
+struct MeshTest {
+  // Every edge is shared by exactly two triangles that run it in opposite directions.
+  static void expectClosed(const TriangleMesh& m) {
+    std::map<std::pair<unsigned, unsigned>, int> count;
+    for (const auto& t : m.triangles)
+      for (int k = 0; k < 3; ++k) ++count[{t[k], t[(k + 1) % 3]}];
+    for (const auto& [e, c] : count) {
+      ASSERT_EQ(c, 1) << "edge " << e.first << "-" << e.second << " used twice in one direction";
+      ASSERT_EQ(count.count({e.second, e.first}), 1u) << "edge " << e.first << "-" << e.second << " is open";
+    }
+  }
+};
+
 void expectRejected(const fs::path& path, const std::string& problem, const MeshLoadOptions& opt = {}) {
   try {
     loadMesh(path.string(), opt);
@@ -280,6 +293,28 @@ TEST(Mesh, NonManifoldMeshesAreRejected) {
     ADD_FAILURE() << "accepted a mesh with fins";
   } catch (const MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("three or more triangles"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Mesh, HolesAreClosedSoTheBodyHasAnInside) {
+  // The bundled head cut open below the neck, as many head models are.
+  TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  TriangleMesh open;
+  open.vertices = head.vertices;
+  for (const auto& t : head.triangles)
+    if (!(head.vertices[t.x].y < -0.25f && head.vertices[t.y].y < -0.25f && head.vertices[t.z].y < -0.25f))
+      open.triangles.push_back(t);
+  const MeshReport r = checkMesh(open, "open-neck");
+  EXPECT_GT(r.boundary_edges, 20u);
+  EXPECT_EQ(r.holes_filled, 1u);
+  MeshTest::expectClosed(open);
+  const auto body = GridSdfBody::bake(open, {});
+  const glm::vec3 inside[] = {{0, 0.03f, 0}, {0, -0.2f, -0.006f}};
+  for (const auto& p : inside) {
+    float phi;
+    glm::vec3 n;
+    body->signedDistance(&p, 1, &phi, &n);
+    EXPECT_LT(phi, -0.01f) << "the inside of an open head is inside";
   }
 }
 

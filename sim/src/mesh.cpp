@@ -401,6 +401,54 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
     throw MeshError(source + ": the mesh is not closed: " + std::to_string(r.boundary_edges) + " of " +
                     std::to_string(unique_edges) + " edges are on a hole; a body must enclose a volume");
 
+  // Close the holes (a head cut off at the neck, a scan's gaps): a fan from
+  // each boundary loop's centroid, wound to match its neighbours. A body
+  // must enclose a volume, and the signed-distance bake floods the outside,
+  // so an open mesh would read as outside everywhere.
+  if (r.boundary_edges > 0) {
+    std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
+    next.reserve(2 * r.boundary_edges);
+    for (std::size_t a = 0; a < edges.size();) {
+      std::size_t b = a;
+      while (b < edges.size() && edges[b].key == edges[a].key) ++b;
+      if (b - a == 1) {
+        const auto lo_v = static_cast<std::uint32_t>(edges[a].key >> 32);
+        const auto hi_v = static_cast<std::uint32_t>(edges[a].key & 0xffffffffu);
+        // the triangle runs lo->hi when dir > 0; the hole runs the other way
+        const std::uint32_t from = edges[a].dir > 0 ? hi_v : lo_v, to = edges[a].dir > 0 ? lo_v : hi_v;
+        if (!next.emplace(from, to).second)
+          throw MeshError(source + ": a hole cannot be closed: vertex " + std::to_string(from) +
+                          " lies on two holes");
+      }
+      a = b;
+    }
+    std::vector<std::uint32_t> starts;
+    for (const auto& [from, to] : next) starts.push_back(from);
+    std::sort(starts.begin(), starts.end());  // deterministic order of the new vertices
+    std::unordered_map<std::uint32_t, bool> done;
+    for (std::uint32_t start : starts) {
+      if (done.count(start)) continue;
+      std::vector<std::uint32_t> loop;
+      std::uint32_t v = start;
+      do {
+        loop.push_back(v);
+        done.emplace(v, true);
+        auto it = next.find(v);
+        if (it == next.end() || loop.size() > next.size())
+          throw MeshError(source + ": a hole's boundary does not close on itself");
+        v = it->second;
+      } while (v != start);
+      glm::dvec3 c(0.0);
+      for (std::uint32_t q : loop) c += glm::dvec3(mesh.vertices[q]);
+      c /= static_cast<double>(loop.size());
+      const auto centre = static_cast<std::uint32_t>(mesh.vertices.size());
+      mesh.vertices.emplace_back(c);
+      for (std::size_t k = 0; k < loop.size(); ++k)
+        mesh.triangles.emplace_back(loop[k], loop[(k + 1) % loop.size()], centre);
+      ++r.holes_filled;
+    }
+  }
+
   // Connected pieces (union-find over triangle corners).
   {
     std::vector<std::uint32_t> parent(mesh.vertices.size());

@@ -47,13 +47,15 @@ struct MeshLoadOptions {
 struct MeshReport {
   std::size_t vertices = 0, triangles = 0;
   std::size_t degenerate_removed = 0;   // zero-area or repeated-index triangles dropped
-  std::size_t boundary_edges = 0;       // edges with one triangle (holes)
+  std::size_t boundary_edges = 0;       // edges with one triangle (holes), before filling
+  std::size_t holes_filled = 0;         // boundary loops closed by a fan of triangles
   std::size_t nonmanifold_edges = 0;    // edges with three or more triangles
   std::size_t misoriented_edges = 0;    // edges whose two triangles disagree in orientation
   std::size_t components = 0;           // connected pieces
   double volume = 0;                    // enclosed volume (m^3), after reorientation
   bool flipped = false;                 // the whole mesh was turned inside out and fixed
   glm::vec3 lower{0.0f}, upper{0.0f};   // bounding box (m)
+  /// The input was closed (after checkMesh the mesh always is: holes are filled).
   bool closed() const { return boundary_edges == 0 && nonmanifold_edges == 0; }
 };
 
@@ -64,7 +66,9 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = 
                       MeshReport* report = nullptr);
 
 /// Cleans and checks a mesh in place: drops degenerate triangles and
-/// unreferenced vertices, turns an inside-out mesh right way out. Throws
+/// unreferenced vertices, closes holes with a fan of triangles from each
+/// hole's centroid (a head cut off at the neck), turns an inside-out mesh
+/// right way out. Throws
 /// MeshError (message starting with `source`) if it is empty, has
 /// non-finite coordinates, is flat, is mostly degenerate, has more than 1%
 /// non-manifold or misoriented edges, or more than 2% boundary edges.
