@@ -313,6 +313,10 @@ int renderScene(const RenderOptions& o) {
   if (scene.head_kind == HeadKind::Mesh) head = loadMesh(scene.head_mesh.path, scene.head_mesh.load);
   else head = sphereMesh(scene.head_center, scene.head_radius);
   if (scene.has_torso) torso = loadMesh(scene.torso_mesh.path, scene.torso_mesh.load);
+  // Drawing needs far fewer triangles than collision (llvmpipe shades
+  // vertices on one thread); the solver keeps the full meshes.
+  head = decimate(head, 16000);
+  torso = decimate(torso, 8000);
   renderer.setBodies(&head, scene.has_torso ? &torso : nullptr);
   render::Camera camera = render::Camera::preset(o.camera);
   if (o.yaw) camera.yaw_deg = static_cast<float>(*o.yaw);

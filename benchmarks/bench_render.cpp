@@ -33,8 +33,9 @@ const Scene& hangScene(int particles) {
     Solver solver = buildSolver(desc, &build);
     slot = std::make_unique<Scene>();
     slot->frame = render::frameFromSolver(solver, build.mean_neighbor_distance);
-    slot->head = loadMesh(desc.head_mesh.path);
-    slot->torso = loadMesh(desc.torso_mesh.path);
+    // as `loosehair render` draws them
+    slot->head = decimate(loadMesh(desc.head_mesh.path), 16000);
+    slot->torso = decimate(loadMesh(desc.torso_mesh.path), 8000);
   }
   return *slot;
 }

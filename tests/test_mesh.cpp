@@ -318,6 +318,22 @@ TEST(Mesh, HolesAreClosedSoTheBodyHasAnInside) {
   }
 }
 
+TEST(Mesh, DecimationForDrawingKeepsTheShapeClosed) {
+  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  TriangleMesh small = decimate(head, 8000);
+  EXPECT_LE(small.triangles.size(), 8000u);
+  EXPECT_GT(small.triangles.size(), 7000u);
+  MeshTest::expectClosed(small);
+  MeshReport before, after;
+  TriangleMesh copy = head;
+  before = checkMesh(copy, "full");
+  after = checkMesh(small, "decimated");
+  EXPECT_FALSE(after.flipped);
+  EXPECT_NEAR(after.volume / before.volume, 1.0, 0.02);
+  EXPECT_NEAR(after.upper.y, before.upper.y, 0.002) << "the crown stays where it was";
+  EXPECT_EQ(decimate(small, 100000).triangles.size(), small.triangles.size()) << "small meshes are left alone";
+}
+
 TEST(Mesh, InsideOutMeshesAreTurnedRightWayOut) {
   TriangleMesh s = sphereMesh(0.5f, 2);
   for (auto& t : s.triangles) std::swap(t.y, t.z);

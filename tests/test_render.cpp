@@ -91,8 +91,8 @@ struct HangScene {
     scene.hair.particles = 2500;
     solver = std::make_unique<Solver>(buildSolver(scene, &build));
     solver->advance(10 * build.substeps);
-    head = loadMesh(scene.head_mesh.path);
-    torso = loadMesh(scene.torso_mesh.path);
+    head = decimate(loadMesh(scene.head_mesh.path), 16000);  // as loosehair render draws it
+    torso = decimate(loadMesh(scene.torso_mesh.path), 8000);
   }
 };
 const HangScene& hang() {

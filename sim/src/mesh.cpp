@@ -2,6 +2,9 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -513,6 +516,42 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const std::stri
     }
   }
   std::filesystem::rename(tmp, path);
+}
+
+TriangleMesh decimate(const TriangleMesh& mesh, std::size_t target_triangles) {
+  if (mesh.triangles.size() <= target_triangles || target_triangles < 4) return mesh;
+  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+  OMesh om;
+  std::vector<OMesh::VertexHandle> vh;
+  vh.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices) vh.push_back(om.add_vertex(OMesh::Point(v.x, v.y, v.z)));
+  for (const auto& t : mesh.triangles) om.add_face(vh[t.x], vh[t.y], vh[t.z]);
+  om.request_face_normals();
+  om.update_face_normals();
+  OpenMesh::Decimater::DecimaterT<OMesh> decimater(om);
+  OpenMesh::Decimater::ModQuadricT<OMesh>::Handle quadric;
+  OpenMesh::Decimater::ModNormalFlippingT<OMesh>::Handle no_flips;
+  decimater.add(quadric);
+  decimater.add(no_flips);
+  if (!decimater.initialize()) return mesh;
+  decimater.decimate_to_faces(0, target_triangles);
+  om.garbage_collection();
+  TriangleMesh out;
+  out.vertices.reserve(om.n_vertices());
+  for (auto v : om.vertices()) {
+    const auto& p = om.point(v);
+    out.vertices.emplace_back(p[0], p[1], p[2]);
+  }
+  for (auto f : om.faces()) {
+    std::array<std::uint32_t, 3> idx{};
+    int k = 0;
+    for (auto v : om.fv_range(f)) {
+      if (k < 3) idx[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(v.idx());
+      ++k;
+    }
+    if (k == 3) out.triangles.emplace_back(idx[0], idx[1], idx[2]);
+  }
+  return out;
 }
 
 std::vector<glm::vec3> vertexNormals(const TriangleMesh& mesh) {

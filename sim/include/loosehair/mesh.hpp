@@ -77,6 +77,11 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source);
 /// Writes a Wavefront OBJ (the whole file or nothing). Throws MeshError.
 void writeObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment = "");
 
+/// A copy with at most about `target_triangles` triangles, made by OpenMesh's
+/// quadric-error edge-collapse decimater (no normal flips). For drawing:
+/// collisions use the full mesh. Returns the mesh unchanged if it is small.
+TriangleMesh decimate(const TriangleMesh& mesh, std::size_t target_triangles);
+
 /// Area-weighted vertex normals (unit).
 std::vector<glm::vec3> vertexNormals(const TriangleMesh& mesh);
 
