@@ -21,7 +21,7 @@ using namespace loosehair;
 const std::string kData = LOOSEHAIR_SOURCE_DIR "/data";
 
 const TriangleMesh& head() {
-  static const TriangleMesh mesh = loadMesh(kData + "/meshes/head.obj");
+  static const TriangleMesh mesh = loadMesh(kData + "/meshes/head.ply");
   return mesh;
 }
 
@@ -31,7 +31,7 @@ const GridSdfBody& headSdf() {
 }
 
 void BM_LoadHeadMesh(benchmark::State& state) {
-  for (auto _ : state) benchmark::DoNotOptimize(loadMesh(kData + "/meshes/head.obj").triangles.size());
+  for (auto _ : state) benchmark::DoNotOptimize(loadMesh(kData + "/meshes/head.ply").triangles.size());
   state.counters["triangles"] = static_cast<double>(head().triangles.size());
 }
 BENCHMARK(BM_LoadHeadMesh)->Unit(benchmark::kMillisecond);

@@ -4,7 +4,7 @@ execute_process(COMMAND ${GENERATOR} ${OUT} RESULT_VARIABLE rc ERROR_VARIABLE er
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the generator failed (${rc}): ${err}")
 endif()
-foreach(f meshes/head.obj meshes/torso.obj maps/hair_length.png)
+foreach(f meshes/head.ply meshes/torso.ply maps/hair_length.png)
   execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${DATA}/${f} ${OUT}/${f} RESULT_VARIABLE diff)
   if(NOT diff EQUAL 0)
     message(FATAL_ERROR "data/${f} differs from what data/generators/make_assets.cpp makes; "

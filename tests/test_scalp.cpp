@@ -60,7 +60,7 @@ struct BundledHead {
   TriangleMesh mesh;
   std::shared_ptr<GridSdfBody> sdf;
   BundledHead() {
-    mesh = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+    mesh = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
     SdfBakeOptions opt;
     opt.cache_dir = GridSdfBody::defaultCacheDir();
     sdf = GridSdfBody::bake(mesh, opt);
@@ -177,7 +177,7 @@ TEST(Scalp, AutomaticScalpOnOtherHeads) {
   opt.front = Axis::NegY;
   const TriangleMesh zup = loadMesh((dir / "zup.obj").string(), opt);
   // And a bald egg without a neck.
-  TriangleMesh egg = loadMesh(lhtest::sourceDir() + "/data/meshes/head.obj");
+  TriangleMesh egg = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
   for (auto& v : egg.vertices) {
     const float r = glm::length(v);
     v = glm::vec3(0.08f, 0.1f, 0.095f) * (v / std::max(r, 1e-6f));

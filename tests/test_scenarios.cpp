@@ -55,30 +55,6 @@ TEST(Scenario, TethersAndStrainLimitEachHoldTheStretch) {
 
 namespace {
 
-// Mean world-frame yaw of the hair about the vertical axis relative to its
-// start, weighted by horizontal distance from the axis.
-double hairYaw(const Solver& s, const std::vector<glm::vec3>& start) {
-  std::vector<glm::vec3> w;
-  s.worldPositions(w);
-  double sum = 0, weight = 0;
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    // the hanging half of the hair: the part near the scalp turns with it
-    if (s.particles().arc_length[i] < 0.8f * 0.25f) continue;
-    const double r = std::hypot(w[i].x, w[i].z);
-    double d = std::atan2(w[i].x, w[i].z) - std::atan2(start[i].x, start[i].z);
-    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
-    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
-    sum += r * d;
-    weight += r;
-  }
-  return sum / weight;
-}
-
-double headYaw(const Solver& s) {
-  const glm::dvec3 z = s.head().pose.rotation * glm::dvec3(0, 0, 1);
-  return std::atan2(z.x, z.z);
-}
-
 struct ShakeRun {
   std::vector<double> t, head, hair, mean_speed;
   float worst_stretch = -1, closest = 1;
@@ -100,8 +76,8 @@ ShakeRun runShake(const std::string& solver_json) {
     solver.advance(substeps);
     EXPECT_TRUE(lhtest::allFinite(solver));
     run.t.push_back(solver.time());
-    run.head.push_back(headYaw(solver));
-    run.hair.push_back(hairYaw(solver, start));
+    run.head.push_back(lhtest::headYaw(solver));
+    run.hair.push_back(lhtest::hairYaw(solver, start, 0.8f * 0.25f));
     double speed = 0;
     for (const auto& v : solver.particles().velocity) speed += glm::length(v);
     run.mean_speed.push_back(speed / static_cast<double>(solver.particles().size()));
@@ -114,20 +90,10 @@ ShakeRun runShake(const std::string& solver_json) {
   return run;
 }
 
-// Fit hair(t) ~ A head(t) - tau head'(t) over the shake: a follower delayed
-// by tau is head(t - tau) ~ head - tau head'. Returns {A, tau}.
+// Gain and lag of the hair's yaw against the head's over the shake.
 std::pair<double, double> gainAndLag(const ShakeRun& r) {
-  double shh = 0, shd = 0, sdd = 0, syh = 0, syd = 0;
-  for (std::size_t k = 1; k + 1 < r.t.size() && r.t[k] < 2.6; ++k) {
-    const double h = r.head[k], d = (r.head[k + 1] - r.head[k - 1]) / (r.t[k + 1] - r.t[k - 1]);
-    shh += h * h;
-    shd += h * d;
-    sdd += d * d;
-    syh += r.hair[k] * h;
-    syd += r.hair[k] * d;
-  }
-  const double det = shh * sdd - shd * shd;
-  return {(syh * sdd - syd * shd) / det, -(shh * syd - shd * syh) / det};
+  const auto f = lhtest::fitGainAndLag(r.t, r.head, r.hair, 0.0, 2.6);
+  return {f.gain, f.lag};
 }
 
 }  // namespace

@@ -87,7 +87,7 @@ namespace {
 std::string meshScene(const std::string& head_extra, const std::string& rest = "") {
   const std::string data = lhtest::sourceDir() + "/data";
   return R"({"name": "m", "substeps": 5,
-    "head": {"type": "mesh", "mesh": ")" + data + R"(/meshes/head.obj")" + head_extra + R"(},
+    "head": {"type": "mesh", "mesh": ")" + data + R"(/meshes/head.ply")" + head_extra + R"(},
     "hair": {"particles": 300, "length": 0.2, "mass": 0.03, "length_map": ")" + data +
          R"(/maps/hair_length.png"})" + rest + "}";
 }

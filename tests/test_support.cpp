@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace lhtest {
 
@@ -54,5 +55,42 @@ bool allFinite(const loosehair::Solver& solver) {
 }
 
 std::string sourceDir() { return LOOSEHAIR_SOURCE_DIR; }
+
+double headYaw(const loosehair::Solver& s) {
+  const glm::dvec3 z = s.head().pose.rotation * glm::dvec3(0, 0, 1);
+  return std::atan2(z.x, z.z);
+}
+
+double hairYaw(const loosehair::Solver& s, const std::vector<glm::vec3>& start, float min_arc_length) {
+  std::vector<glm::vec3> w;
+  s.worldPositions(w);
+  double sum = 0, weight = 0;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (s.particles().arc_length[i] < min_arc_length) continue;
+    const double r = std::hypot(w[i].x, w[i].z);
+    double d = std::atan2(w[i].x, w[i].z) - std::atan2(start[i].x, start[i].z);
+    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
+    sum += r * d;
+    weight += r;
+  }
+  return sum / weight;
+}
+
+GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& head,
+                      const std::vector<double>& hair, double from, double to) {
+  double shh = 0, shd = 0, sdd = 0, syh = 0, syd = 0;
+  for (std::size_t k = 1; k + 1 < t.size(); ++k) {
+    if (t[k] < from || t[k] > to) continue;
+    const double h = head[k], d = (head[k + 1] - head[k - 1]) / (t[k + 1] - t[k - 1]);
+    shh += h * h;
+    shd += h * d;
+    sdd += d * d;
+    syh += hair[k] * h;
+    syd += hair[k] * d;
+  }
+  const double det = shh * sdd - shd * shd;
+  return {(syh * sdd - syd * shd) / det, -(shh * syd - shd * syh) / det};
+}
 
 }  // namespace lhtest

@@ -4,7 +4,10 @@
 
 #include "loosehair/loosehair.hpp"
 
+#include <glm/vec3.hpp>
+
 #include <string>
+#include <vector>
 
 namespace lhtest {
 
@@ -21,6 +24,21 @@ float maxStretch(const loosehair::Solver& solver, float hair_length);
 float minBodyDistance(const loosehair::Solver& solver, const loosehair::SceneDesc& scene);
 
 bool allFinite(const loosehair::Solver& solver);
+
+/// The head's world yaw about +Y (rad).
+double headYaw(const loosehair::Solver& solver);
+/// Mean world yaw about the vertical axis of the particles with arc length
+/// >= min_arc_length (the part near the scalp turns with it), relative to
+/// `start` (world positions), weighted by the distance from the axis (rad).
+double hairYaw(const loosehair::Solver& solver, const std::vector<glm::vec3>& start,
+               float min_arc_length);
+/// Least-squares fit hair(t) ~ gain head(t) - lag head'(t) over samples with
+/// from <= t <= to: a follower delayed by lag is head(t - lag) ~ head - lag head'.
+struct GainLag {
+  double gain, lag;
+};
+GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& head,
+                      const std::vector<double>& hair, double from, double to);
 
 std::string sourceDir();
 

@@ -213,24 +213,24 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   // deterministic): neighbours are then near in memory, and the cells are
   // contiguous ranges for the hair-air search.
   const float inv_cell = 1.0f / support;
-  std::vector<std::uint64_t> key(na);
+  auto& key = key_;
+  key.resize(na);
   for (std::size_t a = 0; a < na; ++a) key[a] = cellKeyOf(cellOf(x_[a], inv_cell));
   sorted_index_.resize(na);
   for (std::uint32_t a = 0; a < na; ++a) sorted_index_[a] = a;
   std::stable_sort(sorted_index_.begin(), sorted_index_.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
-  {
-    std::vector<glm::vec3> xs(na), vs(na);
-    std::vector<std::uint64_t> ks(na);
-    for (std::size_t q = 0; q < na; ++q) {
-      xs[q] = x_[sorted_index_[q]];
-      vs[q] = v_[sorted_index_[q]];
-      ks[q] = key[sorted_index_[q]];
-    }
-    x_.swap(xs);
-    v_.swap(vs);
-    key.swap(ks);
+  x_tmp_.resize(na);
+  v_tmp_.resize(na);
+  key_tmp_.resize(na);
+  for (std::size_t q = 0; q < na; ++q) {
+    x_tmp_[q] = x_[sorted_index_[q]];
+    v_tmp_[q] = v_[sorted_index_[q]];
+    key_tmp_[q] = key[sorted_index_[q]];
   }
+  x_.swap(x_tmp_);
+  v_.swap(v_tmp_);
+  key.swap(key_tmp_);
   grid_.build(x_, support, threads);
   cell_key_.clear();
   cell_begin_.clear();
@@ -248,7 +248,8 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   // share a cell and reuse its 27 ranges) into its own buffer; the blocks
   // are joined in order, so the lists do not depend on the thread count.
   const int nt = std::max(1, threads);
-  std::vector<std::vector<std::uint32_t>> buffers(static_cast<std::size_t>(nt));
+  auto& buffers = buffers_;
+  buffers.resize(static_cast<std::size_t>(nt));
   hair_start_.assign(nh + 1, 0);
 #pragma omp parallel num_threads(nt)
   {
@@ -301,7 +302,8 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   for (std::size_t a = 0; a < na; ++a) air_start_[a + 1] += air_start_[a];
   air_list_.resize(hair_list_.size());
   air_pair_.resize(hair_list_.size());
-  std::vector<std::uint32_t> fill(air_start_.begin(), air_start_.end() - 1);
+  auto& fill = fill_;
+  fill.assign(air_start_.begin(), air_start_.end() - 1);
   for (std::uint32_t i = 0; i < nh; ++i)
     for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) {
       const std::uint32_t slot = fill[hair_list_[q]]++;

@@ -96,7 +96,12 @@ class AirSystem {
   std::vector<float> hair_limiter_;       // drag limiters, see accumulateForces
   // air sorted by cell for the cross search: unique cell keys and ranges
   std::vector<std::uint64_t> cell_key_;
-  std::vector<std::uint32_t> cell_begin_, sorted_index_;  // sorted_index_: scratch of the sort
+  std::vector<std::uint32_t> cell_begin_;
+  // per-step scratch, kept to avoid allocating every step
+  std::vector<std::uint32_t> sorted_index_, fill_;
+  std::vector<std::uint64_t> key_, key_tmp_;
+  std::vector<glm::vec3> x_tmp_, v_tmp_;
+  std::vector<std::vector<std::uint32_t>> buffers_;
 };
 
 }  // namespace loosehair

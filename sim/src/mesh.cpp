@@ -39,13 +39,9 @@ std::string vecText(glm::vec3 v) {
 }
 
 // ---- OpenMesh formats ---------------------------------------------------------
-TriangleMesh readWithOpenMesh(const std::string& path) {
-  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
-  OMesh om;
-  OpenMesh::IO::Options opt;
-  if (!OpenMesh::IO::read_mesh(om, path, opt))
-    throw MeshError(path + ": cannot read the mesh (missing file or not a valid " +
-                    std::filesystem::path(path).extension().string() + " file)");
+using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+TriangleMesh fromOpenMesh(const OMesh& om) {
   TriangleMesh mesh;
   mesh.vertices.reserve(om.n_vertices());
   for (auto v : om.vertices()) {
@@ -63,6 +59,22 @@ TriangleMesh readWithOpenMesh(const std::string& path) {
     if (k == 3) mesh.triangles.emplace_back(idx[0], idx[1], idx[2]);
   }
   return mesh;
+}
+
+void toOpenMesh(const TriangleMesh& mesh, OMesh& om) {
+  std::vector<OMesh::VertexHandle> vh;
+  vh.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices) vh.push_back(om.add_vertex(OMesh::Point(v.x, v.y, v.z)));
+  for (const auto& t : mesh.triangles) om.add_face(vh[t.x], vh[t.y], vh[t.z]);
+}
+
+TriangleMesh readWithOpenMesh(const std::string& path) {
+  OMesh om;
+  OpenMesh::IO::Options opt;
+  if (!OpenMesh::IO::read_mesh(om, path, opt))
+    throw MeshError(path + ": cannot read the mesh (missing file or not a valid " +
+                    std::filesystem::path(path).extension().string() + " file)");
+  return fromOpenMesh(om);
 }
 
 // ---- glTF / GLB -------------------------------------------------------------------
@@ -520,12 +532,8 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const std::stri
 
 TriangleMesh decimate(const TriangleMesh& mesh, std::size_t target_triangles) {
   if (mesh.triangles.size() <= target_triangles || target_triangles < 4) return mesh;
-  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
   OMesh om;
-  std::vector<OMesh::VertexHandle> vh;
-  vh.reserve(mesh.vertices.size());
-  for (const auto& v : mesh.vertices) vh.push_back(om.add_vertex(OMesh::Point(v.x, v.y, v.z)));
-  for (const auto& t : mesh.triangles) om.add_face(vh[t.x], vh[t.y], vh[t.z]);
+  toOpenMesh(mesh, om);
   om.request_face_normals();
   om.update_face_normals();
   OpenMesh::Decimater::DecimaterT<OMesh> decimater(om);
@@ -536,22 +544,18 @@ TriangleMesh decimate(const TriangleMesh& mesh, std::size_t target_triangles) {
   if (!decimater.initialize()) return mesh;
   decimater.decimate_to_faces(0, target_triangles);
   om.garbage_collection();
-  TriangleMesh out;
-  out.vertices.reserve(om.n_vertices());
-  for (auto v : om.vertices()) {
-    const auto& p = om.point(v);
-    out.vertices.emplace_back(p[0], p[1], p[2]);
+  return fromOpenMesh(om);
+}
+
+void writeBinaryPly(const TriangleMesh& mesh, const std::string& path) {
+  OMesh om;
+  toOpenMesh(mesh, om);
+  const std::string tmp = path + ".tmp.ply";
+  if (!OpenMesh::IO::write_mesh(om, tmp, OpenMesh::IO::Options::Binary)) {
+    std::filesystem::remove(tmp);
+    throw MeshError(path + ": cannot write");
   }
-  for (auto f : om.faces()) {
-    std::array<std::uint32_t, 3> idx{};
-    int k = 0;
-    for (auto v : om.fv_range(f)) {
-      if (k < 3) idx[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(v.idx());
-      ++k;
-    }
-    if (k == 3) out.triangles.emplace_back(idx[0], idx[1], idx[2]);
-  }
-  return out;
+  std::filesystem::rename(tmp, path);
 }
 
 std::vector<glm::vec3> vertexNormals(const TriangleMesh& mesh) {

@@ -74,6 +74,10 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = 
 /// non-manifold or misoriented edges, or more than 2% boundary edges.
 MeshReport checkMesh(TriangleMesh& mesh, const std::string& source);
 
+/// Writes a binary little-endian PLY through OpenMesh (the whole file or
+/// nothing): float x y z vertices, triangle faces. Throws MeshError.
+void writeBinaryPly(const TriangleMesh& mesh, const std::string& path);
+
 /// Writes a Wavefront OBJ (the whole file or nothing). Throws MeshError.
 void writeObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment = "");
 
