@@ -64,6 +64,8 @@ TEST(Connections, ThresholdSidesAndSymmetry) {
   const ConnectionSet c = buildConnections(b.x, b.t, b.s, b.root, opt);
   ASSERT_EQ(c.particleCount(), b.x.size());
   for (std::size_t i = 0; i < b.x.size(); ++i) {
+    ASSERT_LE(c.begin(i), c.tipBegin(i));
+    ASSERT_LE(c.tipBegin(i), c.end(i));
     for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
       const std::uint32_t j = c.partner[e];
       EXPECT_FALSE(b.root[i] && b.root[j]) << "root-root connection";
@@ -78,6 +80,8 @@ TEST(Connections, ThresholdSidesAndSymmetry) {
           EXPECT_NE(c.tip_side[f], c.tip_side[e]);
         }
       EXPECT_TRUE(found);
+      // root side first, then tip side (the solver's loops rely on it)
+      EXPECT_EQ(c.tip_side[e] != 0, e >= c.tipBegin(i));
       // tip side means further along the hair
       if (b.s[j] != b.s[i]) {
         EXPECT_EQ(c.tip_side[e] != 0, b.s[j] > b.s[i]);

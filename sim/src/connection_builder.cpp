@@ -143,7 +143,6 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
     cs.sin_rest[e] = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
     cs.tip_side[e] = tip ? 1 : 0;
   };
-  // Candidates are in (i, j) order, so every list ends up sorted by partner.
   for (std::size_t k = 0; k < cand.size(); ++k) {
     if (!keep[k]) continue;
     const Candidate& c = cand[k];
@@ -154,13 +153,21 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
     const Candidate& c = cand[k];
     put(c.j, c.i, c, c.cos_j, !c.j_on_tip_side_of_i);
   }
-  // The two passes append i's lower partners after its higher ones: sort each list.
+  // The two passes append i's lower partners after its higher ones: sort each
+  // list, root side first, then by partner.
+  cs.tip_offset.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t b = cs.offset[i], e = cs.offset[i + 1];
     std::vector<std::uint32_t> idx(e - b);
     std::iota(idx.begin(), idx.end(), b);
-    std::sort(idx.begin(), idx.end(),
-              [&](std::uint32_t p, std::uint32_t q) { return cs.partner[p] < cs.partner[q]; });
+    std::sort(idx.begin(), idx.end(), [&](std::uint32_t p, std::uint32_t q) {
+      if (cs.tip_side[p] != cs.tip_side[q]) return cs.tip_side[p] < cs.tip_side[q];
+      return cs.partner[p] < cs.partner[q];
+    });
+    std::uint32_t tip_begin = e;
+    for (std::size_t k = idx.size(); k-- > 0;)
+      if (cs.tip_side[idx[k]]) tip_begin = b + static_cast<std::uint32_t>(k);
+    cs.tip_offset[i] = tip_begin;
     auto permute = [&](auto& v) {
       std::vector<typename std::decay_t<decltype(v)>::value_type> tmp(e - b);
       for (std::size_t k = 0; k < idx.size(); ++k) tmp[k] = v[idx[k]];

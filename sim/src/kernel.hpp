@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <numbers>
 
 namespace loosehair {
@@ -21,26 +22,22 @@ class CubicKernel {
   float support() const { return 2.0f * h_; }
   float support2() const { return support2_; }
 
-  /// W(r, h), SPEC §2 (eq. 2 reconstructed).
+  /// W(r, h), SPEC §2 (eq. 2 reconstructed). Written as
+  /// (2-q)^3_+ - 4 (1-q)^3_+ (the same polynomial as the piecewise form
+  /// 4 - 6q^2 + 3q^3 on [0,1)) so that it compiles to selects, not branches:
+  /// the solver's pair loops call it millions of times a step with
+  /// unpredictable q.
   float W(float r) const {
     const float q = r * inv_h_;
-    if (q < 1.0f) return norm_w_ * (4.0f - 6.0f * q * q + 3.0f * q * q * q);
-    if (q < 2.0f) {
-      const float a = 2.0f - q;
-      return norm_w_ * a * a * a;
-    }
-    return 0.0f;
+    const float a = std::max(2.0f - q, 0.0f), b = std::max(1.0f - q, 0.0f);
+    return norm_w_ * (a * a * a - 4.0f * (b * b * b));
   }
 
-  /// dW/dr (r, h).
+  /// dW/dr (r, h) = -(3/h) [(2-q)^2_+ - 4 (1-q)^2_+] norm_w.
   float dWdr(float r) const {
     const float q = r * inv_h_;
-    if (q < 1.0f) return norm_g_ * (-12.0f * q + 9.0f * q * q);
-    if (q < 2.0f) {
-      const float a = 2.0f - q;
-      return -3.0f * norm_g_ * a * a;
-    }
-    return 0.0f;
+    const float a = std::max(2.0f - q, 0.0f), b = std::max(1.0f - q, 0.0f);
+    return -3.0f * norm_g_ * (a * a - 4.0f * (b * b));
   }
 
   /// grad_i W(|x_i - x_j|, h) for d = x_i - x_j at distance r = |d| > 0.

@@ -2,6 +2,10 @@
 
 #include <omp.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -82,8 +86,23 @@ void NeighborGrid::sortHashed(std::span<const glm::vec3> x) {
     keys_.swap(keys_tmp_);
     order_.swap(order_tmp_);
   }
+  gatherSorted(x);
+}
+
+void NeighborGrid::gatherSorted(std::span<const glm::vec3> x) {
+  const std::size_t n = x.size();
   sorted_x_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) sorted_x_[k] = x[order_[k]];
+  // Coordinates also as padded columns for the 4-wide distance test; the
+  // padding is never accepted (lanes past a range's end are masked).
+  for (auto* col : {&sorted_cx_, &sorted_cy_, &sorted_cz_}) col->resize(n + 4, 0.0f);
+  order_.resize(n + 4, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const glm::vec3 p = x[order_[k]];
+    sorted_x_[k] = p;
+    sorted_cx_[k] = p.x;
+    sorted_cy_[k] = p.y;
+    sorted_cz_[k] = p.z;
+  }
 }
 
 void NeighborGrid::buildCellTable() {
@@ -120,44 +139,69 @@ std::uint32_t NeighborGrid::findCell(std::uint64_t key) const {
   }
 }
 
-bool NeighborGrid::chooseDenseLayout(std::span<const glm::vec3> x) {
+bool NeighborGrid::chooseDenseLayout(std::span<const glm::vec3> x, int threads) {
   const std::size_t n = x.size();
   if (n == 0) return false;
-  std::int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
-  constexpr double kLimit = 1e15;  // keeps the cell coordinates in int64
-  for (std::size_t i = 0; i < n; ++i)
-    for (int a = 0; a < 3; ++a) {
-      const double c = std::floor(static_cast<double>(x[i][a]) * inv_cell_);
-      if (!(std::abs(c) < kLimit)) return false;  // also NaN and infinity
-      lo[a] = std::min(lo[a], static_cast<std::int64_t>(c));
-      hi[a] = std::max(hi[a], static_cast<std::int64_t>(c));
+  // Bounds of the coordinates (min and max are exact, so the reduction does
+  // not depend on the thread count); floor is monotonic, so the cells of
+  // the bounds bound the cells.
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  bool finite = true;
+#pragma omp parallel num_threads(threads)
+  {
+    float tlo[3] = {INFINITY, INFINITY, INFINITY}, thi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    bool tfinite = true;
+#pragma omp for schedule(static) nowait
+    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
+      const glm::vec3 p = x[static_cast<std::size_t>(ii)];
+      tfinite = tfinite && std::isfinite(p.x + p.y + p.z);
+      for (int a = 0; a < 3; ++a) {
+        tlo[a] = std::min(tlo[a], p[a]);
+        thi[a] = std::max(thi[a], p[a]);
+      }
     }
+#pragma omp critical
+    {
+      finite = finite && tfinite;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], tlo[a]);
+        hi[a] = std::max(hi[a], thi[a]);
+      }
+    }
+  }
+  if (!finite) return false;
+  constexpr double kLimit = 1e15;  // keeps the cell coordinates in int64
   // At most 16 cells a point (64 bytes of offsets): memory stays O(N)
   // whatever the box. Hair is a thin shell, so its box is mostly empty.
   const double budget = 16.0 * static_cast<double>(n) + 4096.0;
   double cells = 1;
   for (int a = 0; a < 3; ++a) {
-    dims_[a] = hi[a] - lo[a] + 1;
-    origin_[a] = lo[a];
+    const double c0 = std::floor(static_cast<double>(lo[a]) * inv_cell_);
+    const double c1 = std::floor(static_cast<double>(hi[a]) * inv_cell_);
+    if (!(std::abs(c0) < kLimit) || !(std::abs(c1) < kLimit)) return false;
+    origin_[a] = static_cast<std::int64_t>(c0);
+    dims_[a] = static_cast<std::int64_t>(c1) - origin_[a] + 1;
     cells *= static_cast<double>(dims_[a]);
   }
   return cells <= budget;
 }
 
-void NeighborGrid::sortDense(std::span<const glm::vec3> x) {
+void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
   const std::size_t n = x.size();
   const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
   keys_.resize(n);
   order_.resize(n);
-  dense_start_.assign(cells + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a)
       c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(x[i][a]) * inv_cell_)) -
              origin_[a];
     keys_[i] = static_cast<std::uint64_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
-    ++dense_start_[keys_[i] + 1];
   }
+  dense_start_.assign(cells + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++dense_start_[keys_[i] + 1];
   occupied_cells_ = 0;
   for (std::size_t c = 0; c < cells; ++c) {
     occupied_cells_ += dense_start_[c + 1] > 0 ? 1 : 0;
@@ -173,17 +217,21 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x) {
     keys_tmp_[dst] = keys_[i];
   }
   keys_.swap(keys_tmp_);
-  sorted_x_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) sorted_x_[k] = x[order_[k]];
+  gatherSorted(x);
 }
 
-int NeighborGrid::neighborRanges(std::uint64_t cell, std::uint32_t* begin,
+int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin,
                                  std::uint32_t* end) const {
   int nr = 0;
   if (dense_) {
     const std::int64_t nx = dims_[0], ny = dims_[1], nz = dims_[2];
-    const std::int64_t id = static_cast<std::int64_t>(cell);
-    const std::int64_t cx = id % nx, cy = (id / nx) % ny, cz = id / (nx * ny);
+    // The cell's coordinates from one of its points (the expression of
+    // sortDense), cheaper than dividing the index.
+    std::int64_t c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(sorted_x_[k][a]) * inv_cell_)) -
+             origin_[a];
+    const std::int64_t cx = c[0], cy = c[1], cz = c[2];
     const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min(cx + 1, nx - 1);
     for (std::int64_t z = cz - 1; z <= cz + 1; ++z) {
       if (z < 0 || z >= nz) continue;
@@ -221,22 +269,77 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::uint32_t* begin,
   return nr;
 }
 
+std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begin,
+                                  const std::uint32_t* range_end, int nr, float r2,
+                                  std::uint32_t* __restrict out) const {
+  // Every candidate is written and kept by advancing the count: no
+  // unpredictable branch per pair. The distance is computed in the same
+  // order of operations in both paths, so they accept the same pairs.
+  const std::uint32_t* __restrict order = order_.data();
+  std::size_t found = 0;
+#if defined(__SSE2__)
+  const float* __restrict cx = sorted_cx_.data();
+  const float* __restrict cy = sorted_cy_.data();
+  const float* __restrict cz = sorted_cz_.data();
+  const __m128 xi = _mm_set1_ps(cx[k]), yi = _mm_set1_ps(cy[k]), zi = _mm_set1_ps(cz[k]);
+  const __m128 rr = _mm_set1_ps(r2);
+  const __m128i self = _mm_set1_epi32(static_cast<int>(k));
+  const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+  for (int r = 0; r < nr; ++r) {
+    const std::uint32_t qb = range_begin[r], qe = range_end[r];
+    for (std::uint32_t q = qb; q < qe; q += 4) {
+      const __m128 dx = _mm_sub_ps(_mm_loadu_ps(cx + q), xi);
+      const __m128 dy = _mm_sub_ps(_mm_loadu_ps(cy + q), yi);
+      const __m128 dz = _mm_sub_ps(_mm_loadu_ps(cz + q), zi);
+      const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
+                                   _mm_mul_ps(dz, dz));
+      const __m128i idx = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(q)), lane);
+      // lanes inside the range (idx < qe, as signed: indices stay below 2^31)
+      const __m128i inside = _mm_cmplt_epi32(idx, _mm_set1_epi32(static_cast<int>(qe)));
+      const __m128i not_self = _mm_andnot_si128(_mm_cmpeq_epi32(idx, self), inside);
+      const int mask = _mm_movemask_ps(
+          _mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
+      out[found] = order[q];
+      found += static_cast<std::size_t>(mask & 1);
+      out[found] = order[q + 1];
+      found += static_cast<std::size_t>((mask >> 1) & 1);
+      out[found] = order[q + 2];
+      found += static_cast<std::size_t>((mask >> 2) & 1);
+      out[found] = order[q + 3];
+      found += static_cast<std::size_t>((mask >> 3) & 1);
+    }
+  }
+#else
+  const glm::vec3* __restrict sx = sorted_x_.data();
+  const glm::vec3 xi = sx[k];
+  for (int r = 0; r < nr; ++r) {
+    const std::uint32_t qb = range_begin[r], qe = range_end[r];
+    for (std::uint32_t q = qb; q < qe; ++q) {
+      const glm::vec3 d = sx[q] - xi;
+      out[found] = order[q];
+      found += static_cast<std::size_t>((d.x * d.x + d.y * d.y + d.z * d.z < r2) & (q != k));
+    }
+  }
+#endif
+  return found;
+}
+
 void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads) {
   const std::size_t n = x.size();
   radius_ = radius;
   inv_cell_ = 1.0f / radius;
-  dense_ = chooseDenseLayout(x);
+  threads = std::max(1, threads);
+  dense_ = chooseDenseLayout(x, threads);
   if (dense_) {
-    sortDense(x);
+    sortDense(x, threads);
   } else {
     sortHashed(x);
     buildCellTable();
     occupied_cells_ = cell_key_.size();
   }
-  begin_.assign(n, nullptr);
-  count_.assign(n, 0);
-  offset_.assign(n, 0);
-  threads = std::max(1, threads);
+  begin_.resize(n);
+  count_.resize(n);
+  offset_.resize(n);
   if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
@@ -249,22 +352,25 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
     const std::size_t k0 = n * static_cast<std::size_t>(tid) / static_cast<std::size_t>(nth);
     const std::size_t k1 = n * static_cast<std::size_t>(tid + 1) / static_cast<std::size_t>(nth);
     std::vector<std::uint32_t>& buf = buffers_[tid];
-    buf.clear();
+    std::size_t used = 0;
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
     int nr = 0;
+    std::size_t candidates = 0;
     for (std::size_t k = k0; k < k1; ++k) {
-      if (k == k0 || keys_[k] != keys_[k - 1])
-        nr = neighborRanges(keys_[k], range_begin.data(), range_end.data());
-      const glm::vec3 xi = sorted_x_[k];
-      const std::size_t start = buf.size();
-      for (int r = 0; r < nr; ++r)
-        for (std::uint32_t q = range_begin[r]; q < range_end[r]; ++q) {
-          const glm::vec3 d = sorted_x_[q] - xi;
-          if (d.x * d.x + d.y * d.y + d.z * d.z < r2 && q != k) buf.push_back(order_[q]);
-        }
+      if (k == k0 || keys_[k] != keys_[k - 1]) {
+        nr = neighborRanges(keys_[k], k, range_begin.data(), range_end.data());
+        candidates = 0;
+        for (int r = 0; r < nr; ++r) candidates += range_end[r] - range_begin[r] + 4;
+      }
+      // Room for every candidate, so the loop below writes each one and
+      // keeps it by advancing the count: no unpredictable branch per pair.
+      if (buf.size() < used + candidates) buf.resize(2 * (used + candidates));
+      const std::size_t found =
+          collect(k, range_begin.data(), range_end.data(), nr, r2, buf.data() + used);
       const std::uint32_t i = order_[k];
-      offset_[i] = static_cast<std::uint32_t>(start);
-      count_[i] = static_cast<std::uint32_t>(buf.size() - start);
+      offset_[i] = static_cast<std::uint32_t>(used);
+      count_[i] = static_cast<std::uint32_t>(found);
+      used += found;
     }
     // The buffer no longer grows: turn offsets into pointers.
     for (std::size_t k = k0; k < k1; ++k) begin_[order_[k]] = buf.data() + offset_[order_[k]];

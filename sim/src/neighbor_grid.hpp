@@ -48,13 +48,21 @@ class NeighborGrid {
   static std::uint64_t cellKey(const glm::vec3& p, float inv_cell);
 
  private:
-  bool chooseDenseLayout(std::span<const glm::vec3> x);
-  void sortDense(std::span<const glm::vec3> x);
+  bool chooseDenseLayout(std::span<const glm::vec3> x, int threads);
+  void sortDense(std::span<const glm::vec3> x, int threads);
   void sortHashed(std::span<const glm::vec3> x);
+  void gatherSorted(std::span<const glm::vec3> x);
   void buildCellTable();
+  /// Writes the neighbours of sorted point k among the given ranges to out
+  /// (room for every candidate plus 4 per range) and returns their number.
+  std::size_t collect(std::size_t k, const std::uint32_t* range_begin,
+                      const std::uint32_t* range_end, int nr, float r2,
+                      std::uint32_t* out) const;
   std::uint32_t findCell(std::uint64_t key) const;
-  /// Point ranges [begin, end) in sorted order of the cells around `cell`.
-  int neighborRanges(std::uint64_t cell, std::uint32_t* begin, std::uint32_t* end) const;
+  /// Point ranges [begin, end) in sorted order of the cells around `cell`,
+  /// the cell of sorted point k.
+  int neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin,
+                     std::uint32_t* end) const;
 
   float radius_ = 0, inv_cell_ = 0;
   bool dense_ = false;
@@ -67,6 +75,7 @@ class NeighborGrid {
   std::vector<std::uint64_t> keys_, keys_tmp_;
   std::vector<std::uint32_t> order_, order_tmp_;
   std::vector<glm::vec3> sorted_x_;
+  std::vector<float> sorted_cx_, sorted_cy_, sorted_cz_;  // padded by 4
   std::vector<std::uint64_t> cell_key_;
   std::vector<std::uint32_t> cell_start_;  // cellCount()+1 offsets into order_
   std::vector<std::uint32_t> table_;       // hash slot -> cell index + 1 (0: empty)

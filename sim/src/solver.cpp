@@ -8,6 +8,7 @@
 #include "kernel.hpp"
 #include "air.hpp"
 #include "neighbor_grid.hpp"
+#include "pair_columns.hpp"
 
 #include <glm/geometric.hpp>
 #include <omp.h>
@@ -38,24 +39,15 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
 struct Solver::Scratch {
   std::vector<float> k;            // k_ij = c_ij W(|x_ij|, h1), eq. 7
   std::vector<float> r;            // |x_ij| when k was computed
+  std::vector<float> sum_root;     // sum over Nr(i) of l_ij k_ij (eqs. 12-13)
+  std::vector<float> sum_tip;      // sum over Nt(i)
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
   std::size_t clamped = 0;         // side factors held at the clamp
-  const std::uint8_t* is_root = nullptr;
-
-  // alpha_ij of entry e (owner i, partner j), eq. 14: j on i's tip side means
-  // i on j's root side. A root particle is part of the head: a pair with a
-  // root takes the hair particle's factor alone, so the hair keeps its
-  // modulus where it is attached (a root's tip side gathers many connections
-  // and would halve it). Computed where it is used, not stored.
-  float alpha(std::size_t i, std::uint32_t j, std::uint8_t tip_side) const {
-    const float own = tip_side ? factor_tip[i] : factor_root[i];
-    const float other = tip_side ? factor_root[j] : factor_tip[j];
-    if (is_root[j]) return own;
-    if (is_root[i]) return other;
-    return 0.5f * (own + other);
-  }
   std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
+  /// k, r and the sums belong to the current positions: the direction pass
+  /// of a step computes them for the next one.
+  bool lengths_current = false;
 };
 
 namespace {
@@ -66,6 +58,17 @@ double seconds(Clock::time_point a, Clock::time_point b) {
 }
 
 using Index = std::int64_t;  // OpenMP loop index
+
+// alpha_ij (eq. 14) of an entry from the owner's factor on the entry's side
+// and the partner's factor on the other side: j on i's tip side means i on
+// j's root side. `own_weight` is 1/2 for a pair of hair particles; a root
+// particle is part of the head, so a pair with a root takes the hair
+// particle's factor alone (own_weight 1 if the partner is a root, 0 if the
+// owner is), and the hair keeps its modulus where it is attached (a root's
+// tip side gathers many connections and would halve it).
+inline float pairFactor(float own, float other, float own_weight) {
+  return own_weight * own + (1.0f - own_weight) * other;
+}
 
 constexpr std::size_t kBodyBlock = 256;
 
@@ -127,18 +130,25 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     }
   }
 
+  partner_root_.resize(connections_.entryCount());
+  for (std::size_t e = 0; e < connections_.entryCount(); ++e)
+    partner_root_[e] = particles_.is_root[connections_.partner[e]];
+  inverse_mass_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
+  owner_weight_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) owner_weight_[i] = particles_.is_root[i] ? 0.0f : 0.5f;
+
   grid_ = std::make_unique<NeighborGrid>();
   density_.assign(n, 0.0f);
   pressure_.assign(n, 0.0f);
+  pressure_term_.assign(n, 0.0f);
   force_.assign(n, glm::vec3(0.0f));
   integrated_position_.assign(n, glm::vec3(0.0f));
   limited_position_.assign(n, glm::vec3(0.0f));
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
-  scratch_->k.assign(connections_.entryCount(), 0.0f);
-  scratch_->r.assign(connections_.entryCount(), 0.0f);
-  scratch_->factor_root.assign(n, 0.0f);
-  scratch_->factor_tip.assign(n, 0.0f);
+  resizeScratch(*scratch_);
 
   // Initial density: rest density rho0 and the kernel-free collision and
   // friction coefficients (SPEC §4: d_c W / m summed over neighbours is about
@@ -217,6 +227,7 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   // Queries between steps (internalForces, density) see the new state.
   findNeighbors();
   computeDensity();
+  scratch_->lengths_current = false;
   // A reset may leave particles inside the body or over-stretched; the
   // first step moves them back without turning the move into velocity.
   absorb_corrections_ = true;
@@ -247,35 +258,63 @@ void Solver::computeDensity() {
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
     const auto i = static_cast<std::size_t>(ii);
+    const glm::vec3 xi = x[i];
     float rho = m[i] * w0;
-    for (std::uint32_t j : grid_->neighbors(i)) rho += m[j] * k2.W(glm::length(x[j] - x[i]));
+    for (std::uint32_t j : grid_->neighbors(i)) {
+      const glm::vec3 d = x[j] - xi;
+      rho += m[j] * k2.W(std::sqrt(glm::dot(d, d)));
+    }
     density_[i] = rho;
     pressure_[i] = ka * (rho - rest_density_);
+    pressure_term_[i] = pressure_[i] / (rho * rho);  // P_i / rho_i^2 of eq. 16
   }
 }
 
 // ---- stage 3a: loose spring coefficients, eqs. 7, 10-14 ---------------------
+void Solver::resizeScratch(Scratch& s) const {
+  const std::size_t n = particles_.size(), m = connections_.entryCount();
+  s.k.assign(m, 0.0f);
+  s.r.assign(m, 0.0f);
+  s.sum_root.assign(n, 0.0f);
+  s.sum_tip.assign(n, 0.0f);
+  s.factor_root.assign(n, 0.0f);
+  s.factor_tip.assign(n, 0.0f);
+  s.lengths_current = false;
+}
+
 void Solver::computeSpringFactors(Scratch& s) const {
   const CubicKernel k1(params_.h1);
   const auto& x = particles_.position;
   const auto& c = connections_;
   const double young = params_.youngs_modulus;
   const float clamp = params_.stiffness_clamp;
-  const auto& root = particles_.is_root;
   const Index n = static_cast<Index>(x.size());
   std::size_t clamped = 0, active = 0;
+  const bool measure = !s.lengths_current;
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped, active)
   for (Index ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
-    float sr = 0, st = 0;
-    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-      const float r = glm::length(x[c.partner[e]] - x[i]);
-      const float k = c.strength[e] * k1.W(r);
-      s.k[e] = k;
-      s.r[e] = r;
-      active += k > 0.0f ? 1 : 0;
-      (c.tip_side[e] ? st : sr) += c.rest_length[e] * k;
+    if (measure) {
+      // k_ij and |x_ij| of every entry, and the two sides' sums of l_ij k_ij
+      const glm::vec3 xi = x[i];
+      float sums[2] = {0.0f, 0.0f};
+      const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
+      for (int side = 0; side < 2; ++side) {
+        float sum = 0.0f;
+        for (std::uint32_t e = bounds[side]; e < bounds[side + 1]; ++e) {
+          const glm::vec3 d = x[c.partner[e]] - xi;
+          const float r = std::sqrt(glm::dot(d, d));
+          const float k = c.strength[e] * k1.W(r);
+          s.k[e] = k;
+          s.r[e] = r;
+          sum += c.rest_length[e] * k;
+        }
+        sums[side] = sum;
+      }
+      s.sum_root[i] = sums[0];
+      s.sum_tip[i] = sums[1];
     }
+    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) active += s.k[e] > 0.0f ? 1 : 0;
     const double ea = young * cross_section_[i];
     auto factor = [&](float sum, float rest) {
       if (!(sum > 0.0f)) return 0.0f;
@@ -286,84 +325,215 @@ void Solver::computeSpringFactors(Scratch& s) const {
       }
       return a;
     };
-    s.factor_root[i] = factor(sr, rest_factor_root_[i]);
-    s.factor_tip[i] = factor(st, rest_factor_tip_[i]);
+    s.factor_root[i] = factor(s.sum_root[i], rest_factor_root_[i]);
+    s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip_[i]);
   }
   s.clamped = clamped;
   s.active_entries = active;
-  s.is_root = root.data();
+  s.lengths_current = false;  // the step moves the particles
 }
 
 // ---- stage 3b: damped spring forces (SPEC §3.2) ----------------------------
-void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const {
-  const auto& x = particles_.position;
-  const auto& v = particles_.velocity;
-  const auto& c = connections_;
-  const float gamma = params_.spring_damping;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    glm::vec3 f(0.0f);
-    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-      if (s.k[e] == 0.0f) continue;
-      const std::uint32_t j = c.partner[e];
-      const float ak = s.alpha(i, j, c.tip_side[e]) * s.k[e];
-      const glm::vec3 xij = x[j] - x[i];
-      const float r = s.r[e];  // |x_ij|, from computeSpringFactors
-      if (!(r > 0.0f)) continue;
-      const glm::vec3 n = xij / r;
-      const float stretch = r - c.rest_length[e];
-      const float closing = glm::dot(v[j] - v[i], n);
-      f += (ak * (stretch + gamma * closing)) * n;
-    }
-    force[i] = f;
+namespace {
+
+// The damped spring force on i of each gathered connection:
+// alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|.
+void springPairTerms(std::size_t pairs, float gamma, const float* __restrict dx,
+                     const float* __restrict dy, const float* __restrict dz,
+                     const float* __restrict vx, const float* __restrict vy,
+                     const float* __restrict vz, const float* __restrict alpha,
+                     const float* __restrict k, const float* __restrict length,
+                     const float* __restrict rest, float* __restrict fx, float* __restrict fy,
+                     float* __restrict fz) {
+  for (std::size_t q = 0; q < pairs; ++q) {
+    const float r = length[q];  // |x_ij|, from the factor pass
+    const float inv_r = r > 0.0f ? 1.0f / r : 0.0f;
+    const float nx = dx[q] * inv_r, ny = dy[q] * inv_r, nz = dz[q] * inv_r;
+    const float closing = vx[q] * nx + vy[q] * ny + vz[q] * nz;
+    const float f = alpha[q] * k[q] * ((r - rest[q]) + gamma * closing);
+    fx[q] = f * nx;
+    fy[q] = f * ny;
+    fz[q] = f * nz;
   }
 }
 
+}  // namespace
+
+void Solver::accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& force) const {
+  const std::size_t n = particles_.size();
+  const glm::vec3* x = particles_.position.data();
+  const glm::vec3* v = particles_.velocity.data();
+  const auto& c = connections_;
+  const float gamma = params_.spring_damping;
+  const float* fr = s.factor_root.data();
+  const float* ft = s.factor_tip.data();
+  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  enum { DX, DY, DZ, VX, VY, VZ, ALPHA, FX, FY, FZ, kColumns };
+#pragma omp parallel num_threads(threads_)
+  {
+    PairColumns& col = threadColumns();
+#pragma omp for schedule(static)
+    for (Index bb = 0; bb < blocks; ++bb) {
+      const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
+      const std::size_t e = std::min(n, b + kPairBlock);
+      const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
+      const std::size_t pairs = e1 - e0;
+      col.reserve(pairs, kColumns);
+      float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
+      float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
+      float *__restrict alpha = col[ALPHA];
+      float *__restrict fx = col[FX], *__restrict fy = col[FY], *__restrict fz = col[FZ];
+      for (std::size_t i = b; i < e; ++i) {
+        const glm::vec3 xi = x[i], vi = v[i];
+        const float wi = owner_weight_[i];
+        // root side: own factor a_r,i and the partner's a_t,j; tip side the reverse
+        const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
+        const float own[2] = {fr[i], ft[i]};
+        const float* other[2] = {ft, fr};
+        for (int side = 0; side < 2; ++side)
+          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
+            const std::uint32_t j = c.partner[q];
+            const glm::vec3 xij = x[j] - xi, vij = v[j] - vi;
+            const std::size_t k = q - e0;
+            dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+            vx[k] = vij.x, vy[k] = vij.y, vz[k] = vij.z;
+            alpha[k] = pairFactor(own[side], other[side][j], partner_root_[q] ? 1.0f : wi);
+          }
+      }
+      springPairTerms(pairs, gamma, dx, dy, dz, vx, vy, vz, alpha, s.k.data() + e0,
+                      s.r.data() + e0, c.rest_length.data() + e0, fx, fy, fz);
+      for (std::size_t i = b; i < e; ++i) {
+        glm::vec3 f(0.0f);
+        for (std::uint32_t q = c.begin(i) - e0; q < c.end(i) - e0; ++q)
+          f += glm::vec3(fx[q], fy[q], fz[q]);
+        force[i] = f;
+      }
+    }
+  }
+}
+
+namespace {
+
+// The hair-hair force on i of each gathered pair (SPEC §4, eqs. 16-18), for
+// accumulateHairHairForces. A function of its own with plain arguments so
+// that the loop vectorises (inside the OpenMP region it does not).
+struct HairHairTerms {
+  float inv_h, norm_w, norm_g;  // kernel W(r, h2): 1/h, 1/(4 pi h^3), 1/(4 pi h^4)
+  float dc, dfr;                // collision and friction coefficients
+};
+void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
+                       const float* __restrict dx, const float* __restrict dy,
+                       const float* __restrict dz, const float* __restrict vx,
+                       const float* __restrict vy, const float* __restrict vz,
+                       const float* __restrict tix, const float* __restrict tiy,
+                       const float* __restrict tiz, const float* __restrict tjx,
+                       const float* __restrict tjy, const float* __restrict tjz,
+                       const float* __restrict mm, const float* __restrict pp,
+                       float* __restrict fx, float* __restrict fy, float* __restrict fz) {
+  const float inv_h = p.inv_h, norm_w = p.norm_w, norm_g = p.norm_g, dc = p.dc, dfr = p.dfr;
+  for (std::size_t q = 0; q < pairs; ++q) {
+    const float r2 = dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q];
+    const float r = std::sqrt(r2);
+    const float inv_r = r > 0.0f ? 1.0f / r : 0.0f;
+    const float s = r * inv_h;
+    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+    const float w = norm_w * (a * a * a - 4.0f * (c * c * c));  // W(r, h2)
+    const float dw = -3.0f * norm_g * (a * a - 4.0f * (c * c));  // dW/dr
+    // eq. 16: -m_i m_j (P_i/rho_i^2 + P_j/rho_j^2) grad_i W, grad_i W = -dW/dr x_ij / r
+    const float pc = mm[q] * pp[q] * dw * inv_r;
+    // eq. 17: collision direction t_i x t_j; for near-parallel hairs the
+    // part of x_ij normal to their mean direction (our symmetric choice,
+    // so that the pair force is exactly opposite on j).
+    const float cx = tiy[q] * tjz[q] - tiz[q] * tjy[q];
+    const float cy = tiz[q] * tjx[q] - tix[q] * tjz[q];
+    const float cz = tix[q] * tjy[q] - tiy[q] * tjx[q];
+    const float c2 = cx * cx + cy * cy + cz * cz;
+    const float sgn = tix[q] * tjx[q] + tiy[q] * tjy[q] + tiz[q] * tjz[q] >= 0.0f ? 1.0f : -1.0f;
+    const float mx = tix[q] + sgn * tjx[q], my = tiy[q] + sgn * tjy[q],
+                mz = tiz[q] + sgn * tjz[q];
+    const float m2 = mx * mx + my * my + mz * mz;
+    const float along = (dx[q] * mx + dy[q] * my + dz[q] * mz) / (m2 > 0.0f ? m2 : 1.0f);
+    const float ax = dx[q] - along * mx, ay = dy[q] - along * my, az = dz[q] - along * mz;
+    const float a2 = ax * ax + ay * ay + az * az;
+    const bool parallel = c2 < 1e-6f;
+    // the fallback direction is usable if the hairs are not on one line
+    // (float masks, not bools: the loop then vectorises)
+    const float usable = m2 > 0.0f ? (a2 < 1e-6f * r2 ? 0.0f : 1.0f) : 0.0f;
+    const float valid = parallel ? usable : 1.0f;
+    const float d2 = parallel ? a2 : c2;
+    const float inv_d = valid / std::sqrt(valid > 0.0f ? d2 : 1.0f);
+    const float nx = (parallel ? ax : cx) * inv_d, ny = (parallel ? ay : cy) * inv_d,
+                nz = (parallel ? az : cz) * inv_d;
+    const float vn = vx[q] * nx + vy[q] * ny + vz[q] * nz;
+    // approaching pairs only (eqs. 17-18)
+    const float wc = (dx[q] * nx + dy[q] * ny + dz[q] * nz) * vn < 0.0f ? w : 0.0f;
+    const float cn = dc * wc * vn, ft = dfr * wc;
+    fx[q] = pc * dx[q] + cn * nx + ft * (vx[q] - vn * nx);
+    fy[q] = pc * dy[q] + cn * ny + ft * (vy[q] - vn * ny);
+    fz[q] = pc * dz[q] + cn * nz + ft * (vz[q] - vn * nz);
+  }
+}
+
+}  // namespace
+
 // ---- stage 3c: hair-hair pressure, collision, friction (SPEC §4) -----------
+// A blocked pair loop (pair_columns.hpp): every neighbour is within the
+// kernel's support; the terms are selected, not branched on.
 void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
   const CubicKernel k2(params_.h2);
-  const auto& x = particles_.position;
-  const auto& v = particles_.velocity;
-  const auto& t = particles_.direction;
-  const auto& m = particles_.mass;
-  const float dc = dc_, dfr = dfr_;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const float pi_term = pressure_[i] / (density_[i] * density_[i]);
-    glm::vec3 f(0.0f);
-    for (std::uint32_t j : grid_->neighbors(i)) {
-      const glm::vec3 xij = x[j] - x[i];
-      const float r2 = glm::dot(xij, xij);
-      if (!(r2 > 0.0f)) continue;
-      const float r = std::sqrt(r2);
-      // eq. 16: -m_i m_j (P_i/rho_i^2 + P_j/rho_j^2) grad_i W, grad_i W = -dW/dr x_ij / r
-      const float pj_term = pressure_[j] / (density_[j] * density_[j]);
-      f += (m[i] * m[j] * (pi_term + pj_term) * k2.dWdr(r) / r) * xij;
-
-      // eq. 17: collision direction t_i x t_j; for near-parallel hairs the
-      // part of x_ij normal to their mean direction (our symmetric choice,
-      // so that the pair force is exactly opposite on j).
-      glm::vec3 dn = glm::cross(t[i], t[j]);
-      float dn2 = glm::dot(dn, dn);
-      if (dn2 < 1e-6f) {
-        const glm::vec3 tm = glm::dot(t[i], t[j]) >= 0.0f ? t[i] + t[j] : t[i] - t[j];
-        const float tm2 = glm::dot(tm, tm);
-        if (!(tm2 > 0.0f)) continue;
-        dn = xij - (glm::dot(xij, tm) / tm2) * tm;
-        dn2 = glm::dot(dn, dn);
-        if (dn2 < 1e-6f * r2) continue;
+  const std::size_t n = particles_.size();
+  const glm::vec3* x = particles_.position.data();
+  const glm::vec3* v = particles_.velocity.data();
+  const glm::vec3* t = particles_.direction.data();
+  const float* m = particles_.mass.data();
+  const float* pterm = pressure_term_.data();
+  const HairHairTerms terms{1.0f / k2.h(), k2.W(0.0f) / 4.0f, -k2.dWdr(k2.h()) / 3.0f, dc_, dfr_};
+  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  enum { DX, DY, DZ, VX, VY, VZ, TIX, TIY, TIZ, TJX, TJY, TJZ, MM, PP, FX, FY, FZ, kColumns };
+#pragma omp parallel num_threads(threads_)
+  {
+    PairColumns& col = threadColumns();
+#pragma omp for schedule(static)
+    for (Index bb = 0; bb < blocks; ++bb) {
+      const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
+      const std::size_t e = std::min(n, b + kPairBlock);
+      std::size_t pairs = 0;
+      for (std::size_t i = b; i < e; ++i) pairs += grid_->neighbors(i).size();
+      col.reserve(pairs, kColumns);
+      float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
+      float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
+      float *__restrict tix = col[TIX], *__restrict tiy = col[TIY], *__restrict tiz = col[TIZ];
+      float *__restrict tjx = col[TJX], *__restrict tjy = col[TJY], *__restrict tjz = col[TJZ];
+      float *__restrict mm = col[MM], *__restrict pp = col[PP];
+      float *__restrict fx = col[FX], *__restrict fy = col[FY], *__restrict fz = col[FZ];
+      // 1. gather: x_ij, v_ij, t_i, t_j, m_i m_j, P_i/rho_i^2 + P_j/rho_j^2
+      std::size_t k = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        const glm::vec3 xi = x[i], vi = v[i], ti = t[i];
+        const float mi = m[i], pi = pterm[i];
+        for (std::uint32_t j : grid_->neighbors(i)) {
+          const glm::vec3 xij = x[j] - xi, vij = v[j] - vi, tj = t[j];
+          dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+          vx[k] = vij.x, vy[k] = vij.y, vz[k] = vij.z;
+          tix[k] = ti.x, tiy[k] = ti.y, tiz[k] = ti.z;
+          tjx[k] = tj.x, tjy[k] = tj.y, tjz[k] = tj.z;
+          mm[k] = mi * m[j];
+          pp[k] = pi + pterm[j];
+          ++k;
+        }
       }
-      dn *= 1.0f / std::sqrt(dn2);
-      const glm::vec3 vij = v[j] - v[i];
-      const float vn = glm::dot(vij, dn);
-      if (glm::dot(xij, dn) * vn >= 0.0f) continue;  // not approaching
-      const float w = k2.W(r);
-      f += (dc * w * vn) * dn;                 // eq. 17, inelastic collision
-      f += (dfr * w) * (vij - vn * dn);        // eq. 18, friction (approaching pairs only)
+      // 2. compute each pair's force on i
+      hairHairPairTerms(pairs, terms, dx, dy, dz, vx, vy, vz, tix, tiy, tiz, tjx, tjy, tjz, mm, pp,
+                        fx, fy, fz);
+      // 3. reduce in list order
+      k = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        glm::vec3 f(0.0f);
+        for (std::size_t end = k + grid_->neighbors(i).size(); k < end; ++k)
+          f += glm::vec3(fx[k], fy[k], fz[k]);
+        force[i] += f;
+      }
     }
-    force[i] += f;
   }
 }
 
@@ -494,47 +664,13 @@ std::span<const float> Solver::airDensity() const {
 
 double Solver::airStableTimeStep() const { return air_ ? air_->stableTimeStep() : INFINITY; }
 
-// ---- the step ---------------------------------------------------------------
-void Solver::step() {
-  const float dt = static_cast<float>(params_.time_step);
+// ---- external forces in the head frame (SPEC §5) ----------------------------
+void Solver::addExternalForces() {
   const std::size_t n = particles_.size();
-  auto& x = particles_.position;
-  auto& v = particles_.velocity;
+  const auto& x = particles_.position;
+  const auto& v = particles_.velocity;
   const auto& m = particles_.mass;
   const auto& root = particles_.is_root;
-  Scratch& s = *scratch_;
-  StageTimes st;
-  auto t0 = Clock::now();
-
-  findNeighbors();
-  auto t1 = Clock::now();
-  st.neighbors = seconds(t0, t1);
-
-  computeDensity();
-  t0 = Clock::now();
-  st.density = seconds(t1, t0);
-
-  computeSpringFactors(s);
-  accumulateSpringForces(s, force_);
-  t1 = Clock::now();
-  st.springs = seconds(t0, t1);
-
-  if (params_.hair_hair) accumulateHairHairForces(force_);
-  t0 = Clock::now();
-  st.hair_hair = seconds(t1, t0);
-
-  // ---- wind: air neighbours, density, pressure, viscosity and the hair-air
-  // drag (SPEC §5) -------------------------------------------------------------
-  if (air_) {
-    air_->setPose(trajectory_.pose(time_));
-    air_->findNeighbors(x, threads_);
-    air_->accumulateForces(x, v, m, root, force_, dt, threads_);
-    t1 = Clock::now();
-    st.air += seconds(t0, t1);
-    t0 = t1;
-  }
-
-  // ---- external forces in the head frame (SPEC §5) --------------------------
   const HeadKinematics head = trajectory_.kinematics(time_);
   const glm::dmat3 rt = glm::transpose(head.pose.rotation);
   const glm::vec3 gravity(rt * glm::dvec3(params_.gravity));
@@ -552,23 +688,25 @@ void Solver::step() {
     const glm::vec3 world_velocity = u + glm::cross(omega, r) + frame_vel;
     force_[i] += m[i] * (gravity - inertial - drag * world_velocity);
   }
-  t1 = Clock::now();
-  st.external = seconds(t0, t1);
+}
 
-  // ---- integrate: symplectic Euler with the inelastic, frictional body
-  // contact applied to the new velocity (SPEC §5 body collisions) ------------
+// ---- integrate: symplectic Euler with the inelastic, frictional body contact
+// applied to the new velocity (SPEC §5 body collisions) -------------------------
+std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
+                              const HeadKinematics& head) {
+  const std::size_t n = particles_.size();
+  auto& x = particles_.position;
+  auto& v = particles_.velocity;
+  const auto& m = particles_.mass;
+  const auto& root = particles_.is_root;
   const float thickness = params_.contact_thickness, mu = params_.body_friction;
   std::size_t contacts = 0;
-  std::vector<BodyFrame> frames;
-  HeadKinematics head_now;
-  placeBodies(time_, frames, head_now);
-  const HeadKinematics head_now_start = head_now;
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : contacts)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
     const std::size_t e = std::min(n, b + kBodyBlock);
     glm::vec3 surface[kBodyBlock];
-    queryBodies(frames, head_now, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
+    queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
     for (std::size_t i = b; i < e; ++i) {
       if (root[i]) continue;
       glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
@@ -591,59 +729,120 @@ void Solver::step() {
       integrated_position_[i] = x[i];
     }
   }
-  t0 = Clock::now();
-  st.integrate = seconds(t1, t0);
+  return contacts;
+}
 
-  // ---- strain limit (SPEC §5, §9) and no particle left inside the body -----
+// ---- strain limit (SPEC §5, §9) ------------------------------------------------
+namespace {
+
+// The strain-limit correction of each gathered connection (for
+// Solver::limitStrain): a connection longer than (1 + max_strain) l_ij and
+// still within the kernel's support pulls i towards j by its share
+// w_i / (w_i + w_j) of the excess, scaled by the spring's looseness
+// W(r)/W(l_ij) (so a connection that is letting go, hair splitting, is not
+// pulled back hard). Writes the coefficient of x_ij and 1 or 0 (acting).
+struct StrainTerms {
+  float inv_h, norm_w;  // kernel W(r, h1)
+  float support2, max_len_scale;
+};
+void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __restrict dx,
+                     const float* __restrict dy, const float* __restrict dz,
+                     const float* __restrict rest, const float* __restrict inv_rest_w,
+                     const float* __restrict wi, const float* __restrict wj,
+                     float* __restrict coef, float* __restrict acting) {
+  const float inv_h = p.inv_h, norm_w = p.norm_w, support2 = p.support2,
+              scale = p.max_len_scale;
+  for (std::size_t q = 0; q < pairs; ++q) {
+    const float r2 = dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q];
+    const float limit = scale * rest[q];
+    // slack connections and connections beyond the support stay free
+    const float on = r2 > limit * limit ? (r2 < support2 ? 1.0f : 0.0f) : 0.0f;
+    const float r = std::sqrt(r2);
+    const float s = r * inv_h;
+    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+    const float looseness = std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w[q]);
+    const float share = wi[q] / (wi[q] + wj[q]);
+    coef[q] = on > 0.0f ? looseness * (r - limit) * share / r : 0.0f;
+    acting[q] = on;
+  }
+}
+
+}  // namespace
+
+std::size_t Solver::limitStrain() {
+  const std::size_t n = particles_.size();
+  const auto& root = particles_.is_root;
   std::size_t limited = 0;
-  if (params_.strain_limit && params_.strain_limit_iterations > 0) {
-    const CubicKernel k1(params_.h1);
-    const float support2 = k1.support2();
-    const float max_len_scale = 1.0f + params_.max_strain;
-    const auto& c = connections_;
-    for (int it = 0; it < params_.strain_limit_iterations; ++it) {
-      std::size_t count = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : count)
-      for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-        const auto i = static_cast<std::size_t>(ii);
-        limited_position_[i] = x[i];
-        if (root[i]) continue;
-        glm::vec3 shift(0.0f);
-        int active = 0;
-        const float wi = 1.0f / m[i];
-        for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-          const std::uint32_t j = c.partner[e];
-          const glm::vec3 xij = x[j] - x[i];
-          const float r2 = glm::dot(xij, xij);
-          const float limit = max_len_scale * c.rest_length[e];
-          // Most connections are not over-stretched: decide on squares and
-          // take the root only for the few that are.
-          if (!(r2 > limit * limit) || !(r2 < support2)) continue;  // slack connections stay free
-          const float r = std::sqrt(r2);
-          if (!(r > limit)) continue;
-          // The correction follows the spring's looseness, so a connection
-          // that is letting go (hair splitting) is not pulled back hard.
-          const float looseness = std::min(1.0f, k1.W(r) * inverse_rest_kernel_[e]);
-          const float wj = root[j] ? 0.0f : 1.0f / m[j];
-          shift += (looseness * (r - limit) * wi / (wi + wj) / r) * xij;
-          ++active;
+  if (!params_.strain_limit || params_.strain_limit_iterations <= 0) return 0;
+  const CubicKernel k1(params_.h1);
+  const StrainTerms terms{1.0f / k1.h(), k1.W(0.0f) / 4.0f, k1.support2(),
+                          1.0f + params_.max_strain};
+  const auto& c = connections_;
+  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  enum { DX, DY, DZ, WI, WJ, COEF, ACT, kColumns };
+  for (int it = 0; it < params_.strain_limit_iterations; ++it) {
+    const glm::vec3* x = particles_.position.data();
+    glm::vec3* out = limited_position_.data();
+    std::size_t count = 0;
+#pragma omp parallel num_threads(threads_) reduction(+ : count)
+    {
+      PairColumns& col = threadColumns();
+#pragma omp for schedule(static)
+      for (Index bb = 0; bb < blocks; ++bb) {
+        const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
+        const std::size_t e = std::min(n, b + kPairBlock);
+        const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
+        const std::size_t pairs = e1 - e0;
+        col.reserve(pairs, kColumns);
+        float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
+        float *__restrict wi = col[WI], *__restrict wj = col[WJ];
+        float *__restrict coef = col[COEF], *__restrict acting = col[ACT];
+        for (std::size_t i = b; i < e; ++i) {
+          const glm::vec3 xi = x[i];
+          const float w_i = inverse_mass_[i];
+          for (std::uint32_t q = c.begin(i); q < c.end(i); ++q) {
+            const std::uint32_t j = c.partner[q];
+            const glm::vec3 xij = x[j] - xi;
+            const std::size_t k = q - e0;
+            dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+            wi[k] = w_i;
+            wj[k] = inverse_mass_[j];
+          }
         }
-        if (active > 0) {
-          limited_position_[i] = x[i] + shift / static_cast<float>(active);
-          ++count;
+        strainPairTerms(pairs, terms, dx, dy, dz, c.rest_length.data() + e0,
+                        inverse_rest_kernel_.data() + e0, wi, wj, coef, acting);
+        for (std::size_t i = b; i < e; ++i) {
+          out[i] = x[i];
+          if (root[i]) continue;
+          glm::vec3 shift(0.0f);
+          float active = 0.0f;
+          for (std::uint32_t q = c.begin(i) - e0; q < c.end(i) - e0; ++q) {
+            shift += coef[q] * glm::vec3(dx[q], dy[q], dz[q]);
+            active += acting[q];
+          }
+          if (active > 0.0f) {
+            out[i] = x[i] + shift / active;
+            ++count;
+          }
         }
       }
-      x.swap(limited_position_);
-      if (it == 0) limited = count;
-      if (count == 0) break;
     }
+    particles_.position.swap(limited_position_);
+    if (it == 0) limited = count;
+    if (count == 0) break;
   }
+  return limited;
+}
 
-  // Tethers (long-range attachments; our addition to SPEC §5's strain limit):
-  // a particle may be no further from its own root point than its arc length
-  // allows, |x_i - r_i| <= (1 + slack) s_i. This is the no-stretch promise
-  // itself, enforced per particle in O(N) without adding shear stiffness, so
-  // the springs can be soft enough for the hair to bend and swing.
+// Tethers (long-range attachments; our addition to SPEC §5's strain limit):
+// a particle may be no further from its own root point than its arc length
+// allows, |x_i - r_i| <= (1 + slack) s_i. This is the no-stretch promise
+// itself, enforced per particle in O(N) without adding shear stiffness, so
+// the springs can be soft enough for the hair to bend and swing.
+void Solver::applyTethers() {
+  const std::size_t n = particles_.size();
+  auto& x = particles_.position;
+  const auto& root = particles_.is_root;
   if (params_.tether) {
     const auto& rp = particles_.root_point;
     const auto& sarc = particles_.arc_length;
@@ -658,15 +857,20 @@ void Solver::step() {
       if (dist > reach) x[i] = rp[i] + (reach / dist) * d;
     }
   }
+}
 
-  // Project what is still inside the body to its surface and take the new
-  // velocity from the corrected positions (no added normal speed, so nothing
-  // is thrown off the body).
-  // Several bodies (head, torso, obstacles) may meet in a crease, where
-  // leaving one can mean entering another: a few rounds settle it.
-  placeBodies(time_ + params_.time_step, frames, head_now);
-  std::vector<BodyFrame> solid_frames;  // without obstacles: the last round
-  placeBodies(time_ + params_.time_step, solid_frames, head_now, false);
+// Project what is still inside the body to its surface and take the new
+// velocity from the corrected positions (no added normal speed, so nothing
+// is thrown off the body).
+// Several bodies (head, torso, obstacles) may meet in a crease, where
+// leaving one can mean entering another: a few rounds settle it.
+void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
+                                const std::vector<BodyFrame>& solid_frames,
+                                const HeadKinematics& head) {
+  const std::size_t n = particles_.size();
+  auto& x = particles_.position;
+  auto& v = particles_.velocity;
+  const auto& root = particles_.is_root;
   const int rounds = frames.empty() ? 1 : 3;
   const bool has_obstacles = solid_frames.size() != frames.size();
   const bool absorb = absorb_corrections_;
@@ -679,7 +883,7 @@ void Solver::step() {
     bool pushed[kBodyBlock] = {};
     glm::vec3 push_normal[kBodyBlock];
     for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
-      queryBodies(round < rounds ? frames : solid_frames, head_now, &x[b], e - b, &body_phi_[b],
+      queryBodies(round < rounds ? frames : solid_frames, head, &x[b], e - b, &body_phi_[b],
                   &body_normal_[b], surface);
       bool any = false;
       for (std::size_t i = b; i < e; ++i) {
@@ -703,83 +907,220 @@ void Solver::step() {
       v[i] = vi;
     }
   }
-  t1 = Clock::now();
-  st.strain_limit = seconds(t0, t1);
+}
 
-  // ---- wind: move the air, keep it out of the bodies (free slip), emit
-  // upwind and remove what left the box ---------------------------------------
-  if (air_) {
-    air_->integrate(time_, dt, head_now_start, threads_);
-    auto& ax = air_->positions();
-    auto& av = air_->velocities();
-    const std::size_t na = ax.size();
+// ---- wind: move the air, keep it out of the bodies (free slip), emit upwind
+// and remove what left the box ----------------------------------------------------
+void Solver::moveAir(float dt, const std::vector<BodyFrame>& frames,
+                     const HeadKinematics& head_start, const HeadKinematics& head_end) {
+  air_->integrate(time_, dt, head_start, threads_);
+  auto& ax = air_->positions();
+  auto& av = air_->velocities();
+  const std::size_t na = ax.size();
 #pragma omp parallel for num_threads(threads_) schedule(static)
-    for (Index bb = 0; bb < static_cast<Index>((na + kBodyBlock - 1) / kBodyBlock); ++bb) {
-      const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
-      const std::size_t e = std::min(na, b + kBodyBlock);
-      float phi[kBodyBlock];
-      glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
-      queryBodies(frames, head_now, &ax[b], e - b, phi, nrm, surface);
-      for (std::size_t a = b; a < e; ++a) {
-        const std::size_t k = a - b;
-        if (!(phi[k] < 0.0f)) continue;
-        ax[a] -= phi[k] * nrm[k];
-        const float vn = glm::dot(av[a] - surface[k], nrm[k]);
-        if (vn < 0.0f) av[a] -= vn * nrm[k];
-      }
-    }
-    air_->emitAndRemove(time_ + params_.time_step, dt, head_now,
-                        [&](const glm::vec3* w, std::size_t count, float* phi) {
-                          worldBodyDistance(frames, head_now, w, count, phi);
-                        });
-    const auto t2 = Clock::now();
-    st.air += seconds(t1, t2);
-    t1 = t2;
-  }
-
-  // ---- hair directions, eq. 15 ----------------------------------------------
-  {
-    auto& dir = particles_.direction;
-    const auto& c = connections_;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      if (root[i]) continue;
-      const glm::vec3 ti = dir[i];
-      glm::vec3 sum(0.0f);
-      for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
-        if (!(s.k[e] > 0.0f)) continue;
-        const std::uint32_t j = c.partner[e];
-        const float w = s.alpha(i, j, c.tip_side[e]) * s.k[e];
-        if (!(w > 0.0f)) continue;
-        const glm::vec3 xij = x[j] - x[i];
-        const float r = glm::length(xij);
-        if (!(r > 0.0f)) continue;
-        const glm::vec3 xhat = xij / r;
-        // Rotate x_ij by its rest angle towards t_i: cos(theta) xhat + sin(theta) t_perp.
-        const glm::vec3 perp = ti - glm::dot(ti, xhat) * xhat;
-        const float perp_len = glm::length(perp);
-        glm::vec3 tij;
-        if (perp_len > 1e-6f)
-          tij = c.cos_rest[e] * xhat + (c.sin_rest[e] / perp_len) * perp;
-        else
-          tij = c.cos_rest[e] >= 0.0f ? xhat : -xhat;
-        sum += w * tij;
-      }
-      const float len = glm::length(sum);
-      if (len > 0.0f) dir[i] = sum / len;
+  for (Index bb = 0; bb < static_cast<Index>((na + kBodyBlock - 1) / kBodyBlock); ++bb) {
+    const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
+    const std::size_t e = std::min(na, b + kBodyBlock);
+    float phi[kBodyBlock];
+    glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
+    queryBodies(frames, head_end, &ax[b], e - b, phi, nrm, surface);
+    for (std::size_t a = b; a < e; ++a) {
+      const std::size_t k = a - b;
+      if (!(phi[k] < 0.0f)) continue;
+      ax[a] -= phi[k] * nrm[k];
+      const float vn = glm::dot(av[a] - surface[k], nrm[k]);
+      if (vn < 0.0f) av[a] -= vn * nrm[k];
     }
   }
-  // Never go on silently with a broken state.
+  air_->emitAndRemove(time_ + params_.time_step, dt, head_end,
+                      [&](const glm::vec3* w, std::size_t count, float* phi) {
+                        worldBodyDistance(frames, head_end, w, count, phi);
+                      });
+}
+
+// ---- hair directions, eq. 15, with the spring lengths of the next step ------
+// The weights alpha_ij k_ij are this step's; x_ij are the new positions. The
+// same pass measures |x_ij|, k_ij and the side sums at the new positions,
+// which the next step's factor pass would otherwise gather again, and checks
+// that every particle's state is finite.
+namespace {
+
+struct DirectionTerms {
+  float inv_h, norm_w;  // kernel W(r, h1)
+};
+// For each gathered connection: the direction t_ij that i's hair direction
+// would have if the pair kept its rest angle (x_ij turned by theta_ij
+// towards t_i), weighted by alpha_ij k_ij; and k_ij, |x_ij|, l_ij k_ij at
+// the new positions.
+void directionPairTerms(std::size_t pairs, const DirectionTerms& p, const float* __restrict dx,
+                        const float* __restrict dy, const float* __restrict dz,
+                        const float* __restrict tix, const float* __restrict tiy,
+                        const float* __restrict tiz, const float* __restrict alpha,
+                        const float* __restrict strength, const float* __restrict rest,
+                        const float* __restrict cos_rest, const float* __restrict sin_rest,
+                        float* __restrict k, float* __restrict length, float* __restrict lk,
+                        float* __restrict ox, float* __restrict oy, float* __restrict oz) {
+  const float inv_h = p.inv_h, norm_w = p.norm_w;
+  for (std::size_t q = 0; q < pairs; ++q) {
+    const float weight = alpha[q] * k[q];  // this step's k_ij
+    const float r = std::sqrt(dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q]);
+    const float s = r * inv_h;
+    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+    const float k_next = strength[q] * (norm_w * (a * a * a - 4.0f * (c * c * c)));
+    k[q] = k_next;
+    length[q] = r;
+    lk[q] = rest[q] * k_next;
+    const float on = weight > 0.0f ? (r > 0.0f ? 1.0f : 0.0f) : 0.0f;
+    const float inv_r = 1.0f / (on > 0.0f ? r : 1.0f);
+    const float hx = dx[q] * inv_r, hy = dy[q] * inv_r, hz = dz[q] * inv_r;
+    // cos(theta) xhat + sin(theta) t_perp, t_perp the part of t_i normal to xhat
+    const float along = tix[q] * hx + tiy[q] * hy + tiz[q] * hz;
+    const float px = tix[q] - along * hx, py = tiy[q] - along * hy, pz = tiz[q] - along * hz;
+    const float perp_len = std::sqrt(px * px + py * py + pz * pz);
+    const float bent = perp_len > 1e-6f ? 1.0f : 0.0f;
+    const float sp = sin_rest[q] / (bent > 0.0f ? perp_len : 1.0f);
+    const float sign = cos_rest[q] >= 0.0f ? 1.0f : -1.0f;
+    const float tx = bent > 0.0f ? cos_rest[q] * hx + sp * px : sign * hx;
+    const float ty = bent > 0.0f ? cos_rest[q] * hy + sp * py : sign * hy;
+    const float tz = bent > 0.0f ? cos_rest[q] * hz + sp * pz : sign * hz;
+    const float w = on > 0.0f ? weight : 0.0f;
+    ox[q] = w * tx;
+    oy[q] = w * ty;
+    oz[q] = w * tz;
+  }
+}
+
+}  // namespace
+
+std::size_t Solver::updateDirections(Scratch& s) {
+  const std::size_t n = particles_.size();
+  const glm::vec3* x = particles_.position.data();
+  const glm::vec3* v = particles_.velocity.data();
+  glm::vec3* dir = particles_.direction.data();
+  const auto& root = particles_.is_root;
+  const auto& c = connections_;
+  const CubicKernel k1(params_.h1);
+  const DirectionTerms terms{1.0f / k1.h(), k1.W(0.0f) / 4.0f};
+  const float* fr = s.factor_root.data();
+  const float* ft = s.factor_tip.data();
+  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  enum { DX, DY, DZ, TX, TY, TZ, ALPHA, LK, OX, OY, OZ, kColumns };
   std::size_t broken = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : broken)
-  for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const glm::vec3 a = x[i], b = v[i], c = particles_.direction[i];
-    const float probe = a.x + a.y + a.z + b.x + b.y + b.z + c.x + c.y + c.z;
-    broken += std::isfinite(probe) ? 0 : 1;
+#pragma omp parallel num_threads(threads_) reduction(+ : broken)
+  {
+    PairColumns& col = threadColumns();
+#pragma omp for schedule(static)
+    for (Index bb = 0; bb < blocks; ++bb) {
+      const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
+      const std::size_t e = std::min(n, b + kPairBlock);
+      const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
+      const std::size_t pairs = e1 - e0;
+      col.reserve(pairs, kColumns);
+      float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
+      float *__restrict tx = col[TX], *__restrict ty = col[TY], *__restrict tz = col[TZ];
+      float *__restrict alpha = col[ALPHA], *__restrict lk = col[LK];
+      float *__restrict ox = col[OX], *__restrict oy = col[OY], *__restrict oz = col[OZ];
+      for (std::size_t i = b; i < e; ++i) {
+        const glm::vec3 xi = x[i], ti = dir[i];
+        const float wi = owner_weight_[i];
+        const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
+        const float own[2] = {fr[i], ft[i]};
+        const float* other[2] = {ft, fr};  // the partner's factor on the other side
+        for (int side = 0; side < 2; ++side)
+          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
+            const std::uint32_t j = c.partner[q];
+            const glm::vec3 xij = x[j] - xi;
+            const std::size_t k = q - e0;
+            dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+            tx[k] = ti.x, ty[k] = ti.y, tz[k] = ti.z;
+            alpha[k] = pairFactor(own[side], other[side][j], partner_root_[q] ? 1.0f : wi);
+          }
+      }
+      directionPairTerms(pairs, terms, dx, dy, dz, tx, ty, tz, alpha, c.strength.data() + e0,
+                         c.rest_length.data() + e0, c.cos_rest.data() + e0,
+                         c.sin_rest.data() + e0, s.k.data() + e0, s.r.data() + e0, lk, ox, oy,
+                         oz);
+      for (std::size_t i = b; i < e; ++i) {
+        const std::uint32_t bounds[3] = {c.begin(i) - e0, c.tipBegin(i) - e0, c.end(i) - e0};
+        float side_sum[2] = {0.0f, 0.0f};
+        for (int side = 0; side < 2; ++side)
+          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) side_sum[side] += lk[q];
+        s.sum_root[i] = side_sum[0];
+        s.sum_tip[i] = side_sum[1];
+        glm::vec3 sum(0.0f);
+        for (std::uint32_t q = bounds[0]; q < bounds[2]; ++q) sum += glm::vec3(ox[q], oy[q], oz[q]);
+        const float len = std::sqrt(glm::dot(sum, sum));
+        if (!root[i] && len > 0.0f) dir[i] = sum * (1.0f / len);
+        // Never go on silently with a broken state.
+        const glm::vec3 pa = x[i], pb = v[i], pd = dir[i];
+        const float probe = pa.x + pa.y + pa.z + pb.x + pb.y + pb.z + pd.x + pd.y + pd.z;
+        broken += std::isfinite(probe) ? 0 : 1;
+      }
+    }
   }
+  s.lengths_current = true;
+  return broken;
+}
+
+// ---- the step ---------------------------------------------------------------
+void Solver::step() {
+  const float dt = static_cast<float>(params_.time_step);
+  const double t_end = time_ + params_.time_step;
+  Scratch& s = *scratch_;
+  StageTimes st;
+  auto t0 = Clock::now();
+  auto lap = [&t0](double& stage) {
+    const auto t = Clock::now();
+    stage += seconds(t0, t);
+    t0 = t;
+  };
+
+  findNeighbors();
+  lap(st.neighbors);
+  computeDensity();
+  lap(st.density);
+  computeSpringFactors(s);
+  accumulateSpringForces(s, force_);
+  lap(st.springs);
+  if (params_.hair_hair) accumulateHairHairForces(force_);
+  lap(st.hair_hair);
+  if (air_) {
+    // air neighbours, density, pressure, viscosity and the hair-air drag (SPEC §5)
+    air_->setPose(trajectory_.pose(time_));
+    air_->findNeighbors(particles_.position, threads_);
+    air_->accumulateForces(particles_.position, particles_.velocity, particles_.mass,
+                           particles_.is_root, force_, dt, threads_);
+    lap(st.air);
+  }
+  addExternalForces();
+  lap(st.external);
+
+  std::vector<BodyFrame> frames;
+  HeadKinematics head_start;
+  placeBodies(time_, frames, head_start);
+  const std::size_t contacts = integrate(dt, frames, head_start);
+  lap(st.integrate);
+
+  // Corrections: strain limit, tethers, and no particle left inside a body.
+  const std::size_t limited = limitStrain();
+  applyTethers();
+  HeadKinematics head_end;
+  placeBodies(t_end, frames, head_end);
+  std::vector<BodyFrame> solid_frames;  // without obstacles: the last round
+  placeBodies(t_end, solid_frames, head_end, false);
+  projectOutOfBodies(dt, frames, solid_frames, head_end);
+  lap(st.strain_limit);
+
+  if (air_) {
+    moveAir(dt, frames, head_start, head_end);
+    lap(st.air);
+  }
+
+  const std::size_t broken = updateDirections(s);
   if (broken > 0) {
+    const auto& x = particles_.position;
+    const auto& v = particles_.velocity;
+    const std::size_t n = particles_.size();
     std::size_t first = 0;
     for (; first < n; ++first)
       if (!std::isfinite(x[first].x + x[first].y + x[first].z + v[first].x + v[first].y +
@@ -790,9 +1131,9 @@ void Solver::step() {
                           " particles have non-finite state (first: " + std::to_string(first) +
                           "); reduce the time step or the stiffness");
   }
-  st.directions = seconds(t1, Clock::now());
+  lap(st.directions);
 
-  time_ += params_.time_step;
+  time_ = t_end;
   stats_.last = st;
   stats_.sum += st;
   ++stats_.steps;
@@ -832,12 +1173,17 @@ std::uint64_t Solver::stateHash() const {
 
 Solver::Scratch Solver::springFactorsNow() const {
   Scratch s;
-  s.k.resize(connections_.entryCount());
-  s.r.resize(connections_.entryCount());
-  s.factor_root.resize(particles_.size());
-  s.factor_tip.resize(particles_.size());
+  resizeScratch(s);
   computeSpringFactors(s);
   return s;
+}
+
+float Solver::entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const {
+  const bool tip = e >= connections_.tipBegin(i);
+  const std::uint32_t j = connections_.partner[e];
+  const float own = tip ? s.factor_tip[i] : s.factor_root[i];
+  const float other = tip ? s.factor_root[j] : s.factor_tip[j];
+  return pairFactor(own, other, partner_root_[e] ? 1.0f : owner_weight_[i]);
 }
 
 double Solver::stableTimeStep() const {
@@ -847,8 +1193,7 @@ double Solver::stableTimeStep() const {
     if (particles_.is_root[i]) continue;
     double stiff = 0;
     for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
-      stiff += static_cast<double>(s.alpha(i, connections_.partner[e], connections_.tip_side[e])) *
-               s.k[e];
+      stiff += static_cast<double>(entryFactor(s, i, e)) * s.k[e];
     worst = std::max(worst, stiff / particles_.mass[i]);
   }
   return worst > 0 ? 2.0 / std::sqrt(worst) : std::numeric_limits<double>::infinity();
@@ -862,8 +1207,7 @@ std::vector<float> Solver::tensileModulus(Side side) const {
     double sum = 0;
     for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
       if (connections_.tip_side[e] == want)
-        sum += static_cast<double>(connections_.rest_length[e]) *
-               s.alpha(i, connections_.partner[e], connections_.tip_side[e]) * s.k[e];
+        sum += static_cast<double>(connections_.rest_length[e]) * entryFactor(s, i, e) * s.k[e];
     out[i] = static_cast<float>(sum / cross_section_[i]);
   }
   return out;

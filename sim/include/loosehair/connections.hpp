@@ -1,7 +1,9 @@
 // The fixed set of connections built once at initialisation (SPEC §3.1).
 // Stored per particle (CSR), each pair twice: once in each partner's list,
 // with the quantities as seen from that particle, so that every force loop
-// can gather for one particle without writing to another.
+// can gather for one particle without writing to another. A particle's list
+// holds its root-side partners first, then its tip-side ones, each part in
+// partner order, so loops over one side need no test per entry.
 #pragma once
 
 #include <cstddef>
@@ -13,6 +15,7 @@ namespace loosehair {
 
 struct ConnectionSet {
   std::vector<std::uint32_t> offset;   // entries of particle i: [offset[i], offset[i+1])
+  std::vector<std::uint32_t> tip_offset;  // first tip-side entry of particle i
   std::vector<std::uint32_t> partner;  // j
   std::vector<float> rest_length;      // l_ij (m)
   std::vector<float> strength;         // c_ij = a_ij * l_ij (m)
@@ -25,6 +28,8 @@ struct ConnectionSet {
   std::size_t pairCount() const { return partner.size() / 2; }
   std::uint32_t begin(std::size_t i) const { return offset[i]; }
   std::uint32_t end(std::size_t i) const { return offset[i + 1]; }
+  /// Entries [begin(i), tipBegin(i)) are root-side, [tipBegin(i), end(i)) tip-side.
+  std::uint32_t tipBegin(std::size_t i) const { return tip_offset[i]; }
   std::uint32_t degree(std::size_t i) const { return offset[i + 1] - offset[i]; }
 };
 

@@ -184,12 +184,15 @@ class Solver {
 
  private:
   struct Scratch;
+  void resizeScratch(Scratch& s) const;
   void computeSpringFactors(Scratch& s) const;
   Scratch springFactorsNow() const;  // fresh buffers, for the const queries
-  void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const;
+  float entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
+  void accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& force) const;
   void accumulateHairHairForces(std::vector<glm::vec3>& force) const;
   void computeDensity();
   void findNeighbors();
+  void addExternalForces();
 
   struct WorldBody {
     std::shared_ptr<const Body> body;
@@ -205,6 +208,15 @@ class Solver {
                    glm::vec3* surface_velocity) const;
   void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* world, std::size_t n, float* phi) const;
+  // the stages of step() after the forces; each returns what StepStats counts
+  std::size_t integrate(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
+  std::size_t limitStrain();
+  void applyTethers();
+  void projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
+                          const std::vector<BodyFrame>& solid_frames, const HeadKinematics& head);
+  void moveAir(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head_start,
+               const HeadKinematics& head_end);
+  std::size_t updateDirections(Scratch& s);  // returns the particles with non-finite state
 
   SimParams params_;
   Particles particles_;
@@ -221,11 +233,14 @@ class Solver {
   std::vector<float> cross_section_;  // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
   std::vector<float> inverse_rest_kernel_;  // 1 / W(l_ij, h1) per connection entry
+  std::vector<std::uint8_t> partner_root_;  // per entry: the partner is a root particle
+  std::vector<float> inverse_mass_;  // per particle: 1/m, 0 for a root (fixed)
+  std::vector<float> owner_weight_;  // per particle: 0 for a root, 1/2 otherwise (eq. 14)
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
 
   // per step
   std::unique_ptr<NeighborGrid> grid_;
-  std::vector<float> density_, pressure_;
+  std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
   std::vector<glm::vec3> force_, integrated_position_, limited_position_;
   std::vector<float> body_phi_;
   std::vector<glm::vec3> body_normal_;

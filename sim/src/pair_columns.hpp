@@ -1,0 +1,54 @@
+// Blocked pair loops for the solver's stages.
+//
+// A pair loop (particle i against its neighbours or connections j) runs over
+// blocks of consecutive particles in three phases:
+//  1. gather: each pair's inputs are copied into contiguous columns
+//     (x_j - x_i, v_j, t_j, ... one float column each);
+//  2. compute: each pair's term is computed element-wise over the columns,
+//     in loops without branches that the compiler vectorises;
+//  3. reduce: each particle sums its pairs' terms in list order.
+// Element-wise IEEE arithmetic (no contraction, no fast-math) gives the same
+// bits vectorised or not, and the sums keep the list order, so the result
+// does not depend on the vector width or the thread count (SPEC §5
+// Determinism).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace loosehair {
+
+/// Particles per block: enough pairs for long vector loops, few enough that
+/// a block's columns stay in the first-level caches.
+inline constexpr std::size_t kPairBlock = 64;
+
+/// Float columns of one block's pairs, reused from block to block. One per
+/// thread (see threadColumns()).
+class PairColumns {
+ public:
+  /// Room for `pairs` rows in `columns` columns (contents are not kept).
+  void reserve(std::size_t pairs, int columns) {
+    const std::size_t stride = (pairs + 15) & ~std::size_t{15};  // 64-byte rows
+    if (stride > stride_ || columns > columns_) {
+      stride_ = std::max(stride, stride_);
+      columns_ = std::max(columns, columns_);
+      data_.assign(stride_ * static_cast<std::size_t>(columns_) + 16, 0.0f);
+    }
+  }
+  float* operator[](int c) { return data_.data() + static_cast<std::size_t>(c) * stride_; }
+
+ private:
+  std::vector<float> data_;
+  std::size_t stride_ = 0;
+  int columns_ = 0;
+};
+
+/// The calling thread's columns (OpenMP threads keep theirs across steps).
+inline PairColumns& threadColumns() {
+  static thread_local PairColumns columns;
+  return columns;
+}
+
+}  // namespace loosehair
