@@ -249,24 +249,59 @@ void Solver::findNeighbors() {
 }
 
 // ---- stage 2: density, eq. 1 -----------------------------------------------
+// A blocked loop (pair_columns.hpp) over the squared distances the neighbour
+// search measured.
+namespace {
+
+void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
+                      const float* __restrict mj, float* __restrict rho) {
+  for (std::size_t q = 0; q < pairs; ++q) {
+    const float s = std::sqrt(r2[q]) * inv_h;
+    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+    rho[q] = mj[q] * (norm_w * (a * a * a - 4.0f * (c * c * c)));  // m_j W(r, h2)
+  }
+}
+
+}  // namespace
+
 void Solver::computeDensity() {
   const CubicKernel k2(params_.h2);
-  const auto& x = particles_.position;
-  const auto& m = particles_.mass;
-  const float w0 = k2.W(0.0f);
+  const std::size_t n = particles_.size();
+  const float* m = particles_.mass.data();
+  const float w0 = k2.W(0.0f), inv_h = 1.0f / k2.h(), norm_w = w0 / 4.0f;
   const float ka = params_.pressure_stiffness;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index ii = 0; ii < static_cast<Index>(x.size()); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const glm::vec3 xi = x[i];
-    float rho = m[i] * w0;
-    for (std::uint32_t j : grid_->neighbors(i)) {
-      const glm::vec3 d = x[j] - xi;
-      rho += m[j] * k2.W(std::sqrt(glm::dot(d, d)));
+  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  enum { R2, MJ, RHO, kColumns };
+#pragma omp parallel num_threads(threads_)
+  {
+    PairColumns& col = threadColumns();
+#pragma omp for schedule(static)
+    for (Index bb = 0; bb < blocks; ++bb) {
+      const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
+      const std::size_t e = std::min(n, b + kPairBlock);
+      std::size_t pairs = 0;
+      for (std::size_t i = b; i < e; ++i) pairs += grid_->neighbors(i).size();
+      col.reserve(pairs, kColumns);
+      float *__restrict r2 = col[R2], *__restrict mj = col[MJ], *__restrict rho = col[RHO];
+      std::size_t k = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        const auto nb = grid_->neighbors(i);
+        const auto d2 = grid_->distances2(i);
+        for (std::size_t q = 0; q < nb.size(); ++q, ++k) {
+          r2[k] = d2[q];
+          mj[k] = m[nb[q]];
+        }
+      }
+      densityPairTerms(pairs, inv_h, norm_w, r2, mj, rho);
+      k = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        float sum = m[i] * w0;
+        for (std::size_t end = k + grid_->neighbors(i).size(); k < end; ++k) sum += rho[k];
+        density_[i] = sum;
+        pressure_[i] = ka * (sum - rest_density_);
+        pressure_term_[i] = pressure_[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
+      }
     }
-    density_[i] = rho;
-    pressure_[i] = ka * (rho - rest_density_);
-    pressure_term_[i] = pressure_[i] / (rho * rho);  // P_i / rho_i^2 of eq. 16
   }
 }
 
