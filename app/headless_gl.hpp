@@ -28,7 +28,4 @@ class HeadlessGL {
   std::vector<std::uint8_t> buffer_;
 };
 
-/// Writes RGBA8 pixels (top row first) as a PNG, whole or not at all.
-void writePng(const std::string& path, const std::vector<std::uint8_t>& rgba, int width, int height);
-
 }  // namespace loosehair::app

@@ -8,6 +8,8 @@
 // ends with the line "state-hash: <hex>". Errors go to stderr with a
 // non-zero exit code (2 for bad usage, 1 for anything else).
 #include "headless_gl.hpp"
+#include "png.hpp"
+#include "scene_bodies.hpp"
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
@@ -273,24 +275,6 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
   return o;
 }
 
-// A sphere head as a mesh for drawing.
-loosehair::TriangleMesh sphereMesh(glm::vec3 centre, float radius) {
-  loosehair::TriangleMesh m;
-  const int rings = 48, segments = 96;
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s <= segments; ++s) {
-      const float th = 3.14159265f * static_cast<float>(r) / rings, ph = 6.2831853f * static_cast<float>(s) / segments;
-      m.vertices.push_back(centre + radius * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
-    }
-  auto id = [&](int r, int s) { return static_cast<std::uint32_t>(r * (segments + 1) + s); };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      m.triangles.emplace_back(id(r, s), id(r, s + 1), id(r + 1, s));
-      m.triangles.emplace_back(id(r + 1, s), id(r, s + 1), id(r + 1, s + 1));
-    }
-  return m;
-}
-
 bool haveFfmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
 
 int renderScene(const RenderOptions& o) {
@@ -309,15 +293,8 @@ int renderScene(const RenderOptions& o) {
   Solver solver = buildSolver(scene, &build);
   app::HeadlessGL gl(o.width, o.height);
   render::Renderer renderer;
-  TriangleMesh head, torso;
-  if (scene.head_kind == HeadKind::Mesh) head = loadMesh(scene.head_mesh.path, scene.head_mesh.load);
-  else head = sphereMesh(scene.head_center, scene.head_radius);
-  if (scene.has_torso) torso = loadMesh(scene.torso_mesh.path, scene.torso_mesh.load);
-  // Drawing needs far fewer triangles than collision (llvmpipe shades
-  // vertices on one thread); the solver keeps the full meshes.
-  head = decimate(head, 16000);
-  torso = decimate(torso, 8000);
-  renderer.setBodies(&head, scene.has_torso ? &torso : nullptr);
+  const app::DrawableBodies bodies = app::drawableBodies(scene);
+  renderer.setBodies(&bodies.head, bodies.torso ? &*bodies.torso : nullptr);
   render::Camera camera = render::Camera::preset(o.camera);
   if (o.yaw) camera.yaw_deg = static_cast<float>(*o.yaw);
   if (o.pitch) camera.pitch_deg = static_cast<float>(*o.pitch);

@@ -18,6 +18,7 @@ packages=(
   libbenchmark-dev      # benchmarks
   ffmpeg                # video encoding of rendered frames
   xvfb xauth            # running the windowed viewer without a display
+  libgl1-mesa-dri libglx-mesa0  # OpenGL in a window on the software renderer
 )
 
 SUDO=""

@@ -2,6 +2,7 @@
 // orientation and foreshortening, the default scene drawn over the head,
 // shadows that darken, repeatability and a reference image.
 #include "headless_gl.hpp"
+#include "png.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
 #include "test_support.hpp"
