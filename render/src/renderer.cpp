@@ -38,9 +38,10 @@ uniform mat4 u_view_proj;
 uniform vec3 u_proj_dir;   // (u_eye, the perspective eye, is declared before)   // orthographic: projection direction
 uniform int u_ortho;
 uniform float u_width, u_length, u_max_boost, u_opacity;
+uniform mat4 u_light_coords;  // world -> (s, t, slice) of the opacity maps
 out vec2 v_uv;
 out vec3 v_T;
-out vec3 v_world;
+out vec3 v_light;
 out float v_alpha;
 out float v_value;
 #ifdef SHADE
@@ -61,7 +62,7 @@ void main() {
   vec3 p = a_pos + (0.5 * u_width * corner.x) * side + (0.5 * len * corner.y) * axis;
   v_uv = 0.5 * corner + 0.5;
   v_T = T;
-  v_world = p;
+  v_light = (u_light_coords * vec4(p, 1.0)).xyz;  // affine (orthographic light): exact to interpolate
   v_alpha = u_opacity * min(1.0 / max(s, 1e-4), u_max_boost);
   v_value = a_value;
 #ifdef SHADE
@@ -75,11 +76,9 @@ void main() {
 // one-slice ramp (so the lookup interpolates), into 4 x 4 channels.
 const char* kOpacityFS = R"(#version 330 core
 in vec2 v_uv;
-in vec3 v_world;
+in vec3 v_light;  // z: position in slices
 in float v_alpha;
 uniform sampler2D u_hair;
-uniform mat4 u_light_view;
-uniform float u_zmin, u_dz;
 layout(location = 0) out vec4 o0;
 layout(location = 1) out vec4 o1;
 layout(location = 2) out vec4 o2;
@@ -87,7 +86,7 @@ layout(location = 3) out vec4 o3;
 void main() {
   float a = texture(u_hair, v_uv).a * v_alpha;
   if (a < 1e-4) discard;
-  float z = (-(u_light_view * vec4(v_world, 1.0)).z - u_zmin) / u_dz;
+  float z = v_light.z;
   o0 = a * clamp(vec4(0.0, 1.0, 2.0, 3.0) - z, 0.0, 1.0);
   o1 = a * clamp(vec4(4.0, 5.0, 6.0, 7.0) - z, 0.0, 1.0);
   o2 = a * clamp(vec4(8.0, 9.0, 10.0, 11.0) - z, 0.0, 1.0);
@@ -95,34 +94,31 @@ void main() {
 }
 )";
 
-// The opacity lookup shared by the hair and the bodies (SPEC §7.2).
+// The opacity lookup shared by the hair and the bodies (SPEC §7.2), per
+// fragment, at light coordinates (s, t, z) interpolated from the vertices:
+// z is the depth in slices, less the offset against self-shadowing.
+// Omega(z) = sum_k Omega_k max(0, 1 - |z - k|): only the slices k and k+1
+// around z weigh, read from the one or two layers that hold them. Written
+// without branches or dynamic indexing (llvmpipe runs every path of a
+// branch in its SIMD lanes).
 const char* kShadowLookup = R"(
 uniform sampler2DArray u_slices;  // 4 layers x RGBA = slices 0..15
-uniform mat4 u_light_view, u_light_proj;
-uniform float u_zmin, u_dz, u_kappa, u_offset;
+uniform float u_kappa;
 uniform int u_shadows;
-float transmittance(vec3 world) {
+float transmittance(vec3 lc) {
   if (u_shadows == 0) return 1.0;
-  vec4 lv = u_light_view * vec4(world, 1.0);
-  vec4 lc = u_light_proj * lv;
-  vec2 st = lc.xy * 0.5 + 0.5;
-  if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return 1.0;
-  float z = (-lv.z - u_zmin) / u_dz - u_offset;
-  if (z <= 0.0) return 1.0;
-  // Omega(z) = sum_k Omega_k max(0, 1 - |z - k|): only the two slices
-  // around z contribute, read from one or two layers.
-  float omega;
-  if (z >= 15.0) {
-    omega = texture(u_slices, vec3(st, 3.0)).w;
-  } else {
-    int k = int(floor(z));
-    float f = z - float(k);
-    vec4 a = texture(u_slices, vec3(st, float(k / 4)));
-    float ok = a[k % 4];
-    float next = (k + 1) / 4 == k / 4 ? a[(k + 1) % 4] : texture(u_slices, vec3(st, float((k + 1) / 4))).x;
-    omega = mix(ok, next, f);
-  }
-  return exp(-u_kappa * omega);
+  float z = clamp(lc.z, 0.0, 15.0);
+  int k = min(int(z), 14);
+  int l0 = k >> 2, l1 = (k + 1) >> 2;
+  vec4 a0 = texture(u_slices, vec3(lc.xy, float(l0)));
+  vec4 a1 = texture(u_slices, vec3(lc.xy, float(l1)));
+  const vec4 lane = vec4(0.0, 1.0, 2.0, 3.0);
+  vec4 w0 = max(vec4(0.0), 1.0 - abs(z - (float(4 * l0) + lane)));
+  vec4 w1 = l1 != l0 ? max(vec4(0.0), 1.0 - abs(z - (float(4 * l1) + lane))) : vec4(0.0);
+  float omega = dot(a0, w0) + dot(a1, w1);
+  // outside the maps (and in front of the first slice) nothing shadows
+  bool inside = all(greaterThanEqual(lc.xy, vec2(0.0))) && all(lessThanEqual(lc.xy, vec2(1.0))) && lc.z > 0.0;
+  return inside ? exp(-u_kappa * omega) : 1.0;
 }
 )";
 
@@ -148,7 +144,7 @@ vec3 shade(vec3 T, vec3 world) {
 
 const char* kHairFSBody = R"(
 in vec2 v_uv;
-in vec3 v_world;
+in vec3 v_light;
 in float v_alpha;
 in vec3 v_color;  // ambient
 in vec3 v_lit;    // diffuse and specular before attenuation
@@ -157,20 +153,23 @@ out vec4 o_color;
 void main() {
   float a = texture(u_hair, v_uv).a * v_alpha;
   if (a < 2e-3) discard;
-  o_color = vec4(v_color + v_lit * transmittance(v_world), min(a, 1.0));
+  o_color = vec4(v_color + v_lit * transmittance(v_light), min(a, 1.0));
 }
 )";
 
 const char* kBodyVS = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_normal;
-uniform mat4 u_model, u_view_proj;
+uniform mat4 u_model, u_view_proj, u_light_coords;
 out vec3 v_world;
 out vec3 v_normal;
+out vec3 v_light;
 void main() {
   vec4 w = u_model * vec4(a_pos, 1.0);
   v_world = w.xyz;
   v_normal = mat3(u_model) * a_normal;
+  // looked up a little off the surface, so the skin does not shadow itself
+  v_light = (u_light_coords * vec4(w.xyz + 0.002 * normalize(v_normal), 1.0)).xyz;
   gl_Position = u_view_proj * w;
 }
 )";
@@ -178,6 +177,7 @@ void main() {
 const char* kBodyFSBody = R"(
 in vec3 v_world;
 in vec3 v_normal;
+in vec3 v_light;
 uniform vec3 u_eye, u_light, u_skin;
 out vec4 o_color;
 void main() {
@@ -185,7 +185,7 @@ void main() {
   vec3 L = normalize(u_light);
   vec3 E = normalize(u_eye - v_world);
   vec3 H = normalize(L + E);
-  float light = transmittance(v_world + 0.002 * N);
+  float light = transmittance(v_light);
   float lambert = max(0.0, dot(N, L));
   float spec = pow(max(0.0, dot(N, H)), 24.0) * 0.15;
   vec3 c = u_skin * (0.28 + 0.72 * lambert * light) + vec3(spec * light);
@@ -390,12 +390,17 @@ std::vector<std::uint8_t> makeHairTexture(int width, int height, std::uint64_t s
 struct Renderer::Impl {
   GLuint hair_prog = 0, opacity_prog = 0, body_prog = 0, debug_prog = 0;
   GLuint hair_tex = 0;
-  GLuint instance_vao = 0, instance_vbo = 0;
+  // Billboards as 4 vertices each (not instances: llvmpipe runs the vertex
+  // stage once per instance, which cost more than the fragments at 20k
+  // particles), drawn as 2 triangles each from a shared index buffer.
+  GLuint quad_vao = 0, quad_vbo = 0, quad_ibo = 0;
+  std::size_t quad_capacity = 0;  // billboards the index buffer holds
   GLuint debug_vao = 0, debug_vbo = 0;
   GLuint shadow_fbo = 0;
   GLuint slice_tex = 0;  // 2-D array, 4 layers of RGBA16F: the 16 slices
   BodyMesh head, torso;
-  std::vector<float> depth, instance, lines;
+  std::vector<float> depth, quads, lines;
+  std::vector<std::uint32_t> quad_indices;
   std::vector<std::uint32_t> order, scratch;
 
   ~Impl() {
@@ -406,8 +411,9 @@ struct Renderer::Impl {
     glDeleteTextures(1, &hair_tex);
     glDeleteTextures(1, &slice_tex);
     glDeleteFramebuffers(1, &shadow_fbo);
-    glDeleteVertexArrays(1, &instance_vao);
-    glDeleteBuffers(1, &instance_vbo);
+    glDeleteVertexArrays(1, &quad_vao);
+    glDeleteBuffers(1, &quad_vbo);
+    glDeleteBuffers(1, &quad_ibo);
     glDeleteVertexArrays(1, &debug_vao);
     glDeleteBuffers(1, &debug_vbo);
     for (BodyMesh* b : {&head, &torso}) {
@@ -465,21 +471,23 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   glBindTexture(GL_TEXTURE_2D, r.hair_tex);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tw, th, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
   glGenerateMipmap(GL_TEXTURE_2D);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 
-  // Per-instance billboard data: position, direction, value.
-  glGenVertexArrays(1, &r.instance_vao);
-  glGenBuffers(1, &r.instance_vbo);
-  glBindVertexArray(r.instance_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, r.instance_vbo);
+  // Billboard vertices: position, direction, value (the same for the 4
+  // corners; the vertex shader takes the corner from gl_VertexID).
+  glGenVertexArrays(1, &r.quad_vao);
+  glGenBuffers(1, &r.quad_vbo);
+  glGenBuffers(1, &r.quad_ibo);
+  glBindVertexArray(r.quad_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, r.quad_vbo);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r.quad_ibo);
   for (GLuint a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 28, nullptr);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 28, reinterpret_cast<void*>(12));
   glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 28, reinterpret_cast<void*>(24));
-  for (GLuint a = 0; a < 3; ++a) glVertexAttribDivisor(a, 1);
   glBindVertexArray(0);
 
   glGenVertexArrays(1, &r.debug_vao);
@@ -563,23 +571,31 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   times_.sort = since(t0);
 
   t0 = Clock::now();
-  const bool by_density = st.debug == DebugView::Density;
-  r.instance.resize(n * 7);
+  const auto& quad_values = st.debug == DebugView::Density ? in.density : in.speed;
+  r.quads.resize(n * 4 * 7);
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t i = r.order[k];
-    float* o = &r.instance[k * 7];
-    o[0] = in.position[i].x;
-    o[1] = in.position[i].y;
-    o[2] = in.position[i].z;
-    o[3] = in.direction[i].x;
-    o[4] = in.direction[i].y;
-    o[5] = in.direction[i].z;
-    const auto& values = by_density ? in.density : in.speed;
-    o[6] = i < values.size() ? values[i] : 0.0f;
+    const float v[7] = {in.position[i].x,  in.position[i].y,  in.position[i].z, in.direction[i].x,
+                        in.direction[i].y, in.direction[i].z,
+                        i < quad_values.size() ? quad_values[i] : 0.0f};
+    for (int corner = 0; corner < 4; ++corner) std::memcpy(&r.quads[(k * 4 + corner) * 7], v, sizeof v);
   }
-  glBindBuffer(GL_ARRAY_BUFFER, r.instance_vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.instance.size() * sizeof(float)), r.instance.data(),
+  glBindVertexArray(r.quad_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, r.quad_vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quads.size() * sizeof(float)), r.quads.data(),
                GL_STREAM_DRAW);
+  if (r.quad_capacity < n) {
+    r.quad_capacity = std::max<std::size_t>(n, 2 * r.quad_capacity);
+    r.quad_indices.resize(r.quad_capacity * 6);
+    for (std::size_t k = 0; k < r.quad_capacity; ++k) {
+      const auto b = static_cast<std::uint32_t>(4 * k);
+      const std::uint32_t tri[6] = {b, b + 1, b + 2, b + 2, b + 1, b + 3};  // the strip 0 1 2 3
+      std::memcpy(&r.quad_indices[6 * k], tri, sizeof tri);
+    }
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quad_indices.size() * sizeof(std::uint32_t)),
+                 r.quad_indices.data(), GL_STATIC_DRAW);
+  }
+  glBindVertexArray(0);
   times_.upload = since(t0);
 
   auto billboardUniforms = [&](GLuint p) {
@@ -588,13 +604,20 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setF(p, "u_max_boost", st.max_opacity_boost);
     setF(p, "u_opacity", st.hair_opacity);
   };
+  // world -> (s, t, depth in slices - offset) for the lookups, and without
+  // the offset for the light pass: one affine map (the light is orthographic)
+  auto lightCoords = [&](float offset) {
+    glm::mat4 a = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0.5f, 0.0f)) *
+                  glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, 0.5f, 1.0f)) * light_proj;
+    for (int c = 0; c < 4; ++c) a[c][2] = 0.0f;  // row 2: (-z_view - zmin) / dz - offset
+    a[2][2] = -1.0f / dz;
+    a[3][2] = -zmin / dz - offset;
+    return a * light_view;
+  };
+  const glm::mat4 lookup_coords = lightCoords(st.shadow_offset), slice_coords = lightCoords(0.0f);
   auto shadowUniforms = [&](GLuint p) {
-    setMat(p, "u_light_view", light_view);
-    setMat(p, "u_light_proj", light_proj);
-    setF(p, "u_zmin", zmin);
-    setF(p, "u_dz", dz);
+    setMat(p, "u_light_coords", lookup_coords);
     setF(p, "u_kappa", st.kappa);
-    setF(p, "u_offset", st.shadow_offset);
     setI(p, "u_shadows", st.shadows ? 1 : 0);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
@@ -614,17 +637,15 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     glBlendFunc(GL_ONE, GL_ONE);
     glUseProgram(r.opacity_prog);
     setMat(r.opacity_prog, "u_view_proj", light_proj * light_view);
-    setMat(r.opacity_prog, "u_light_view", light_view);
+    setMat(r.opacity_prog, "u_light_coords", slice_coords);
     setVec(r.opacity_prog, "u_proj_dir", -light);
     setI(r.opacity_prog, "u_ortho", 1);
-    setF(r.opacity_prog, "u_zmin", zmin);
-    setF(r.opacity_prog, "u_dz", dz);
     billboardUniforms(r.opacity_prog);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r.hair_tex);
     setI(r.opacity_prog, "u_hair", 0);
-    glBindVertexArray(r.instance_vao);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(n));
+    glBindVertexArray(r.quad_vao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
   }
   glFinish();
   times_.light_pass = since(t0);
@@ -678,8 +699,8 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r.hair_tex);
     setI(r.hair_prog, "u_hair", 0);
-    glBindVertexArray(r.instance_vao);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(n));
+    glBindVertexArray(r.quad_vao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   } else {
