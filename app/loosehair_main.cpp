@@ -198,8 +198,9 @@ int simulate(const Options& o) {
   std::printf("  %-13s %8.3f  (%.2f M particle-steps/s)\n", "total", total / steps * 1e3,
               total > 0 ? static_cast<double>(r.particles) * steps / total * 1e-6 : 0.0);
   std::printf("last step: %zu neighbour pairs, %zu active connections, %zu body contacts, %zu "
-              "clamped sides\n",
-              st.neighbor_pairs / 2, st.active_connections, st.body_contacts, st.clamped_sides);
+              "clamped sides, %zu particles strain-limited\n",
+              st.neighbor_pairs / 2, st.active_connections, st.body_contacts, st.clamped_sides,
+              st.strain_limited);
   if (solver.hasWind())
     std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles,
                 st.hair_air_pairs);

@@ -271,8 +271,7 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
 
 std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begin,
                                   const std::uint32_t* range_end, int nr, float r2,
-                                  std::uint32_t* __restrict out,
-                                  float* __restrict dist2) const {
+                                  std::uint32_t* __restrict out) const {
   // Every candidate is written and kept by advancing the count: no
   // unpredictable branch per pair. The distance is computed in the same
   // order of operations in both paths, so they accept the same pairs.
@@ -300,13 +299,14 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
       const __m128i not_self = _mm_andnot_si128(_mm_cmpeq_epi32(idx, self), inside);
       const int mask = _mm_movemask_ps(
           _mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
-      alignas(16) float lanes[4];
-      _mm_store_ps(lanes, d2);
-      for (int l = 0; l < 4; ++l) {
-        out[found] = order[q + l];
-        dist2[found] = lanes[l];
-        found += static_cast<std::size_t>((mask >> l) & 1);
-      }
+      out[found] = order[q];
+      found += static_cast<std::size_t>(mask & 1);
+      out[found] = order[q + 1];
+      found += static_cast<std::size_t>((mask >> 1) & 1);
+      out[found] = order[q + 2];
+      found += static_cast<std::size_t>((mask >> 2) & 1);
+      out[found] = order[q + 3];
+      found += static_cast<std::size_t>((mask >> 3) & 1);
     }
   }
 #else
@@ -316,10 +316,8 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
     const std::uint32_t qb = range_begin[r], qe = range_end[r];
     for (std::uint32_t q = qb; q < qe; ++q) {
       const glm::vec3 d = sx[q] - xi;
-      const float d2 = d.x * d.x + d.y * d.y + d.z * d.z;
       out[found] = order[q];
-      dist2[found] = d2;
-      found += static_cast<std::size_t>((d2 < r2) & (q != k));
+      found += static_cast<std::size_t>((d.x * d.x + d.y * d.y + d.z * d.z < r2) & (q != k));
     }
   }
 #endif
@@ -342,11 +340,7 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   begin_.resize(n);
   count_.resize(n);
   offset_.resize(n);
-  if (buffers_.size() != static_cast<std::size_t>(threads)) {
-    buffers_.resize(threads);
-    dist_buffers_.resize(threads);
-  }
-  dist_begin_.resize(n);
+  if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
 #pragma omp parallel num_threads(threads)
@@ -358,7 +352,6 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
     const std::size_t k0 = n * static_cast<std::size_t>(tid) / static_cast<std::size_t>(nth);
     const std::size_t k1 = n * static_cast<std::size_t>(tid + 1) / static_cast<std::size_t>(nth);
     std::vector<std::uint32_t>& buf = buffers_[tid];
-    std::vector<float>& dist = dist_buffers_[tid];
     std::size_t used = 0;
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
     int nr = 0;
@@ -371,24 +364,16 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
       }
       // Room for every candidate, so the loop below writes each one and
       // keeps it by advancing the count: no unpredictable branch per pair.
-      if (buf.size() < used + candidates) {
-        buf.resize(2 * (used + candidates));
-        dist.resize(buf.size());
-      }
+      if (buf.size() < used + candidates) buf.resize(2 * (used + candidates));
       const std::size_t found =
-          collect(k, range_begin.data(), range_end.data(), nr, r2, buf.data() + used,
-                  dist.data() + used);
+          collect(k, range_begin.data(), range_end.data(), nr, r2, buf.data() + used);
       const std::uint32_t i = order_[k];
       offset_[i] = static_cast<std::uint32_t>(used);
       count_[i] = static_cast<std::uint32_t>(found);
       used += found;
     }
     // The buffer no longer grows: turn offsets into pointers.
-    for (std::size_t k = k0; k < k1; ++k) {
-      const std::uint32_t i = order_[k];
-      begin_[i] = buf.data() + offset_[i];
-      dist_begin_[i] = dist.data() + offset_[i];
-    }
+    for (std::size_t k = k0; k < k1; ++k) begin_[order_[k]] = buf.data() + offset_[order_[k]];
   }
 }
 

@@ -36,9 +36,6 @@ class NeighborGrid {
   std::span<const std::uint32_t> neighbors(std::size_t i) const {
     return {begin_[i], count_[i]};
   }
-  /// Squared distances |x_j - x_i|^2 of neighbors(i), in the same order
-  /// (computed as (dx^2 + dy^2) + dz^2 from the points given to build).
-  std::span<const float> distances2(std::size_t i) const { return {dist_begin_[i], count_[i]}; }
   std::size_t pointCount() const { return count_.size(); }
   /// Number of ordered pairs (each unordered pair counts twice).
   std::size_t pairCount() const;
@@ -60,7 +57,7 @@ class NeighborGrid {
   /// (room for every candidate plus 4 per range) and returns their number.
   std::size_t collect(std::size_t k, const std::uint32_t* range_begin,
                       const std::uint32_t* range_end, int nr, float r2,
-                      std::uint32_t* out, float* dist2) const;
+                      std::uint32_t* out) const;
   std::uint32_t findCell(std::uint64_t key) const;
   /// Point ranges [begin, end) in sorted order of the cells around `cell`,
   /// the cell of sorted point k.
@@ -86,9 +83,7 @@ class NeighborGrid {
   int table_shift_ = 64;
 
   std::vector<std::vector<std::uint32_t>> buffers_;  // one per thread
-  std::vector<std::vector<float>> dist_buffers_;      // squared distances, alike
   std::vector<const std::uint32_t*> begin_;
-  std::vector<const float*> dist_begin_;
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> offset_;  // into the owning thread's buffer
 };

@@ -249,8 +249,7 @@ void Solver::findNeighbors() {
 }
 
 // ---- stage 2: density, eq. 1 -----------------------------------------------
-// A blocked loop (pair_columns.hpp) over the squared distances the neighbour
-// search measured.
+// A blocked loop (pair_columns.hpp).
 namespace {
 
 void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
@@ -267,6 +266,7 @@ void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float*
 void Solver::computeDensity() {
   const CubicKernel k2(params_.h2);
   const std::size_t n = particles_.size();
+  const glm::vec3* x = particles_.position.data();
   const float* m = particles_.mass.data();
   const float w0 = k2.W(0.0f), inv_h = 1.0f / k2.h(), norm_w = w0 / 4.0f;
   const float ka = params_.pressure_stiffness;
@@ -285,11 +285,12 @@ void Solver::computeDensity() {
       float *__restrict r2 = col[R2], *__restrict mj = col[MJ], *__restrict rho = col[RHO];
       std::size_t k = 0;
       for (std::size_t i = b; i < e; ++i) {
-        const auto nb = grid_->neighbors(i);
-        const auto d2 = grid_->distances2(i);
-        for (std::size_t q = 0; q < nb.size(); ++q, ++k) {
-          r2[k] = d2[q];
-          mj[k] = m[nb[q]];
+        const glm::vec3 xi = x[i];
+        for (std::uint32_t j : grid_->neighbors(i)) {
+          const glm::vec3 d = x[j] - xi;
+          r2[k] = glm::dot(d, d);
+          mj[k] = m[j];
+          ++k;
         }
       }
       densityPairTerms(pairs, inv_h, norm_w, r2, mj, rho);
