@@ -343,37 +343,46 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
+  // Chunks of sorted points, handed out dynamically (the work per point
+  // varies with the local density); each thread appends to its own buffer.
+  // A point's list does not depend on which thread makes it.
+  constexpr std::size_t kChunk = 512;
+  const std::int64_t chunks = static_cast<std::int64_t>((n + kChunk - 1) / kChunk);
 #pragma omp parallel num_threads(threads)
   {
-    const int tid = omp_get_thread_num();
-    const int nth = omp_get_num_threads();
-    // A contiguous run of sorted points; the cell's ranges are looked up
-    // once for all of its points.
-    const std::size_t k0 = n * static_cast<std::size_t>(tid) / static_cast<std::size_t>(nth);
-    const std::size_t k1 = n * static_cast<std::size_t>(tid + 1) / static_cast<std::size_t>(nth);
-    std::vector<std::uint32_t>& buf = buffers_[tid];
+    std::vector<std::uint32_t>& buf = buffers_[omp_get_thread_num()];
+    std::vector<std::int64_t> mine;
     std::size_t used = 0;
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
-    int nr = 0;
-    std::size_t candidates = 0;
-    for (std::size_t k = k0; k < k1; ++k) {
-      if (k == k0 || keys_[k] != keys_[k - 1]) {
-        nr = neighborRanges(keys_[k], k, range_begin.data(), range_end.data());
-        candidates = 0;
-        for (int r = 0; r < nr; ++r) candidates += range_end[r] - range_begin[r] + 4;
+#pragma omp for schedule(dynamic, 1) nowait
+    for (std::int64_t chunk = 0; chunk < chunks; ++chunk) {
+      mine.push_back(chunk);
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk, k1 = std::min(n, k0 + kChunk);
+      int nr = 0;
+      std::size_t candidates = 0;
+      for (std::size_t k = k0; k < k1; ++k) {
+        // the cell's ranges are looked up once for all of its points
+        if (k == k0 || keys_[k] != keys_[k - 1]) {
+          nr = neighborRanges(keys_[k], k, range_begin.data(), range_end.data());
+          candidates = 0;
+          for (int r = 0; r < nr; ++r) candidates += range_end[r] - range_begin[r] + 4;
+        }
+        // Room for every candidate, so the loop below writes each one and
+        // keeps it by advancing the count: no unpredictable branch per pair.
+        if (buf.size() < used + candidates) buf.resize(2 * (used + candidates));
+        const std::size_t found =
+            collect(k, range_begin.data(), range_end.data(), nr, r2, buf.data() + used);
+        const std::uint32_t i = order_[k];
+        offset_[i] = static_cast<std::uint32_t>(used);
+        count_[i] = static_cast<std::uint32_t>(found);
+        used += found;
       }
-      // Room for every candidate, so the loop below writes each one and
-      // keeps it by advancing the count: no unpredictable branch per pair.
-      if (buf.size() < used + candidates) buf.resize(2 * (used + candidates));
-      const std::size_t found =
-          collect(k, range_begin.data(), range_end.data(), nr, r2, buf.data() + used);
-      const std::uint32_t i = order_[k];
-      offset_[i] = static_cast<std::uint32_t>(used);
-      count_[i] = static_cast<std::uint32_t>(found);
-      used += found;
     }
     // The buffer no longer grows: turn offsets into pointers.
-    for (std::size_t k = k0; k < k1; ++k) begin_[order_[k]] = buf.data() + offset_[order_[k]];
+    for (const std::int64_t chunk : mine) {
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk, k1 = std::min(n, k0 + kChunk);
+      for (std::size_t k = k0; k < k1; ++k) begin_[order_[k]] = buf.data() + offset_[order_[k]];
+    }
   }
 }
 

@@ -10,7 +10,9 @@
 // Element-wise IEEE arithmetic (no contraction, no fast-math) gives the same
 // bits vectorised or not, and the sums keep the list order, so the result
 // does not depend on the vector width or the thread count (SPEC §5
-// Determinism).
+// Determinism). Nor on which thread takes which block: the loops hand out
+// blocks dynamically, because the work per block varies (hair bunches) and
+// equal halves left one thread idle.
 #pragma once
 
 #include <algorithm>

@@ -275,7 +275,7 @@ void Solver::computeDensity() {
 #pragma omp parallel num_threads(threads_)
   {
     PairColumns& col = threadColumns();
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
@@ -408,7 +408,7 @@ void Solver::accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& fo
 #pragma omp parallel num_threads(threads_)
   {
     PairColumns& col = threadColumns();
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
@@ -529,7 +529,7 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
 #pragma omp parallel num_threads(threads_)
   {
     PairColumns& col = threadColumns();
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
@@ -823,7 +823,7 @@ std::size_t Solver::limitStrain() {
 #pragma omp parallel num_threads(threads_) reduction(+ : count)
     {
       PairColumns& col = threadColumns();
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 2)
       for (Index bb = 0; bb < blocks; ++bb) {
         const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
         const std::size_t e = std::min(n, b + kPairBlock);
@@ -1045,7 +1045,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
 #pragma omp parallel num_threads(threads_) reduction(+ : broken)
   {
     PairColumns& col = threadColumns();
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
