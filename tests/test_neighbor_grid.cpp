@@ -28,15 +28,17 @@ std::vector<std::vector<std::uint32_t>> bruteForce(const std::vector<glm::vec3>&
 // Returns whether the dense layout was used.
 bool expectMatchesBruteForce(const std::vector<glm::vec3>& x, float radius) {
   const auto expected = bruteForce(x, radius);
-  NeighborGrid one, two;
+  NeighborGrid one, two, three;
   one.build(x, radius, 1);
   two.build(x, radius, 2);
+  three.build(x, radius, 3);  // more threads than cores: chunks go to threads in any order
   EXPECT_EQ(one.pointCount(), x.size());
   std::size_t total = 0, wrong = 0;
   for (std::size_t i = 0; i < x.size() && wrong < 5; ++i) {
-    const auto a = one.neighbors(i), b = two.neighbors(i);
+    const auto a = one.neighbors(i), b = two.neighbors(i), c = three.neighbors(i);
     // same order for any thread count
-    const bool same_order = std::equal(a.begin(), a.end(), b.begin(), b.end());
+    const bool same_order = std::equal(a.begin(), a.end(), b.begin(), b.end()) &&
+                            std::equal(a.begin(), a.end(), c.begin(), c.end());
     EXPECT_TRUE(same_order) << "point " << i;
     std::vector<std::uint32_t> got(a.begin(), a.end());
     std::sort(got.begin(), got.end());
