@@ -11,6 +11,7 @@ packages=(
   libopenmesh-dev       # mesh loading (OBJ, PLY, OFF, STL)
   libtinygltf-dev       # glTF / GLB loading
   libopenvdb-dev        # signed-distance bake of body meshes
+  libboost-dev          # headers OpenVDB includes (not a dependency of its -dev package)
   libstb-dev            # PNG / image reading and writing
   libglfw3-dev libgl-dev  # interactive viewer window
   libosmesa6-dev        # headless OpenGL (software, no X server)
