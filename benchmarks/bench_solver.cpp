@@ -90,6 +90,9 @@ void BM_Step(benchmark::State& state) {
   state.counters["springs_ms"] = s.springs * 1e3;
   state.counters["hairhair_ms"] = s.hair_hair * 1e3;
   state.counters["strain_ms"] = s.strain_limit * 1e3;
+  state.counters["density_ms"] = s.density * 1e3;
+  state.counters["ext_int_ms"] = (s.external + s.integrate) * 1e3;
+  state.counters["directions_ms"] = s.directions * 1e3;
 }
 BENCHMARK(BM_Step)->Apply(counts);
 

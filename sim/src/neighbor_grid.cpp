@@ -5,6 +5,12 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define LOOSEHAIR_HAVE_AVX512_PATH 1
+#endif
+
+#include <atomic>
 
 #include <algorithm>
 #include <array>
@@ -48,7 +54,61 @@ std::uint64_t hashKey(std::uint64_t key, int shift) {
   return (key * 0x9e3779b97f4a7c15ULL) >> shift;
 }
 
+// Room the candidate test may write past a range's accepted entries.
+constexpr std::size_t kRangeSlack = 16;
+
+#if defined(LOOSEHAIR_HAVE_AVX512_PATH)
+bool cpuHasAvx512() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f");
+}
+
+// The candidate test 16 points at a time. The squared distance is the same
+// sequence of IEEE operations as in the 4-wide path, ((dx dx + dy dy) + dz dz),
+// so both accept the same pairs; compressing the accepted lanes keeps their
+// order. The compress goes to a register and all 16 lanes are stored (a
+// compressing store to memory is slow on some CPUs); the caller leaves
+// kRangeSlack entries of room.
+__attribute__((target("avx512f"))) std::size_t collect16(
+    std::size_t k, const std::uint32_t* range_begin, const std::uint32_t* range_end, int nr,
+    float r2, const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
+    const std::uint32_t* __restrict order, std::uint32_t* __restrict out) {
+  const __m512 xi = _mm512_set1_ps(cx[k]), yi = _mm512_set1_ps(cy[k]), zi = _mm512_set1_ps(cz[k]);
+  const __m512 rr = _mm512_set1_ps(r2);
+  std::size_t found = 0;
+  for (int r = 0; r < nr; ++r) {
+    const std::uint32_t qb = range_begin[r], qe = range_end[r];
+    for (std::uint32_t q = qb; q < qe; q += 16) {
+      const std::uint32_t left = qe - q;
+      __mmask16 inside = left >= 16 ? __mmask16(0xffff) : __mmask16((1u << left) - 1u);
+      if (k >= q && k < q + 16) inside = __mmask16(inside & ~(1u << (k - q)));
+      const __m512 dx = _mm512_sub_ps(_mm512_maskz_loadu_ps(inside, cx + q), xi);
+      const __m512 dy = _mm512_sub_ps(_mm512_maskz_loadu_ps(inside, cy + q), yi);
+      const __m512 dz = _mm512_sub_ps(_mm512_maskz_loadu_ps(inside, cz + q), zi);
+      const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
+                                      _mm512_mul_ps(dz, dz));
+      const __mmask16 hit = _mm512_mask_cmp_ps_mask(inside, d2, rr, _CMP_LT_OQ);
+      const __m512i idx = _mm512_maskz_loadu_epi32(inside, order + q);
+      _mm512_storeu_si512(out + found, _mm512_maskz_compress_epi32(hit, idx));
+      found += static_cast<std::size_t>(__builtin_popcount(hit));
+    }
+  }
+  return found;
+}
+#else
+bool cpuHasAvx512() { return false; }
+#endif
+
+std::atomic<bool> wide_search_enabled{true};
+
 }  // namespace
+
+void NeighborGrid::setWideSearch(bool on) { wide_search_enabled.store(on); }
+
+bool NeighborGrid::wideSearchAvailable() {
+  static const bool available = cpuHasAvx512();
+  return available;
+}
 
 std::uint64_t NeighborGrid::cellKey(const glm::vec3& p, float inv_cell) {
   return mortonKey(cellCoord(p.x, inv_cell), cellCoord(p.y, inv_cell), cellCoord(p.z, inv_cell));
@@ -277,6 +337,10 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
   // order of operations in both paths, so they accept the same pairs.
   const std::uint32_t* __restrict order = order_.data();
   std::size_t found = 0;
+#if defined(LOOSEHAIR_HAVE_AVX512_PATH)
+  if (wide_) return collect16(k, range_begin, range_end, nr, r2, sorted_cx_.data(), sorted_cy_.data(),
+                              sorted_cz_.data(), order, out);
+#endif
 #if defined(__SSE2__)
   const float* __restrict cx = sorted_cx_.data();
   const float* __restrict cy = sorted_cy_.data();
@@ -329,6 +393,7 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   radius_ = radius;
   inv_cell_ = 1.0f / radius;
   threads = std::max(1, threads);
+  wide_ = wide_search_enabled.load() && wideSearchAvailable();
   dense_ = chooseDenseLayout(x, threads);
   if (dense_) {
     sortDense(x, threads);
@@ -365,7 +430,7 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
         if (k == k0 || keys_[k] != keys_[k - 1]) {
           nr = neighborRanges(keys_[k], k, range_begin.data(), range_end.data());
           candidates = 0;
-          for (int r = 0; r < nr; ++r) candidates += range_end[r] - range_begin[r] + 4;
+          for (int r = 0; r < nr; ++r) candidates += range_end[r] - range_begin[r] + kRangeSlack;
         }
         // Room for every candidate, so the loop below writes each one and
         // keeps it by advancing the count: no unpredictable branch per pair.

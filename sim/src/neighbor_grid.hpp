@@ -44,6 +44,12 @@ class NeighborGrid {
   /// True if the last build used the dense layout.
   bool usedDenseLayout() const { return dense_; }
 
+  /// Whether the candidate test may use AVX-512 (16 candidates at once)
+  /// where the CPU has it; on by default. Both paths accept the same pairs
+  /// in the same order (the tests compare them).
+  static void setWideSearch(bool on);
+  static bool wideSearchAvailable();
+
   /// The Morton key of the cell holding point p for a cell size 1/inv_cell.
   static std::uint64_t cellKey(const glm::vec3& p, float inv_cell);
 
@@ -54,7 +60,7 @@ class NeighborGrid {
   void gatherSorted(std::span<const glm::vec3> x);
   void buildCellTable();
   /// Writes the neighbours of sorted point k among the given ranges to out
-  /// (room for every candidate plus 4 per range) and returns their number.
+  /// (room for every candidate plus kRangeSlack per range) and returns their number.
   std::size_t collect(std::size_t k, const std::uint32_t* range_begin,
                       const std::uint32_t* range_end, int nr, float r2,
                       std::uint32_t* out) const;
@@ -66,6 +72,7 @@ class NeighborGrid {
 
   float radius_ = 0, inv_cell_ = 0;
   bool dense_ = false;
+  bool wide_ = false;  // the AVX-512 candidate test
   std::size_t occupied_cells_ = 0;
   // dense layout: cell (ix, iy, iz) has index (iz * ny + iy) * nx + ix
   std::int64_t origin_[3] = {0, 0, 0};

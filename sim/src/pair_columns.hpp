@@ -26,6 +26,21 @@ namespace loosehair {
 /// a block's columns stay in the first-level caches.
 inline constexpr std::size_t kPairBlock = 64;
 
+// The element-wise compute phase of a pair loop is compiled for several
+// x86-64 levels (AVX-512, AVX2, baseline SSE2) and the loader picks the best
+// one the CPU has (GCC function multiversioning, an ifunc). The arithmetic is
+// the same IEEE operations in every version (no contraction, no fast-math;
+// vector sqrt and division are correctly rounded), so every version gives
+// the same bits: the golden state hashes, made with the baseline, check it.
+// -DLOOSEHAIR_MULTIVERSION=OFF builds the baseline alone.
+#if defined(LOOSEHAIR_MULTIVERSION) && defined(__GNUC__) && !defined(__clang__) && \
+    defined(__x86_64__) && defined(__linux__)
+#define LOOSEHAIR_PAIR_KERNEL \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define LOOSEHAIR_PAIR_KERNEL
+#endif
+
 /// Float columns of one block's pairs, reused from block to block. One per
 /// thread (see threadColumns()).
 class PairColumns {

@@ -136,6 +136,12 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   inverse_mass_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
+  entry_share_.resize(connections_.entryCount());
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
+      const float wi = inverse_mass_[i], wj = inverse_mass_[connections_.partner[e]];
+      entry_share_[e] = wi / (wi + wj);  // no root-root connections: never 0/0
+    }
   owner_weight_.resize(n);
   for (std::size_t i = 0; i < n; ++i) owner_weight_[i] = particles_.is_root[i] ? 0.0f : 0.5f;
 
@@ -252,7 +258,7 @@ void Solver::findNeighbors() {
 // A blocked loop (pair_columns.hpp).
 namespace {
 
-void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
+LOOSEHAIR_PAIR_KERNEL void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
                       const float* __restrict mj, float* __restrict rho) {
   for (std::size_t q = 0; q < pairs; ++q) {
     const float s = std::sqrt(r2[q]) * inv_h;
@@ -326,7 +332,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
   const float clamp = params_.stiffness_clamp;
   const Index n = static_cast<Index>(x.size());
   std::size_t clamped = 0, active = 0;
-  const bool measure = !s.lengths_current;
+  const bool measure = !s.lengths_current;  // else the direction pass measured (and counted)
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped, active)
   for (Index ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -343,6 +349,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
           const float k = c.strength[e] * k1.W(r);
           s.k[e] = k;
           s.r[e] = r;
+          active += k > 0.0f ? 1 : 0;
           sum += c.rest_length[e] * k;
         }
         sums[side] = sum;
@@ -350,7 +357,6 @@ void Solver::computeSpringFactors(Scratch& s) const {
       s.sum_root[i] = sums[0];
       s.sum_tip[i] = sums[1];
     }
-    for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) active += s.k[e] > 0.0f ? 1 : 0;
     const double ea = young * cross_section_[i];
     auto factor = [&](float sum, float rest) {
       if (!(sum > 0.0f)) return 0.0f;
@@ -365,7 +371,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
     s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip_[i]);
   }
   s.clamped = clamped;
-  s.active_entries = active;
+  if (measure) s.active_entries = active;
   s.lengths_current = false;  // the step moves the particles
 }
 
@@ -374,7 +380,7 @@ namespace {
 
 // The damped spring force on i of each gathered connection:
 // alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|.
-void springPairTerms(std::size_t pairs, float gamma, const float* __restrict dx,
+LOOSEHAIR_PAIR_KERNEL void springPairTerms(std::size_t pairs, float gamma, const float* __restrict dx,
                      const float* __restrict dy, const float* __restrict dz,
                      const float* __restrict vx, const float* __restrict vy,
                      const float* __restrict vz, const float* __restrict alpha,
@@ -457,7 +463,7 @@ struct HairHairTerms {
   float inv_h, norm_w, norm_g;  // kernel W(r, h2): 1/h, 1/(4 pi h^3), 1/(4 pi h^4)
   float dc, dfr;                // collision and friction coefficients
 };
-void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
+LOOSEHAIR_PAIR_KERNEL void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
                        const float* __restrict dx, const float* __restrict dy,
                        const float* __restrict dz, const float* __restrict vx,
                        const float* __restrict vy, const float* __restrict vz,
@@ -781,11 +787,11 @@ struct StrainTerms {
   float inv_h, norm_w;  // kernel W(r, h1)
   float support2, max_len_scale;
 };
-void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __restrict dx,
+LOOSEHAIR_PAIR_KERNEL void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __restrict dx,
                      const float* __restrict dy, const float* __restrict dz,
                      const float* __restrict rest, const float* __restrict inv_rest_w,
-                     const float* __restrict wi, const float* __restrict wj,
-                     float* __restrict coef, float* __restrict acting) {
+                     const float* __restrict share, float* __restrict coef,
+                     float* __restrict acting) {
   const float inv_h = p.inv_h, norm_w = p.norm_w, support2 = p.support2,
               scale = p.max_len_scale;
   for (std::size_t q = 0; q < pairs; ++q) {
@@ -797,8 +803,7 @@ void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __res
     const float s = r * inv_h;
     const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
     const float looseness = std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w[q]);
-    const float share = wi[q] / (wi[q] + wj[q]);
-    coef[q] = on > 0.0f ? looseness * (r - limit) * share / r : 0.0f;
+    coef[q] = on > 0.0f ? looseness * (r - limit) * share[q] / r : 0.0f;
     acting[q] = on;
   }
 }
@@ -815,7 +820,7 @@ std::size_t Solver::limitStrain() {
                           1.0f + params_.max_strain};
   const auto& c = connections_;
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
-  enum { DX, DY, DZ, WI, WJ, COEF, ACT, kColumns };
+  enum { DX, DY, DZ, COEF, ACT, kColumns };
   for (int it = 0; it < params_.strain_limit_iterations; ++it) {
     const glm::vec3* x = particles_.position.data();
     glm::vec3* out = limited_position_.data();
@@ -831,22 +836,17 @@ std::size_t Solver::limitStrain() {
         const std::size_t pairs = e1 - e0;
         col.reserve(pairs, kColumns);
         float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
-        float *__restrict wi = col[WI], *__restrict wj = col[WJ];
         float *__restrict coef = col[COEF], *__restrict acting = col[ACT];
         for (std::size_t i = b; i < e; ++i) {
           const glm::vec3 xi = x[i];
-          const float w_i = inverse_mass_[i];
           for (std::uint32_t q = c.begin(i); q < c.end(i); ++q) {
-            const std::uint32_t j = c.partner[q];
-            const glm::vec3 xij = x[j] - xi;
+            const glm::vec3 xij = x[c.partner[q]] - xi;
             const std::size_t k = q - e0;
             dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
-            wi[k] = w_i;
-            wj[k] = inverse_mass_[j];
           }
         }
         strainPairTerms(pairs, terms, dx, dy, dz, c.rest_length.data() + e0,
-                        inverse_rest_kernel_.data() + e0, wi, wj, coef, acting);
+                        inverse_rest_kernel_.data() + e0, entry_share_.data() + e0, coef, acting);
         for (std::size_t i = b; i < e; ++i) {
           out[i] = x[i];
           if (root[i]) continue;
@@ -988,7 +988,7 @@ struct DirectionTerms {
 // would have if the pair kept its rest angle (x_ij turned by theta_ij
 // towards t_i), weighted by alpha_ij k_ij; and k_ij, |x_ij|, l_ij k_ij at
 // the new positions.
-void directionPairTerms(std::size_t pairs, const DirectionTerms& p, const float* __restrict dx,
+LOOSEHAIR_PAIR_KERNEL void directionPairTerms(std::size_t pairs, const DirectionTerms& p, const float* __restrict dx,
                         const float* __restrict dy, const float* __restrict dz,
                         const float* __restrict tix, const float* __restrict tiy,
                         const float* __restrict tiz, const float* __restrict alpha,
@@ -1041,8 +1041,8 @@ std::size_t Solver::updateDirections(Scratch& s) {
   const float* ft = s.factor_tip.data();
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
   enum { DX, DY, DZ, TX, TY, TZ, ALPHA, LK, OX, OY, OZ, kColumns };
-  std::size_t broken = 0;
-#pragma omp parallel num_threads(threads_) reduction(+ : broken)
+  std::size_t broken = 0, active = 0;
+#pragma omp parallel num_threads(threads_) reduction(+ : broken, active)
   {
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
@@ -1080,7 +1080,10 @@ std::size_t Solver::updateDirections(Scratch& s) {
         const std::uint32_t bounds[3] = {c.begin(i) - e0, c.tipBegin(i) - e0, c.end(i) - e0};
         float side_sum[2] = {0.0f, 0.0f};
         for (int side = 0; side < 2; ++side)
-          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) side_sum[side] += lk[q];
+          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
+            side_sum[side] += lk[q];
+            active += s.k[e0 + q] > 0.0f ? 1 : 0;
+          }
         s.sum_root[i] = side_sum[0];
         s.sum_tip[i] = side_sum[1];
         glm::vec3 sum(0.0f);
@@ -1095,6 +1098,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
     }
   }
   s.lengths_current = true;
+  s.active_entries = active;
   return broken;
 }
 

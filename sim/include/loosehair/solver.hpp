@@ -50,7 +50,7 @@ struct StepStats {
   StageTimes sum;       // all steps so far
   std::uint64_t steps = 0;
   std::size_t neighbor_pairs = 0;      // ordered pairs within 2*h2, last step
-  std::size_t active_connections = 0;  // pairs closer than 2*h1, last step
+  std::size_t active_connections = 0;  // pairs closer than 2*h1 at the end of the last step
   std::size_t clamped_sides = 0;       // side factors held at the clamp, last step
   std::size_t body_contacts = 0;       // particles in contact with the body, last step
   std::size_t strain_limited = 0;      // connections corrected by the strain limit, last step
@@ -234,6 +234,7 @@ class Solver {
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
   std::vector<float> inverse_rest_kernel_;  // 1 / W(l_ij, h1) per connection entry
   std::vector<std::uint8_t> partner_root_;  // per entry: the partner is a root particle
+  std::vector<float> entry_share_;  // per entry: w_i / (w_i + w_j), w the inverse mass
   std::vector<float> inverse_mass_;  // per particle: 1/m, 0 for a root (fixed)
   std::vector<float> owner_weight_;  // per particle: 0 for a root, 1/2 otherwise (eq. 14)
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
