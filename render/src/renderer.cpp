@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace loosehair::render {
 namespace {
@@ -24,6 +25,7 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr int kSlices = 16;
+constexpr int kSliceLayers = 5;  // RGBA layers holding slices 3l .. 3l+3
 constexpr int kShadowSize = 256;  // opacity varies smoothly; 256^2 keeps the light pass cheap
 
 // ---- shaders ------------------------------------------------------------------
@@ -39,7 +41,9 @@ uniform vec3 u_proj_dir;   // (u_eye, the perspective eye, is declared before)  
 uniform int u_ortho;
 uniform float u_width, u_length, u_max_boost, u_opacity;
 uniform mat4 u_light_coords;  // world -> (s, t, slice) of the opacity maps
+uniform float u_pixel_scale;  // pixels per metre at unit depth (perspective) or per metre (orthographic)
 out vec2 v_uv;
+flat out int v_level;
 out vec3 v_T;
 out vec3 v_light;
 out float v_alpha;
@@ -61,6 +65,10 @@ void main() {
   float len = max(u_length * s, u_width);
   vec3 p = a_pos + (0.5 * u_width * corner.x) * side + (0.5 * len * corner.y) * axis;
   v_uv = 0.5 * corner + 0.5;
+  // the strand texture's mip level, once per billboard: its 32 texels across
+  // the billboard's width on screen
+  float width_px = u_width * u_pixel_scale / (u_ortho == 1 ? 1.0 : max(1e-4, length(a_pos - u_eye)));
+  v_level = int(clamp(floor(log2(32.0 / max(width_px, 1e-3)) + 0.5), 0.0, 5.0));
   v_T = T;
   v_light = (u_light_coords * vec4(p, 1.0)).xyz;  // affine (orthographic light): exact to interpolate
   v_alpha = u_opacity * min(1.0 / max(s, 1e-4), u_max_boost);
@@ -73,9 +81,12 @@ void main() {
 )";
 
 // Pass 1: every fragment adds its opacity to the slices behind it, with a
-// one-slice ramp (so the lookup interpolates), into 4 x 4 channels.
+// one-slice ramp (so the lookup interpolates). Layer l of the slice array
+// holds slices 3l .. 3l+3 (neighbouring layers share one slice), so any two
+// adjacent slices k, k+1 are in one layer and the lookup reads one texel.
 const char* kOpacityFS = R"(#version 330 core
 in vec2 v_uv;
+flat in int v_level;
 in vec3 v_light;  // z: position in slices
 in float v_alpha;
 uniform sampler2D u_hair;
@@ -83,14 +94,17 @@ layout(location = 0) out vec4 o0;
 layout(location = 1) out vec4 o1;
 layout(location = 2) out vec4 o2;
 layout(location = 3) out vec4 o3;
+layout(location = 4) out vec4 o4;
 void main() {
-  float a = texture(u_hair, v_uv).a * v_alpha;
+  ivec2 size = textureSize(u_hair, v_level);
+  float a = texelFetch(u_hair, min(ivec2(v_uv * vec2(size)), size - 1), v_level).a * v_alpha;
   if (a < 1e-4) discard;
-  float z = v_light.z;
-  o0 = a * clamp(vec4(0.0, 1.0, 2.0, 3.0) - z, 0.0, 1.0);
-  o1 = a * clamp(vec4(4.0, 5.0, 6.0, 7.0) - z, 0.0, 1.0);
-  o2 = a * clamp(vec4(8.0, 9.0, 10.0, 11.0) - z, 0.0, 1.0);
-  o3 = a * clamp(vec4(12.0, 13.0, 14.0, 15.0) - z, 0.0, 1.0);
+  vec4 z = vec4(v_light.z) - vec4(0.0, 1.0, 2.0, 3.0);
+  o0 = a * clamp(0.0 - z, 0.0, 1.0);
+  o1 = a * clamp(3.0 - z, 0.0, 1.0);
+  o2 = a * clamp(6.0 - z, 0.0, 1.0);
+  o3 = a * clamp(9.0 - z, 0.0, 1.0);
+  o4 = a * clamp(12.0 - z, 0.0, 1.0);
 }
 )";
 
@@ -98,24 +112,22 @@ void main() {
 // fragment, at light coordinates (s, t, z) interpolated from the vertices:
 // z is the depth in slices, less the offset against self-shadowing.
 // Omega(z) = sum_k Omega_k max(0, 1 - |z - k|): only the slices k and k+1
-// around z weigh, read from the one or two layers that hold them. Written
-// without branches or dynamic indexing (llvmpipe runs every path of a
-// branch in its SIMD lanes).
+// around z weigh, and both are in layer l = k / 3 (one bilinear fetch).
+// The slices are 8-bit (Omega clamped at 1, where exp(-kappa) leaves 0.4%
+// of the light): llvmpipe reads and blends them much faster than floats.
+// Written without branches or dynamic indexing (llvmpipe runs every path of
+// a branch in its SIMD lanes).
 const char* kShadowLookup = R"(
-uniform sampler2DArray u_slices;  // 4 layers x RGBA = slices 0..15
+uniform sampler2DArray u_slices;  // 5 layers x RGBA: slices 3l .. 3l+3 in layer l
 uniform float u_kappa;
 uniform int u_shadows;
 float transmittance(vec3 lc) {
   if (u_shadows == 0) return 1.0;
   float z = clamp(lc.z, 0.0, 15.0);
-  int k = min(int(z), 14);
-  int l0 = k >> 2, l1 = (k + 1) >> 2;
-  vec4 a0 = texture(u_slices, vec3(lc.xy, float(l0)));
-  vec4 a1 = texture(u_slices, vec3(lc.xy, float(l1)));
-  const vec4 lane = vec4(0.0, 1.0, 2.0, 3.0);
-  vec4 w0 = max(vec4(0.0), 1.0 - abs(z - (float(4 * l0) + lane)));
-  vec4 w1 = l1 != l0 ? max(vec4(0.0), 1.0 - abs(z - (float(4 * l1) + lane))) : vec4(0.0);
-  float omega = dot(a0, w0) + dot(a1, w1);
+  int l = min(int(z) / 3, 4);
+  vec4 a = texture(u_slices, vec3(lc.xy, float(l)));
+  vec4 w = max(vec4(0.0), 1.0 - abs(z - (float(3 * l) + vec4(0.0, 1.0, 2.0, 3.0))));
+  float omega = dot(a, w);
   // outside the maps (and in front of the first slice) nothing shadows
   bool inside = all(greaterThanEqual(lc.xy, vec2(0.0))) && all(lessThanEqual(lc.xy, vec2(1.0))) && lc.z > 0.0;
   return inside ? exp(-u_kappa * omega) : 1.0;
@@ -144,6 +156,7 @@ vec3 shade(vec3 T, vec3 world) {
 
 const char* kHairFSBody = R"(
 in vec2 v_uv;
+flat in int v_level;
 in vec3 v_light;
 in float v_alpha;
 in vec3 v_color;  // ambient
@@ -151,7 +164,8 @@ in vec3 v_lit;    // diffuse and specular before attenuation
 uniform sampler2D u_hair;
 out vec4 o_color;
 void main() {
-  float a = texture(u_hair, v_uv).a * v_alpha;
+  ivec2 size = textureSize(u_hair, v_level);
+  float a = texelFetch(u_hair, min(ivec2(v_uv * vec2(size)), size - 1), v_level).a * v_alpha;
   if (a < 2e-3) discard;
   o_color = vec4(v_color + v_lit * transmittance(v_light), min(a, 1.0));
 }
@@ -397,7 +411,7 @@ struct Renderer::Impl {
   std::size_t quad_capacity = 0;  // billboards the index buffer holds
   GLuint debug_vao = 0, debug_vbo = 0;
   GLuint shadow_fbo = 0;
-  GLuint slice_tex = 0;  // 2-D array, 4 layers of RGBA16F: the 16 slices
+  GLuint slice_tex = 0;  // 2-D array, 5 layers of RGBA8: the 16 slices
   BodyMesh head, torso;
   std::vector<float> depth, quads, lines;
   std::vector<std::uint32_t> quad_indices;
@@ -471,8 +485,8 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   glBindTexture(GL_TEXTURE_2D, r.hair_tex);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tw, th, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
   glGenerateMipmap(GL_TEXTURE_2D);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 
@@ -500,20 +514,28 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 16, reinterpret_cast<void*>(12));
   glBindVertexArray(0);
 
-  // 16 opacity slices in 4 RGBA float targets (SPEC §7.2).
+  // 16 opacity slices in 5 RGBA targets, neighbouring layers sharing a slice (SPEC §7.2).
   glGenFramebuffers(1, &r.shadow_fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
   glGenTextures(1, &r.slice_tex);
   glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
-  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA16F, kShadowSize, kShadowSize, 4, 0, GL_RGBA, GL_FLOAT, nullptr);
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, kShadowSize, kShadowSize, kSliceLayers, 0, GL_RGBA,
+               GL_UNSIGNED_BYTE, nullptr);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  for (int k = 0; k < 4; ++k)
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(k), r.slice_tex, 0, k);
-  const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
-  glDrawBuffers(4, bufs);
+  GLint max_buffers = 0;
+  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &max_buffers);
+  if (max_buffers < kSliceLayers)
+    throw RenderError("the OpenGL implementation draws into " + std::to_string(max_buffers) +
+                      " targets at once; the opacity maps need " + std::to_string(kSliceLayers));
+  GLenum bufs[kSliceLayers];
+  for (int k = 0; k < kSliceLayers; ++k) {
+    bufs[k] = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(k);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, bufs[k], r.slice_tex, 0, k);
+  }
+  glDrawBuffers(kSliceLayers, bufs);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw RenderError("the opacity-map framebuffer is incomplete");
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -640,6 +662,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setMat(r.opacity_prog, "u_light_coords", slice_coords);
     setVec(r.opacity_prog, "u_proj_dir", -light);
     setI(r.opacity_prog, "u_ortho", 1);
+    setF(r.opacity_prog, "u_pixel_scale", static_cast<float>(kShadowSize) / (2.0f * radius));
     billboardUniforms(r.opacity_prog);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r.hair_tex);
@@ -684,6 +707,8 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setMat(r.hair_prog, "u_view_proj", vp);
     setVec(r.hair_prog, "u_eye", eye);
     setI(r.hair_prog, "u_ortho", 0);
+    setF(r.hair_prog, "u_pixel_scale",
+         static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg))));
     billboardUniforms(r.hair_prog);
     const Palette pal = palette(st.color);
     setVec(r.hair_prog, "u_light", light);
