@@ -43,6 +43,8 @@ struct Solver::Scratch {
   std::vector<float> sum_tip;      // sum over Nt(i)
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
+  std::vector<float> dx, dy, dz;   // x_ij when k was computed (by the direction pass)
+  std::vector<float> alpha;        // alpha_ij of this step (by the spring pass)
   std::size_t clamped = 0;         // side factors held at the clamp
   std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
   /// k, r and the sums belong to the current positions: the direction pass
@@ -321,6 +323,10 @@ void Solver::resizeScratch(Scratch& s) const {
   s.sum_tip.assign(n, 0.0f);
   s.factor_root.assign(n, 0.0f);
   s.factor_tip.assign(n, 0.0f);
+  s.dx.assign(m, 0.0f);
+  s.dy.assign(m, 0.0f);
+  s.dz.assign(m, 0.0f);
+  s.alpha.assign(m, 0.0f);
   s.lengths_current = false;
 }
 
@@ -401,7 +407,8 @@ LOOSEHAIR_PAIR_KERNEL void springPairTerms(std::size_t pairs, float gamma, const
 
 }  // namespace
 
-void Solver::accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& force) const {
+void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force,
+                                    bool stored_offsets) const {
   const std::size_t n = particles_.size();
   const glm::vec3* x = particles_.position.data();
   const glm::vec3* v = particles_.velocity.data();
@@ -410,7 +417,7 @@ void Solver::accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& fo
   const float* fr = s.factor_root.data();
   const float* ft = s.factor_tip.data();
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
-  enum { DX, DY, DZ, VX, VY, VZ, ALPHA, FX, FY, FZ, kColumns };
+  enum { VX, VY, VZ, FX, FY, FZ, kColumns };
 #pragma omp parallel num_threads(threads_)
   {
     PairColumns& col = threadColumns();
@@ -421,9 +428,11 @@ void Solver::accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& fo
       const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
       const std::size_t pairs = e1 - e0;
       col.reserve(pairs, kColumns);
-      float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
+      // x_ij and alpha_ij live in the scratch (the block's slice of it)
+      float *__restrict dx = s.dx.data() + e0, *__restrict dy = s.dy.data() + e0,
+                        *__restrict dz = s.dz.data() + e0;
+      float *__restrict alpha = s.alpha.data() + e0;
       float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
-      float *__restrict alpha = col[ALPHA];
       float *__restrict fx = col[FX], *__restrict fy = col[FY], *__restrict fz = col[FZ];
       for (std::size_t i = b; i < e; ++i) {
         const glm::vec3 xi = x[i], vi = v[i];
@@ -435,9 +444,12 @@ void Solver::accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& fo
         for (int side = 0; side < 2; ++side)
           for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
             const std::uint32_t j = c.partner[q];
-            const glm::vec3 xij = x[j] - xi, vij = v[j] - vi;
             const std::size_t k = q - e0;
-            dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+            if (!stored_offsets) {
+              const glm::vec3 xij = x[j] - xi;
+              dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+            }
+            const glm::vec3 vij = v[j] - vi;
             vx[k] = vij.x, vy[k] = vij.y, vz[k] = vij.z;
             alpha[k] = pairFactor(own[side], other[side][j], partner_root_[q] ? 1.0f : wi);
           }
@@ -1037,10 +1049,8 @@ std::size_t Solver::updateDirections(Scratch& s) {
   const auto& c = connections_;
   const CubicKernel k1(params_.h1);
   const DirectionTerms terms{1.0f / k1.h(), k1.W(0.0f) / 4.0f};
-  const float* fr = s.factor_root.data();
-  const float* ft = s.factor_tip.data();
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
-  enum { DX, DY, DZ, TX, TY, TZ, ALPHA, LK, OX, OY, OZ, kColumns };
+  enum { TX, TY, TZ, LK, OX, OY, OZ, kColumns };
   std::size_t broken = 0, active = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : broken, active)
   {
@@ -1052,25 +1062,21 @@ std::size_t Solver::updateDirections(Scratch& s) {
       const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
       const std::size_t pairs = e1 - e0;
       col.reserve(pairs, kColumns);
-      float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
+      // x_ij goes to the scratch: the next step's spring pass reads it there
+      float *__restrict dx = s.dx.data() + e0, *__restrict dy = s.dy.data() + e0,
+                        *__restrict dz = s.dz.data() + e0;
+      const float* alpha = s.alpha.data() + e0;  // this step's, from the spring pass
       float *__restrict tx = col[TX], *__restrict ty = col[TY], *__restrict tz = col[TZ];
-      float *__restrict alpha = col[ALPHA], *__restrict lk = col[LK];
+      float *__restrict lk = col[LK];
       float *__restrict ox = col[OX], *__restrict oy = col[OY], *__restrict oz = col[OZ];
       for (std::size_t i = b; i < e; ++i) {
         const glm::vec3 xi = x[i], ti = dir[i];
-        const float wi = owner_weight_[i];
-        const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
-        const float own[2] = {fr[i], ft[i]};
-        const float* other[2] = {ft, fr};  // the partner's factor on the other side
-        for (int side = 0; side < 2; ++side)
-          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
-            const std::uint32_t j = c.partner[q];
-            const glm::vec3 xij = x[j] - xi;
-            const std::size_t k = q - e0;
-            dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
-            tx[k] = ti.x, ty[k] = ti.y, tz[k] = ti.z;
-            alpha[k] = pairFactor(own[side], other[side][j], partner_root_[q] ? 1.0f : wi);
-          }
+        for (std::uint32_t q = c.begin(i); q < c.end(i); ++q) {
+          const glm::vec3 xij = x[c.partner[q]] - xi;
+          const std::size_t k = q - e0;
+          dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
+          tx[k] = ti.x, ty[k] = ti.y, tz[k] = ti.z;
+        }
       }
       directionPairTerms(pairs, terms, dx, dy, dz, tx, ty, tz, alpha, c.strength.data() + e0,
                          c.rest_length.data() + e0, c.cos_rest.data() + e0,
@@ -1119,8 +1125,9 @@ void Solver::step() {
   lap(st.neighbors);
   computeDensity();
   lap(st.density);
+  const bool stored_offsets = s.lengths_current;  // measured by the last direction pass
   computeSpringFactors(s);
-  accumulateSpringForces(s, force_);
+  accumulateSpringForces(s, force_, stored_offsets);
   lap(st.springs);
   if (params_.hair_hair) accumulateHairHairForces(force_);
   lap(st.hair_hair);
@@ -1256,7 +1263,7 @@ std::vector<float> Solver::tensileModulus(Side side) const {
 std::vector<glm::vec3> Solver::internalForces() const {
   Scratch s = springFactorsNow();
   std::vector<glm::vec3> f(particles_.size());
-  accumulateSpringForces(s, f);
+  accumulateSpringForces(s, f, false);
   if (params_.hair_hair) accumulateHairHairForces(f);
   return f;
 }

@@ -188,7 +188,10 @@ class Solver {
   void computeSpringFactors(Scratch& s) const;
   Scratch springFactorsNow() const;  // fresh buffers, for the const queries
   float entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
-  void accumulateSpringForces(const Scratch& s, std::vector<glm::vec3>& force) const;
+  /// Writes f and each entry's alpha_ij into s (the direction pass reuses
+  /// them). With `stored_offsets`, x_ij is taken from s (measured by the
+  /// last direction pass at the current positions) instead of gathered.
+  void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force, bool stored_offsets) const;
   void accumulateHairHairForces(std::vector<glm::vec3>& force) const;
   void computeDensity();
   void findNeighbors();
