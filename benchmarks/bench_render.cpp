@@ -12,7 +12,6 @@
 #include <benchmark/benchmark.h>
 
 #include <map>
-#include <cstdlib>
 #include <memory>
 
 namespace {
@@ -48,9 +47,7 @@ void BM_RenderFrame(benchmark::State& state) {
   render::Renderer renderer;
   renderer.setBodies(&s.head, &s.torso);
   const render::Camera camera = render::Camera::preset("three-quarter");
-  render::RenderSettings settings;
-  if (getenv("LH_SCALE")) { settings.billboard_width *= atof(getenv("LH_SCALE")); settings.billboard_length *= atof(getenv("LH_SCALE")); }
-  if (getenv("LH_NOSHADOW")) settings.shadows = false;
+  const render::RenderSettings settings;
   renderer.render(s.frame, camera, settings, w, h);  // llvmpipe compiles shaders on first use
   render::FrameTimes sum;
   for (auto _ : state) {

@@ -13,6 +13,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 
 using namespace loosehair;
 using namespace loosehair::render;
@@ -178,6 +179,59 @@ TEST(Render, ShadowsDarkenHairAwayFromTheLightAndTheHeadUnderIt) {
   EXPECT_LT(hair_on, 0.85 * hair_off) << "self-shadowed hair is darker";
   EXPECT_GT(darker_skin, 0.03 * skin) << "the hair shadows part of the head";
   EXPECT_LT(darker_skin, 0.9 * skin) << "but not all of the skin: bare skin stays lit";
+}
+
+// SPEC §7.2 along the light: hair behind more hair (seen from the light) is
+// darker, wall by wall. The light comes from +x; a probe (a tuft, stacked
+// along the view so that it is nearly opaque on screen) stands at x = 0
+// and k = 0..4 thin walls of hair stand between it and the light. The
+// probe's colour is compared with shadows on and off: the share of its
+// colour that the shadow takes grows with every wall. (Each k moves the
+// probe to another depth in slices, so several layers of the slice array
+// are read.)
+TEST(Render, ShadowDeepensWithEveryWallOfHairTowardsTheLight) {
+  app::HeadlessGL gl(160, 120);
+  Renderer r;
+  const Camera cam = frontCamera();
+  RenderSettings on;
+  on.light_direction = glm::vec3(1, 0, 0);
+  on.hair_opacity = 0.1f;  // thin walls: each lets a good part of the light through
+  RenderSettings off = on;
+  off.shadows = false;
+  const glm::mat4 vp = cam.projection(160.0f / 120.0f) * cam.view();
+  const glm::vec4 c = vp * glm::vec4(0, 0, 0, 1);
+  const int cx = static_cast<int>((c.x / c.w * 0.5f + 0.5f) * 160), cy = static_cast<int>((0.5f - c.y / c.w * 0.5f) * 120);
+  float darkening[5];
+  for (int walls = 0; walls < 5; ++walls) {
+    FrameInput in;
+    in.spacing = 0.003f;
+    for (int k = 0; k < 40; ++k) {  // the probe
+      in.position.push_back({0.0005f * static_cast<float>(k % 5 - 2), 0.002f * static_cast<float>(k % 3 - 1),
+                             -0.02f + 0.04f * static_cast<float>(k) / 39.0f});
+      in.direction.push_back({0, 1, 0});
+    }
+    for (int w = 1; w <= walls; ++w)
+      for (int iy = -2; iy <= 2; ++iy)
+        for (int iz = -3; iz <= 3; ++iz) {
+          in.position.push_back({0.015f * static_cast<float>(w), 0.01f * static_cast<float>(iy), 0.01f * static_cast<float>(iz)});
+          in.direction.push_back({0, 1, 0});
+        }
+    const Image a = draw(gl, r, in, cam, on), b = draw(gl, r, in, cam, off);
+    double sum_on = 0, sum_off = 0;
+    for (int y = cy - 6; y <= cy + 6; ++y)
+      for (int x = cx - 1; x <= cx + 1; ++x) {
+        const glm::vec3 ca = a.at(x, y), cb = b.at(x, y);
+        sum_on += ca.r + ca.g + ca.b;
+        sum_off += cb.r + cb.g + cb.b;
+      }
+    darkening[walls] = static_cast<float>((sum_off - sum_on) / sum_off);
+    std::cout << "probe behind " << walls << " walls: " << 100.0f * darkening[walls]
+              << "% darker with shadows\n";
+  }
+  // alone, the tuft shadows only itself a little
+  EXPECT_LT(darkening[0], 0.5f * darkening[1]) << "nothing but the tuft between it and the light";
+  for (int w = 1; w < 5; ++w)
+    EXPECT_GT(darkening[w], darkening[w - 1] + 0.005f) << "behind " << w << " walls, one more than before";
 }
 
 TEST(Render, TheSameSceneRendersTheSameImageTwice) {
