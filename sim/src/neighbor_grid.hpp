@@ -37,6 +37,10 @@ class NeighborGrid {
     return {begin_[i], count_[i]};
   }
   std::size_t pointCount() const { return count_.size(); }
+  /// The points in the order in which the search made their lists: the
+  /// lists lie in memory in this order (chunk by chunk), so a pair loop
+  /// that visits the points in it reads the lists in sequence.
+  std::span<const std::uint32_t> searchOrder() const { return {order_.data(), count_.size()}; }
   /// Number of ordered pairs (each unordered pair counts twice).
   std::size_t pairCount() const;
   /// Occupied cells of the last build.

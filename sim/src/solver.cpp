@@ -11,7 +11,12 @@
 #include "pair_columns.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 #include <omp.h>
+
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -279,6 +284,9 @@ void Solver::computeDensity() {
   const float w0 = k2.W(0.0f), inv_h = 1.0f / k2.h(), norm_w = w0 / 4.0f;
   const float ka = params_.pressure_stiffness;
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  // Blocks of points in the search's order, whose lists lie one after the
+  // other in memory (each point's sum is the same in any visiting order).
+  const std::uint32_t* ord = grid_->searchOrder().data();
   enum { R2, MJ, RHO, kColumns };
 #pragma omp parallel num_threads(threads_)
   {
@@ -288,11 +296,12 @@ void Solver::computeDensity() {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
       std::size_t pairs = 0;
-      for (std::size_t i = b; i < e; ++i) pairs += grid_->neighbors(i).size();
+      for (std::size_t p = b; p < e; ++p) pairs += grid_->neighbors(ord[p]).size();
       col.reserve(pairs, kColumns);
       float *__restrict r2 = col[R2], *__restrict mj = col[MJ], *__restrict rho = col[RHO];
       std::size_t k = 0;
-      for (std::size_t i = b; i < e; ++i) {
+      for (std::size_t p = b; p < e; ++p) {
+        const std::uint32_t i = ord[p];
         const glm::vec3 xi = x[i];
         for (std::uint32_t j : grid_->neighbors(i)) {
           const glm::vec3 d = x[j] - xi;
@@ -303,7 +312,8 @@ void Solver::computeDensity() {
       }
       densityPairTerms(pairs, inv_h, norm_w, r2, mj, rho);
       k = 0;
-      for (std::size_t i = b; i < e; ++i) {
+      for (std::size_t p = b; p < e; ++p) {
+        const std::uint32_t i = ord[p];
         float sum = m[i] * w0;
         for (std::size_t end = k + grid_->neighbors(i).size(); k < end; ++k) sum += rho[k];
         density_[i] = sum;
@@ -543,17 +553,38 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
   const float* pterm = pressure_term_.data();
   const HairHairTerms terms{1.0f / k2.h(), k2.W(0.0f) / 4.0f, -k2.dWdr(k2.h()) / 3.0f, dc_, dfr_};
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
+  const std::uint32_t* ord = grid_->searchOrder().data();  // as in computeDensity
   enum { DX, DY, DZ, VX, VY, VZ, TIX, TIY, TIZ, TJX, TJY, TJZ, MM, PP, FX, FY, FZ, kColumns };
+  // What a pair reads of its partner, as three 16-byte records per
+  // particle: (x, m), (v, P/rho^2), (t, 0). Four partners' records are
+  // loaded whole and transposed into the columns (4 loads and a few
+  // shuffles where the scalar gather makes 12 loads and 12 stores).
+  // (The calling thread's buffers, shared with its team: const queries
+  // from several threads stay safe.)
+  static thread_local std::vector<glm::vec4> records[3];
+  std::vector<glm::vec4>& xm = records[0];
+  std::vector<glm::vec4>& vp = records[1];
+  std::vector<glm::vec4>& tt = records[2];
+  xm.resize(n);
+  vp.resize(n);
+  tt.resize(n);
 #pragma omp parallel num_threads(threads_)
   {
+#pragma omp for schedule(static)
+    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      xm[i] = glm::vec4(x[i], m[i]);
+      vp[i] = glm::vec4(v[i], pterm[i]);
+      tt[i] = glm::vec4(t[i], 0.0f);
+    }
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
       std::size_t pairs = 0;
-      for (std::size_t i = b; i < e; ++i) pairs += grid_->neighbors(i).size();
-      col.reserve(pairs, kColumns);
+      for (std::size_t p = b; p < e; ++p) pairs += grid_->neighbors(ord[p]).size();
+      col.reserve(pairs + 4, kColumns);  // a group of 4 may write 3 past the last pair
       float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
       float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
       float *__restrict tix = col[TIX], *__restrict tiy = col[TIY], *__restrict tiz = col[TIZ];
@@ -562,10 +593,55 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
       float *__restrict fx = col[FX], *__restrict fy = col[FY], *__restrict fz = col[FZ];
       // 1. gather: x_ij, v_ij, t_i, t_j, m_i m_j, P_i/rho_i^2 + P_j/rho_j^2
       std::size_t k = 0;
-      for (std::size_t i = b; i < e; ++i) {
+      for (std::size_t p = b; p < e; ++p) {
+        const std::uint32_t i = ord[p];
+        const auto list = grid_->neighbors(i);
+        const std::size_t count = list.size();
+#if defined(__SSE2__)
+        // Groups of 4 partners; a short last group repeats its last partner
+        // and its extra lanes are overwritten by the next particle's pairs.
+        const __m128 ri = _mm_loadu_ps(&xm[i].x), qi = _mm_loadu_ps(&vp[i].x),
+                     ui = _mm_loadu_ps(&tt[i].x);
+        const __m128 xi = _mm_shuffle_ps(ri, ri, 0x00), yi = _mm_shuffle_ps(ri, ri, 0x55),
+                     zi = _mm_shuffle_ps(ri, ri, 0xaa), mi = _mm_shuffle_ps(ri, ri, 0xff);
+        const __m128 vxi = _mm_shuffle_ps(qi, qi, 0x00), vyi = _mm_shuffle_ps(qi, qi, 0x55),
+                     vzi = _mm_shuffle_ps(qi, qi, 0xaa), pi = _mm_shuffle_ps(qi, qi, 0xff);
+        const __m128 txi = _mm_shuffle_ps(ui, ui, 0x00), tyi = _mm_shuffle_ps(ui, ui, 0x55),
+                     tzi = _mm_shuffle_ps(ui, ui, 0xaa);
+        for (std::size_t g = 0; g < count; g += 4) {
+          const std::size_t last = count - 1;
+          const std::uint32_t j0 = list[g], j1 = list[std::min(g + 1, last)],
+                              j2 = list[std::min(g + 2, last)], j3 = list[std::min(g + 3, last)];
+          __m128 a0 = _mm_loadu_ps(&xm[j0].x), a1 = _mm_loadu_ps(&xm[j1].x),
+                 a2 = _mm_loadu_ps(&xm[j2].x), a3 = _mm_loadu_ps(&xm[j3].x);
+          _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+          __m128 b0 = _mm_loadu_ps(&vp[j0].x), b1 = _mm_loadu_ps(&vp[j1].x),
+                 b2 = _mm_loadu_ps(&vp[j2].x), b3 = _mm_loadu_ps(&vp[j3].x);
+          _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+          __m128 c0 = _mm_loadu_ps(&tt[j0].x), c1 = _mm_loadu_ps(&tt[j1].x),
+                 c2 = _mm_loadu_ps(&tt[j2].x), c3 = _mm_loadu_ps(&tt[j3].x);
+          _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+          const std::size_t q = k + g;
+          _mm_storeu_ps(dx + q, _mm_sub_ps(a0, xi));
+          _mm_storeu_ps(dy + q, _mm_sub_ps(a1, yi));
+          _mm_storeu_ps(dz + q, _mm_sub_ps(a2, zi));
+          _mm_storeu_ps(mm + q, _mm_mul_ps(mi, a3));
+          _mm_storeu_ps(vx + q, _mm_sub_ps(b0, vxi));
+          _mm_storeu_ps(vy + q, _mm_sub_ps(b1, vyi));
+          _mm_storeu_ps(vz + q, _mm_sub_ps(b2, vzi));
+          _mm_storeu_ps(pp + q, _mm_add_ps(pi, b3));
+          _mm_storeu_ps(tjx + q, c0);
+          _mm_storeu_ps(tjy + q, c1);
+          _mm_storeu_ps(tjz + q, c2);
+          _mm_storeu_ps(tix + q, txi);
+          _mm_storeu_ps(tiy + q, tyi);
+          _mm_storeu_ps(tiz + q, tzi);
+        }
+        k += count;
+#else
         const glm::vec3 xi = x[i], vi = v[i], ti = t[i];
         const float mi = m[i], pi = pterm[i];
-        for (std::uint32_t j : grid_->neighbors(i)) {
+        for (std::uint32_t j : list) {
           const glm::vec3 xij = x[j] - xi, vij = v[j] - vi, tj = t[j];
           dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
           vx[k] = vij.x, vy[k] = vij.y, vz[k] = vij.z;
@@ -575,13 +651,15 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
           pp[k] = pi + pterm[j];
           ++k;
         }
+#endif
       }
       // 2. compute each pair's force on i
       hairHairPairTerms(pairs, terms, dx, dy, dz, vx, vy, vz, tix, tiy, tiz, tjx, tjy, tjz, mm, pp,
                         fx, fy, fz);
       // 3. reduce in list order
       k = 0;
-      for (std::size_t i = b; i < e; ++i) {
+      for (std::size_t p = b; p < e; ++p) {
+        const std::uint32_t i = ord[p];
         glm::vec3 f(0.0f);
         for (std::size_t end = k + grid_->neighbors(i).size(); k < end; ++k)
           f += glm::vec3(fx[k], fy[k], fz[k]);
