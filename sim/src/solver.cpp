@@ -265,6 +265,20 @@ void Solver::findNeighbors() {
 // A blocked loop (pair_columns.hpp).
 namespace {
 
+// What the density and hair-hair gathers read of a partner, as three
+// 16-byte records per particle: (x, m), (v, P/rho^2), (t, 0). Four
+// partners' records are loaded whole and transposed into the columns (4
+// loads and a few shuffles where a scalar gather makes 12 loads and 12
+// stores). The calling thread's buffers, shared with its OpenMP team, so
+// that const queries from several threads stay safe.
+struct HairRecords {
+  std::vector<glm::vec4> xm, vp, tt;
+};
+HairRecords& hairRecords() {
+  static thread_local HairRecords records;
+  return records;
+}
+
 LOOSEHAIR_PAIR_KERNEL void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
                       const float* __restrict mj, float* __restrict rho) {
   for (std::size_t q = 0; q < pairs; ++q) {
@@ -280,6 +294,8 @@ void Solver::computeDensity() {
   const CubicKernel k2(params_.h2);
   const std::size_t n = particles_.size();
   const glm::vec3* x = particles_.position.data();
+  const glm::vec3* v = particles_.velocity.data();
+  const glm::vec3* t = particles_.direction.data();
   const float* m = particles_.mass.data();
   const float w0 = k2.W(0.0f), inv_h = 1.0f / k2.h(), norm_w = w0 / 4.0f;
   const float ka = params_.pressure_stiffness;
@@ -287,9 +303,22 @@ void Solver::computeDensity() {
   // Blocks of points in the search's order, whose lists lie one after the
   // other in memory (each point's sum is the same in any visiting order).
   const std::uint32_t* ord = grid_->searchOrder().data();
+  HairRecords& rec = hairRecords();  // filled here for the hair-hair pass too
+  rec.xm.resize(n);
+  rec.vp.resize(n);
+  rec.tt.resize(n);
+  glm::vec4* xm = rec.xm.data();
+  glm::vec4* vp = rec.vp.data();
+  glm::vec4* tt = rec.tt.data();
   enum { R2, MJ, RHO, kColumns };
 #pragma omp parallel num_threads(threads_)
   {
+#pragma omp for schedule(static)
+    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      xm[i] = glm::vec4(x[i], m[i]);
+      tt[i] = glm::vec4(t[i], 0.0f);
+    }
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
@@ -297,18 +326,40 @@ void Solver::computeDensity() {
       const std::size_t e = std::min(n, b + kPairBlock);
       std::size_t pairs = 0;
       for (std::size_t p = b; p < e; ++p) pairs += grid_->neighbors(ord[p]).size();
-      col.reserve(pairs, kColumns);
+      col.reserve(pairs + 4, kColumns);  // a group of 4 may write 3 past the last pair
       float *__restrict r2 = col[R2], *__restrict mj = col[MJ], *__restrict rho = col[RHO];
       std::size_t k = 0;
       for (std::size_t p = b; p < e; ++p) {
         const std::uint32_t i = ord[p];
+        const auto list = grid_->neighbors(i);
+        const std::size_t count = list.size();
+#if defined(__SSE2__)
+        // groups of 4 partners, as in accumulateHairHairForces
+        const __m128 ri = _mm_loadu_ps(&xm[i].x);
+        const __m128 xi = _mm_shuffle_ps(ri, ri, 0x00), yi = _mm_shuffle_ps(ri, ri, 0x55),
+                     zi = _mm_shuffle_ps(ri, ri, 0xaa);
+        for (std::size_t g = 0; g < count; g += 4) {
+          const std::size_t last = count - 1;
+          __m128 a0 = _mm_loadu_ps(&xm[list[g]].x), a1 = _mm_loadu_ps(&xm[list[std::min(g + 1, last)]].x),
+                 a2 = _mm_loadu_ps(&xm[list[std::min(g + 2, last)]].x),
+                 a3 = _mm_loadu_ps(&xm[list[std::min(g + 3, last)]].x);
+          _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+          const __m128 dx = _mm_sub_ps(a0, xi), dy = _mm_sub_ps(a1, yi), dz = _mm_sub_ps(a2, zi);
+          // (dx dx + dy dy) + dz dz, the order of glm::dot
+          _mm_storeu_ps(r2 + k + g, _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
+                                               _mm_mul_ps(dz, dz)));
+          _mm_storeu_ps(mj + k + g, a3);
+        }
+        k += count;
+#else
         const glm::vec3 xi = x[i];
-        for (std::uint32_t j : grid_->neighbors(i)) {
+        for (std::uint32_t j : list) {
           const glm::vec3 d = x[j] - xi;
           r2[k] = glm::dot(d, d);
           mj[k] = m[j];
           ++k;
         }
+#endif
       }
       densityPairTerms(pairs, inv_h, norm_w, r2, mj, rho);
       k = 0;
@@ -319,6 +370,7 @@ void Solver::computeDensity() {
         density_[i] = sum;
         pressure_[i] = ka * (sum - rest_density_);
         pressure_term_[i] = pressure_[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
+        vp[i] = glm::vec4(v[i], pressure_term_[i]);
       }
     }
   }
@@ -543,7 +595,7 @@ LOOSEHAIR_PAIR_KERNEL void hairHairPairTerms(std::size_t pairs, const HairHairTe
 // ---- stage 3c: hair-hair pressure, collision, friction (SPEC §4) -----------
 // A blocked pair loop (pair_columns.hpp): every neighbour is within the
 // kernel's support; the terms are selected, not branched on.
-void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
+void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool records_ready) const {
   const CubicKernel k2(params_.h2);
   const std::size_t n = particles_.size();
   const glm::vec3* x = particles_.position.data();
@@ -555,27 +607,26 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force) const {
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
   const std::uint32_t* ord = grid_->searchOrder().data();  // as in computeDensity
   enum { DX, DY, DZ, VX, VY, VZ, TIX, TIY, TIZ, TJX, TJY, TJZ, MM, PP, FX, FY, FZ, kColumns };
-  // What a pair reads of its partner, as three 16-byte records per
-  // particle: (x, m), (v, P/rho^2), (t, 0). Four partners' records are
-  // loaded whole and transposed into the columns (4 loads and a few
-  // shuffles where the scalar gather makes 12 loads and 12 stores).
-  // (The calling thread's buffers, shared with its team: const queries
-  // from several threads stay safe.)
-  static thread_local std::vector<glm::vec4> records[3];
-  std::vector<glm::vec4>& xm = records[0];
-  std::vector<glm::vec4>& vp = records[1];
-  std::vector<glm::vec4>& tt = records[2];
-  xm.resize(n);
-  vp.resize(n);
-  tt.resize(n);
+  // The partners' records (hairRecords()): made by computeDensity in a
+  // step, here for a query between steps.
+  HairRecords& rec = hairRecords();
+  const bool fill = !records_ready || rec.xm.size() != n;
+  rec.xm.resize(n);
+  rec.vp.resize(n);
+  rec.tt.resize(n);
+  glm::vec4* xm = rec.xm.data();
+  glm::vec4* vp = rec.vp.data();
+  glm::vec4* tt = rec.tt.data();
 #pragma omp parallel num_threads(threads_)
   {
+    if (fill) {
 #pragma omp for schedule(static)
-    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      xm[i] = glm::vec4(x[i], m[i]);
-      vp[i] = glm::vec4(v[i], pterm[i]);
-      tt[i] = glm::vec4(t[i], 0.0f);
+      for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+        const auto i = static_cast<std::size_t>(ii);
+        xm[i] = glm::vec4(x[i], m[i]);
+        vp[i] = glm::vec4(v[i], pterm[i]);
+        tt[i] = glm::vec4(t[i], 0.0f);
+      }
     }
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
@@ -1207,7 +1258,7 @@ void Solver::step() {
   computeSpringFactors(s);
   accumulateSpringForces(s, force_, stored_offsets);
   lap(st.springs);
-  if (params_.hair_hair) accumulateHairHairForces(force_);
+  if (params_.hair_hair) accumulateHairHairForces(force_, true);  // records from computeDensity
   lap(st.hair_hair);
   if (air_) {
     // air neighbours, density, pressure, viscosity and the hair-air drag (SPEC §5)
@@ -1342,7 +1393,7 @@ std::vector<glm::vec3> Solver::internalForces() const {
   Scratch s = springFactorsNow();
   std::vector<glm::vec3> f(particles_.size());
   accumulateSpringForces(s, f, false);
-  if (params_.hair_hair) accumulateHairHairForces(f);
+  if (params_.hair_hair) accumulateHairHairForces(f, false);
   return f;
 }
 

@@ -192,7 +192,9 @@ class Solver {
   /// them). With `stored_offsets`, x_ij is taken from s (measured by the
   /// last direction pass at the current positions) instead of gathered.
   void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force, bool stored_offsets) const;
-  void accumulateHairHairForces(std::vector<glm::vec3>& force) const;
+  /// `records_ready`: computeDensity has just made the partners' records
+  /// (in a step, at the same state).
+  void accumulateHairHairForces(std::vector<glm::vec3>& force, bool records_ready) const;
   void computeDensity();
   void findNeighbors();
   void addExternalForces();
