@@ -200,20 +200,23 @@ TEST(Render, ShadowDeepensWithEveryWallOfHairTowardsTheLight) {
   off.shadows = false;
   const glm::mat4 vp = cam.projection(160.0f / 120.0f) * cam.view();
   const glm::vec4 c = vp * glm::vec4(0, 0, 0, 1);
-  const int cx = static_cast<int>((c.x / c.w * 0.5f + 0.5f) * 160), cy = static_cast<int>((0.5f - c.y / c.w * 0.5f) * 120);
+  const int cx = static_cast<int>((c.x / c.w * 0.5f + 0.5f) * 160);
+  const int cy = static_cast<int>((0.5f - c.y / c.w * 0.5f) * 120);
   float darkening[5];
   for (int walls = 0; walls < 5; ++walls) {
     FrameInput in;
     in.spacing = 0.003f;
     for (int k = 0; k < 40; ++k) {  // the probe
-      in.position.push_back({0.0005f * static_cast<float>(k % 5 - 2), 0.002f * static_cast<float>(k % 3 - 1),
+      in.position.push_back({0.0005f * static_cast<float>(k % 5 - 2),
+                             0.002f * static_cast<float>(k % 3 - 1),
                              -0.02f + 0.04f * static_cast<float>(k) / 39.0f});
       in.direction.push_back({0, 1, 0});
     }
     for (int w = 1; w <= walls; ++w)
       for (int iy = -2; iy <= 2; ++iy)
         for (int iz = -3; iz <= 3; ++iz) {
-          in.position.push_back({0.015f * static_cast<float>(w), 0.01f * static_cast<float>(iy), 0.01f * static_cast<float>(iz)});
+          in.position.push_back({0.015f * static_cast<float>(w), 0.01f * static_cast<float>(iy),
+                                 0.01f * static_cast<float>(iz)});
           in.direction.push_back({0, 1, 0});
         }
     const Image a = draw(gl, r, in, cam, on), b = draw(gl, r, in, cam, off);
@@ -231,7 +234,8 @@ TEST(Render, ShadowDeepensWithEveryWallOfHairTowardsTheLight) {
   // alone, the tuft shadows only itself a little
   EXPECT_LT(darkening[0], 0.5f * darkening[1]) << "nothing but the tuft between it and the light";
   for (int w = 1; w < 5; ++w)
-    EXPECT_GT(darkening[w], darkening[w - 1] + 0.005f) << "behind " << w << " walls, one more than before";
+    EXPECT_GT(darkening[w], darkening[w - 1] + 0.005f)
+        << "behind " << w << " walls, one more than before";
 }
 
 TEST(Render, TheSameSceneRendersTheSameImageTwice) {

@@ -41,7 +41,8 @@ uniform vec3 u_proj_dir;   // (u_eye, the perspective eye, is declared before)  
 uniform int u_ortho;
 uniform float u_width, u_length, u_max_boost, u_opacity;
 uniform mat4 u_light_coords;  // world -> (s, t, slice) of the opacity maps
-uniform float u_pixel_scale;  // pixels per metre at unit depth (perspective) or per metre (orthographic)
+// pixels per metre at unit depth (perspective) or per metre (orthographic)
+uniform float u_pixel_scale;
 out vec2 v_uv;
 flat out int v_level;
 out vec3 v_T;
@@ -67,7 +68,8 @@ void main() {
   v_uv = 0.5 * corner + 0.5;
   // the strand texture's mip level, once per billboard: its 32 texels across
   // the billboard's width on screen
-  float width_px = u_width * u_pixel_scale / (u_ortho == 1 ? 1.0 : max(1e-4, length(a_pos - u_eye)));
+  float depth = u_ortho == 1 ? 1.0 : max(1e-4, length(a_pos - u_eye));
+  float width_px = u_width * u_pixel_scale / depth;
   v_level = int(clamp(floor(log2(32.0 / max(width_px, 1e-3)) + 0.5), 0.0, 5.0));
   v_T = T;
   v_light = (u_light_coords * vec4(p, 1.0)).xyz;  // affine (orthographic light): exact to interpolate

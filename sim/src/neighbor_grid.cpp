@@ -338,8 +338,9 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
   const std::uint32_t* __restrict order = order_.data();
   std::size_t found = 0;
 #if defined(LOOSEHAIR_HAVE_AVX512_PATH)
-  if (wide_) return collect16(k, range_begin, range_end, nr, r2, sorted_cx_.data(), sorted_cy_.data(),
-                              sorted_cz_.data(), order, out);
+  if (wide_)
+    return collect16(k, range_begin, range_end, nr, r2, sorted_cx_.data(), sorted_cy_.data(),
+                     sorted_cz_.data(), order, out);
 #endif
 #if defined(__SSE2__)
   const float* __restrict cx = sorted_cx_.data();

@@ -279,7 +279,8 @@ HairRecords& hairRecords() {
   return records;
 }
 
-LOOSEHAIR_PAIR_KERNEL void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
+LOOSEHAIR_PAIR_KERNEL
+void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
                       const float* __restrict mj, float* __restrict rho) {
   for (std::size_t q = 0; q < pairs; ++q) {
     const float s = std::sqrt(r2[q]) * inv_h;
@@ -340,9 +341,10 @@ void Solver::computeDensity() {
                      zi = _mm_shuffle_ps(ri, ri, 0xaa);
         for (std::size_t g = 0; g < count; g += 4) {
           const std::size_t last = count - 1;
-          __m128 a0 = _mm_loadu_ps(&xm[list[g]].x), a1 = _mm_loadu_ps(&xm[list[std::min(g + 1, last)]].x),
-                 a2 = _mm_loadu_ps(&xm[list[std::min(g + 2, last)]].x),
-                 a3 = _mm_loadu_ps(&xm[list[std::min(g + 3, last)]].x);
+          __m128 a0 = _mm_loadu_ps(&xm[list[g]].x);
+          __m128 a1 = _mm_loadu_ps(&xm[list[std::min(g + 1, last)]].x);
+          __m128 a2 = _mm_loadu_ps(&xm[list[std::min(g + 2, last)]].x);
+          __m128 a3 = _mm_loadu_ps(&xm[list[std::min(g + 3, last)]].x);
           _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
           const __m128 dx = _mm_sub_ps(a0, xi), dy = _mm_sub_ps(a1, yi), dz = _mm_sub_ps(a2, zi);
           // (dx dx + dy dy) + dz dz, the order of glm::dot
@@ -448,7 +450,8 @@ namespace {
 
 // The damped spring force on i of each gathered connection:
 // alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|.
-LOOSEHAIR_PAIR_KERNEL void springPairTerms(std::size_t pairs, float gamma, const float* __restrict dx,
+LOOSEHAIR_PAIR_KERNEL
+void springPairTerms(std::size_t pairs, float gamma, const float* __restrict dx,
                      const float* __restrict dy, const float* __restrict dz,
                      const float* __restrict vx, const float* __restrict vy,
                      const float* __restrict vz, const float* __restrict alpha,
@@ -537,7 +540,8 @@ struct HairHairTerms {
   float inv_h, norm_w, norm_g;  // kernel W(r, h2): 1/h, 1/(4 pi h^3), 1/(4 pi h^4)
   float dc, dfr;                // collision and friction coefficients
 };
-LOOSEHAIR_PAIR_KERNEL void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
+LOOSEHAIR_PAIR_KERNEL
+void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
                        const float* __restrict dx, const float* __restrict dy,
                        const float* __restrict dz, const float* __restrict vx,
                        const float* __restrict vy, const float* __restrict vz,
@@ -928,7 +932,8 @@ struct StrainTerms {
   float inv_h, norm_w;  // kernel W(r, h1)
   float support2, max_len_scale;
 };
-LOOSEHAIR_PAIR_KERNEL void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __restrict dx,
+LOOSEHAIR_PAIR_KERNEL
+void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __restrict dx,
                      const float* __restrict dy, const float* __restrict dz,
                      const float* __restrict rest, const float* __restrict inv_rest_w,
                      const float* __restrict share, float* __restrict coef,
@@ -1129,7 +1134,8 @@ struct DirectionTerms {
 // would have if the pair kept its rest angle (x_ij turned by theta_ij
 // towards t_i), weighted by alpha_ij k_ij; and k_ij, |x_ij|, l_ij k_ij at
 // the new positions.
-LOOSEHAIR_PAIR_KERNEL void directionPairTerms(std::size_t pairs, const DirectionTerms& p, const float* __restrict dx,
+LOOSEHAIR_PAIR_KERNEL
+void directionPairTerms(std::size_t pairs, const DirectionTerms& p, const float* __restrict dx,
                         const float* __restrict dy, const float* __restrict dz,
                         const float* __restrict tix, const float* __restrict tiy,
                         const float* __restrict tiz, const float* __restrict alpha,
