@@ -26,6 +26,8 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 constexpr int kSlices = 16;
 constexpr int kSliceLayers = 5;  // RGBA layers holding slices 3l .. 3l+3
+constexpr int kStrandWidth = 32, kStrandHeight = 128;  // the strand texture, texels
+constexpr int kStrandLevels = 5;  // its mip levels down to 1 texel across: log2(kStrandWidth)
 constexpr int kShadowSize = 256;  // opacity varies smoothly; 256^2 keeps the light pass cheap
 
 // ---- shaders ------------------------------------------------------------------
@@ -43,6 +45,8 @@ uniform float u_width, u_length, u_max_boost, u_opacity;
 uniform mat4 u_light_coords;  // world -> (s, t, slice) of the opacity maps
 // pixels per metre at unit depth (perspective) or per metre (orthographic)
 uniform float u_pixel_scale;
+uniform float u_strand_width;  // texels across the strand texture
+uniform float u_strand_max_level;
 out vec2 v_uv;
 flat out int v_level;
 out vec3 v_T;
@@ -66,11 +70,12 @@ void main() {
   float len = max(u_length * s, u_width);
   vec3 p = a_pos + (0.5 * u_width * corner.x) * side + (0.5 * len * corner.y) * axis;
   v_uv = 0.5 * corner + 0.5;
-  // the strand texture's mip level, once per billboard: its 32 texels across
+  // the strand texture's mip level, once per billboard: its texels across
   // the billboard's width on screen
   float depth = u_ortho == 1 ? 1.0 : max(1e-4, length(a_pos - u_eye));
   float width_px = u_width * u_pixel_scale / depth;
-  v_level = int(clamp(floor(log2(32.0 / max(width_px, 1e-3)) + 0.5), 0.0, 5.0));
+  float level = floor(log2(u_strand_width / max(width_px, 1e-3)) + 0.5);
+  v_level = int(clamp(level, 0.0, u_strand_max_level));
   v_T = T;
   v_light = (u_light_coords * vec4(p, 1.0)).xyz;  // affine (orthographic light): exact to interpolate
   v_alpha = u_opacity * min(1.0 / max(s, 1e-4), u_max_boost);
@@ -481,7 +486,8 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   r.debug_prog = program(kDebugVS, kDebugFS);
 
   // The hair-strand texture, mipmapped (SPEC §7.1).
-  const int tw = 32, th = 128;
+  const int tw = kStrandWidth, th = kStrandHeight;
+  static_assert((1 << kStrandLevels) == kStrandWidth && kStrandHeight >= kStrandWidth);
   const auto pixels = makeHairTexture(tw, th);
   glGenTextures(1, &r.hair_tex);
   glBindTexture(GL_TEXTURE_2D, r.hair_tex);
@@ -627,6 +633,8 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setF(p, "u_length", bl);
     setF(p, "u_max_boost", st.max_opacity_boost);
     setF(p, "u_opacity", st.hair_opacity);
+    setF(p, "u_strand_width", static_cast<float>(kStrandWidth));
+    setF(p, "u_strand_max_level", static_cast<float>(kStrandLevels));
   };
   // world -> (s, t, depth in slices - offset) for the lookups, and without
   // the offset for the light pass: one affine map (the light is orthographic)

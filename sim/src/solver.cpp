@@ -140,13 +140,13 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   partner_root_.resize(connections_.entryCount());
   for (std::size_t e = 0; e < connections_.entryCount(); ++e)
     partner_root_[e] = particles_.is_root[connections_.partner[e]];
-  inverse_mass_.resize(n);
+  std::vector<float> inverse_mass(n);  // 0 for a root (fixed)
   for (std::size_t i = 0; i < n; ++i)
-    inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
+    inverse_mass[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
   entry_share_.resize(connections_.entryCount());
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
-      const float wi = inverse_mass_[i], wj = inverse_mass_[connections_.partner[e]];
+      const float wi = inverse_mass[i], wj = inverse_mass[connections_.partner[e]];
       entry_share_[e] = wi / (wi + wj);  // no root-root connections: never 0/0
     }
   owner_weight_.resize(n);
@@ -265,12 +265,12 @@ void Solver::findNeighbors() {
 // A blocked loop (pair_columns.hpp).
 namespace {
 
-// What the density and hair-hair gathers read of a partner, as three
-// 16-byte records per particle: (x, m), (v, P/rho^2), (t, 0). Four
-// partners' records are loaded whole and transposed into the columns (4
-// loads and a few shuffles where a scalar gather makes 12 loads and 12
-// stores). The calling thread's buffers, shared with its OpenMP team, so
-// that const queries from several threads stay safe.
+// What the density and hair-hair gathers read of a partner, as 16-byte
+// records per particle: (x, m) for both, (v, P/rho^2) and (t, 0) for
+// hair-hair. Four partners' records are loaded whole and transposed into
+// the columns (4 loads and a few shuffles where a scalar gather makes 12
+// loads and 12 stores). The calling thread's buffers, shared with its
+// OpenMP team, so that const queries from several threads stay safe.
 struct HairRecords {
   std::vector<glm::vec4> xm, vp, tt;
 };
@@ -278,6 +278,43 @@ HairRecords& hairRecords() {
   static thread_local HairRecords records;
   return records;
 }
+
+// Called by every thread of a parallel region: out[i] = (a[i], w[i]), or
+// (a[i], 0) without w, for i < n, shared out among the team (no barrier).
+void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w, std::size_t n) {
+  glm::vec4* o = out.data();
+#pragma omp for schedule(static) nowait
+  for (Index ii = 0; ii < static_cast<Index>(n); ++ii)
+    o[ii] = glm::vec4(a[ii], w ? w[ii] : 0.0f);
+}
+
+#if defined(__SSE2__)
+// The partners j of a group of 4 entries of a list of `count` (count > g):
+// a short last group repeats its last partner, so its extra lanes hold
+// valid values, written past the group's end and overwritten by the next
+// particle's entries (the columns leave room for 3 more).
+struct PartnerGroup {
+  std::uint32_t j[4];
+  PartnerGroup(std::span<const std::uint32_t> list, std::size_t g) {
+    const std::size_t last = list.size() - 1;
+    for (std::size_t lane = 0; lane < 4; ++lane) j[lane] = list[std::min(g + lane, last)];
+  }
+};
+// The records of a group's partners, transposed: c[0..3] hold the x, y, z
+// and w components of the four.
+inline void transposedRecords(const glm::vec4* rec, const PartnerGroup& p, __m128 c[4]) {
+  for (int lane = 0; lane < 4; ++lane) c[lane] = _mm_loadu_ps(&rec[p.j[lane]].x);
+  _MM_TRANSPOSE4_PS(c[0], c[1], c[2], c[3]);
+}
+// The four components of record r, each in all lanes.
+inline void broadcastRecord(const glm::vec4& r, __m128 c[4]) {
+  const __m128 v = _mm_loadu_ps(&r.x);
+  c[0] = _mm_shuffle_ps(v, v, 0x00);
+  c[1] = _mm_shuffle_ps(v, v, 0x55);
+  c[2] = _mm_shuffle_ps(v, v, 0xaa);
+  c[3] = _mm_shuffle_ps(v, v, 0xff);
+}
+#endif
 
 LOOSEHAIR_PAIR_KERNEL
 void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
@@ -295,8 +332,6 @@ void Solver::computeDensity() {
   const CubicKernel k2(params_.h2);
   const std::size_t n = particles_.size();
   const glm::vec3* x = particles_.position.data();
-  const glm::vec3* v = particles_.velocity.data();
-  const glm::vec3* t = particles_.direction.data();
   const float* m = particles_.mass.data();
   const float w0 = k2.W(0.0f), inv_h = 1.0f / k2.h(), norm_w = w0 / 4.0f;
   const float ka = params_.pressure_stiffness;
@@ -304,22 +339,14 @@ void Solver::computeDensity() {
   // Blocks of points in the search's order, whose lists lie one after the
   // other in memory (each point's sum is the same in any visiting order).
   const std::uint32_t* ord = grid_->searchOrder().data();
-  HairRecords& rec = hairRecords();  // filled here for the hair-hair pass too
-  rec.xm.resize(n);
-  rec.vp.resize(n);
-  rec.tt.resize(n);
-  glm::vec4* xm = rec.xm.data();
-  glm::vec4* vp = rec.vp.data();
-  glm::vec4* tt = rec.tt.data();
+  std::vector<glm::vec4>& records = hairRecords().xm;  // (x, m), kept for the hair-hair pass
+  records.resize(n);
+  [[maybe_unused]] const glm::vec4* xm = records.data();  // read by the SSE gather
   enum { R2, MJ, RHO, kColumns };
 #pragma omp parallel num_threads(threads_)
   {
-#pragma omp for schedule(static)
-    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      xm[i] = glm::vec4(x[i], m[i]);
-      tt[i] = glm::vec4(t[i], 0.0f);
-    }
+    fillRecords(records, x, m, n);
+#pragma omp barrier
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
@@ -333,24 +360,18 @@ void Solver::computeDensity() {
       for (std::size_t p = b; p < e; ++p) {
         const std::uint32_t i = ord[p];
         const auto list = grid_->neighbors(i);
-        const std::size_t count = list.size();
 #if defined(__SSE2__)
-        // groups of 4 partners, as in accumulateHairHairForces
-        const __m128 ri = _mm_loadu_ps(&xm[i].x);
-        const __m128 xi = _mm_shuffle_ps(ri, ri, 0x00), yi = _mm_shuffle_ps(ri, ri, 0x55),
-                     zi = _mm_shuffle_ps(ri, ri, 0xaa);
+        const std::size_t count = list.size();
+        __m128 ri[4], a[4];
+        broadcastRecord(xm[i], ri);
         for (std::size_t g = 0; g < count; g += 4) {
-          const std::size_t last = count - 1;
-          __m128 a0 = _mm_loadu_ps(&xm[list[g]].x);
-          __m128 a1 = _mm_loadu_ps(&xm[list[std::min(g + 1, last)]].x);
-          __m128 a2 = _mm_loadu_ps(&xm[list[std::min(g + 2, last)]].x);
-          __m128 a3 = _mm_loadu_ps(&xm[list[std::min(g + 3, last)]].x);
-          _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
-          const __m128 dx = _mm_sub_ps(a0, xi), dy = _mm_sub_ps(a1, yi), dz = _mm_sub_ps(a2, zi);
+          transposedRecords(xm, PartnerGroup(list, g), a);
+          const __m128 dx = _mm_sub_ps(a[0], ri[0]), dy = _mm_sub_ps(a[1], ri[1]),
+                       dz = _mm_sub_ps(a[2], ri[2]);
           // (dx dx + dy dy) + dz dz, the order of glm::dot
           _mm_storeu_ps(r2 + k + g, _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
                                                _mm_mul_ps(dz, dz)));
-          _mm_storeu_ps(mj + k + g, a3);
+          _mm_storeu_ps(mj + k + g, a[3]);
         }
         k += count;
 #else
@@ -372,7 +393,6 @@ void Solver::computeDensity() {
         density_[i] = sum;
         pressure_[i] = ka * (sum - rest_density_);
         pressure_term_[i] = pressure_[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
-        vp[i] = glm::vec4(v[i], pressure_term_[i]);
       }
     }
   }
@@ -599,7 +619,7 @@ void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
 // ---- stage 3c: hair-hair pressure, collision, friction (SPEC §4) -----------
 // A blocked pair loop (pair_columns.hpp): every neighbour is within the
 // kernel's support; the terms are selected, not branched on.
-void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool records_ready) const {
+void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const {
   const CubicKernel k2(params_.h2);
   const std::size_t n = particles_.size();
   const glm::vec3* x = particles_.position.data();
@@ -611,27 +631,20 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool record
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
   const std::uint32_t* ord = grid_->searchOrder().data();  // as in computeDensity
   enum { DX, DY, DZ, VX, VY, VZ, TIX, TIY, TIZ, TJX, TJY, TJZ, MM, PP, FX, FY, FZ, kColumns };
-  // The partners' records (hairRecords()): made by computeDensity in a
-  // step, here for a query between steps.
+  // The partners' records (hairRecords()); (x, m) comes from computeDensity
+  // in a step, and is made here for a query between steps.
   HairRecords& rec = hairRecords();
-  const bool fill = !records_ready || rec.xm.size() != n;
   rec.xm.resize(n);
   rec.vp.resize(n);
   rec.tt.resize(n);
-  glm::vec4* xm = rec.xm.data();
-  glm::vec4* vp = rec.vp.data();
-  glm::vec4* tt = rec.tt.data();
+  [[maybe_unused]] const glm::vec4 *xm = rec.xm.data(), *vp = rec.vp.data(),
+                                   *tt = rec.tt.data();  // read by the SSE gather
 #pragma omp parallel num_threads(threads_)
   {
-    if (fill) {
-#pragma omp for schedule(static)
-      for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-        const auto i = static_cast<std::size_t>(ii);
-        xm[i] = glm::vec4(x[i], m[i]);
-        vp[i] = glm::vec4(v[i], pterm[i]);
-        tt[i] = glm::vec4(t[i], 0.0f);
-      }
-    }
+    if (!xm_ready) fillRecords(rec.xm, x, m, n);
+    fillRecords(rec.vp, v, pterm, n);
+    fillRecords(rec.tt, t, nullptr, n);
+#pragma omp barrier
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
     for (Index bb = 0; bb < blocks; ++bb) {
@@ -651,46 +664,32 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool record
       for (std::size_t p = b; p < e; ++p) {
         const std::uint32_t i = ord[p];
         const auto list = grid_->neighbors(i);
-        const std::size_t count = list.size();
 #if defined(__SSE2__)
-        // Groups of 4 partners; a short last group repeats its last partner
-        // and its extra lanes are overwritten by the next particle's pairs.
-        const __m128 ri = _mm_loadu_ps(&xm[i].x), qi = _mm_loadu_ps(&vp[i].x),
-                     ui = _mm_loadu_ps(&tt[i].x);
-        const __m128 xi = _mm_shuffle_ps(ri, ri, 0x00), yi = _mm_shuffle_ps(ri, ri, 0x55),
-                     zi = _mm_shuffle_ps(ri, ri, 0xaa), mi = _mm_shuffle_ps(ri, ri, 0xff);
-        const __m128 vxi = _mm_shuffle_ps(qi, qi, 0x00), vyi = _mm_shuffle_ps(qi, qi, 0x55),
-                     vzi = _mm_shuffle_ps(qi, qi, 0xaa), pi = _mm_shuffle_ps(qi, qi, 0xff);
-        const __m128 txi = _mm_shuffle_ps(ui, ui, 0x00), tyi = _mm_shuffle_ps(ui, ui, 0x55),
-                     tzi = _mm_shuffle_ps(ui, ui, 0xaa);
+        const std::size_t count = list.size();
+        __m128 ri[4], qi[4], ui[4], a[4], bv[4], c[4];  // i's and the partners' records
+        broadcastRecord(xm[i], ri);
+        broadcastRecord(vp[i], qi);
+        broadcastRecord(tt[i], ui);
         for (std::size_t g = 0; g < count; g += 4) {
-          const std::size_t last = count - 1;
-          const std::uint32_t j0 = list[g], j1 = list[std::min(g + 1, last)],
-                              j2 = list[std::min(g + 2, last)], j3 = list[std::min(g + 3, last)];
-          __m128 a0 = _mm_loadu_ps(&xm[j0].x), a1 = _mm_loadu_ps(&xm[j1].x),
-                 a2 = _mm_loadu_ps(&xm[j2].x), a3 = _mm_loadu_ps(&xm[j3].x);
-          _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
-          __m128 b0 = _mm_loadu_ps(&vp[j0].x), b1 = _mm_loadu_ps(&vp[j1].x),
-                 b2 = _mm_loadu_ps(&vp[j2].x), b3 = _mm_loadu_ps(&vp[j3].x);
-          _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
-          __m128 c0 = _mm_loadu_ps(&tt[j0].x), c1 = _mm_loadu_ps(&tt[j1].x),
-                 c2 = _mm_loadu_ps(&tt[j2].x), c3 = _mm_loadu_ps(&tt[j3].x);
-          _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+          const PartnerGroup group(list, g);
+          transposedRecords(xm, group, a);
+          transposedRecords(vp, group, bv);
+          transposedRecords(tt, group, c);
           const std::size_t q = k + g;
-          _mm_storeu_ps(dx + q, _mm_sub_ps(a0, xi));
-          _mm_storeu_ps(dy + q, _mm_sub_ps(a1, yi));
-          _mm_storeu_ps(dz + q, _mm_sub_ps(a2, zi));
-          _mm_storeu_ps(mm + q, _mm_mul_ps(mi, a3));
-          _mm_storeu_ps(vx + q, _mm_sub_ps(b0, vxi));
-          _mm_storeu_ps(vy + q, _mm_sub_ps(b1, vyi));
-          _mm_storeu_ps(vz + q, _mm_sub_ps(b2, vzi));
-          _mm_storeu_ps(pp + q, _mm_add_ps(pi, b3));
-          _mm_storeu_ps(tjx + q, c0);
-          _mm_storeu_ps(tjy + q, c1);
-          _mm_storeu_ps(tjz + q, c2);
-          _mm_storeu_ps(tix + q, txi);
-          _mm_storeu_ps(tiy + q, tyi);
-          _mm_storeu_ps(tiz + q, tzi);
+          _mm_storeu_ps(dx + q, _mm_sub_ps(a[0], ri[0]));
+          _mm_storeu_ps(dy + q, _mm_sub_ps(a[1], ri[1]));
+          _mm_storeu_ps(dz + q, _mm_sub_ps(a[2], ri[2]));
+          _mm_storeu_ps(mm + q, _mm_mul_ps(ri[3], a[3]));
+          _mm_storeu_ps(vx + q, _mm_sub_ps(bv[0], qi[0]));
+          _mm_storeu_ps(vy + q, _mm_sub_ps(bv[1], qi[1]));
+          _mm_storeu_ps(vz + q, _mm_sub_ps(bv[2], qi[2]));
+          _mm_storeu_ps(pp + q, _mm_add_ps(qi[3], bv[3]));
+          _mm_storeu_ps(tjx + q, c[0]);
+          _mm_storeu_ps(tjy + q, c[1]);
+          _mm_storeu_ps(tjz + q, c[2]);
+          _mm_storeu_ps(tix + q, ui[0]);
+          _mm_storeu_ps(tiy + q, ui[1]);
+          _mm_storeu_ps(tiz + q, ui[2]);
         }
         k += count;
 #else
@@ -1264,7 +1263,7 @@ void Solver::step() {
   computeSpringFactors(s);
   accumulateSpringForces(s, force_, stored_offsets);
   lap(st.springs);
-  if (params_.hair_hair) accumulateHairHairForces(force_, true);  // records from computeDensity
+  if (params_.hair_hair) accumulateHairHairForces(force_, true);  // (x, m) records from computeDensity
   lap(st.hair_hair);
   if (air_) {
     // air neighbours, density, pressure, viscosity and the hair-air drag (SPEC §5)

@@ -192,9 +192,9 @@ class Solver {
   /// them). With `stored_offsets`, x_ij is taken from s (measured by the
   /// last direction pass at the current positions) instead of gathered.
   void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force, bool stored_offsets) const;
-  /// `records_ready`: computeDensity has just made the partners' records
-  /// (in a step, at the same state).
-  void accumulateHairHairForces(std::vector<glm::vec3>& force, bool records_ready) const;
+  /// `xm_ready`: computeDensity has just made the partners' (x, m) records
+  /// (in a step, at the same positions).
+  void accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const;
   void computeDensity();
   void findNeighbors();
   void addExternalForces();
@@ -240,7 +240,6 @@ class Solver {
   std::vector<float> inverse_rest_kernel_;  // 1 / W(l_ij, h1) per connection entry
   std::vector<std::uint8_t> partner_root_;  // per entry: the partner is a root particle
   std::vector<float> entry_share_;  // per entry: w_i / (w_i + w_j), w the inverse mass
-  std::vector<float> inverse_mass_;  // per particle: 1/m, 0 for a root (fixed)
   std::vector<float> owner_weight_;  // per particle: 0 for a root, 1/2 otherwise (eq. 14)
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
 
