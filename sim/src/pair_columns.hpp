@@ -68,4 +68,28 @@ inline PairColumns& threadColumns() {
   return columns;
 }
 
+/// Slices per work item of a connection pass over ConnectionSlices (64
+/// particles, as kPairBlock).
+inline constexpr std::size_t kSliceChunk = 4;
+
+/// A connection pass's columns for one run of slices: per entry (the
+/// partners' gathered values) and per lane (the owners' values and sums).
+class SliceColumns {
+ public:
+  void reserve(std::size_t entries, int entry_columns, std::size_t lanes, int lane_columns) {
+    entries_.reserve(entries, entry_columns);
+    lanes_.reserve(lanes, lane_columns);
+  }
+  float* entry(int c) { return entries_[c]; }
+  float* lane(int c) { return lanes_[c]; }
+
+ private:
+  PairColumns entries_, lanes_;
+};
+
+inline SliceColumns& threadSliceColumns() {
+  static thread_local SliceColumns columns;
+  return columns;
+}
+
 }  // namespace loosehair

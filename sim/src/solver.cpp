@@ -5,6 +5,7 @@
 #include "loosehair/solver.hpp"
 
 #include "connection_builder.hpp"
+#include "connection_slices.hpp"
 #include "kernel.hpp"
 #include "air.hpp"
 #include "neighbor_grid.hpp"
@@ -40,21 +41,39 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
   return *this;
 }
 
-// Per-step spring quantities, one entry per connection entry or particle.
+// Per-step spring quantities. Per connection entry only what a later pass
+// cannot recompute from the positions: the connection passes stream these
+// arrays every step, and at 100k particles (1.2 M entries) their memory
+// traffic, not their arithmetic, bounds the step. |x_ij| and k_ij are
+// recomputed where they are needed, from the same expressions, so they have
+// the same bits in every pass.
 struct Solver::Scratch {
-  std::vector<float> k;            // k_ij = c_ij W(|x_ij|, h1), eq. 7
-  std::vector<float> r;            // |x_ij| when k was computed
   std::vector<float> sum_root;     // sum over Nr(i) of l_ij k_ij (eqs. 12-13)
   std::vector<float> sum_tip;      // sum over Nt(i)
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
-  std::vector<float> dx, dy, dz;   // x_ij when k was computed (by the direction pass)
-  std::vector<float> alpha;        // alpha_ij of this step (by the spring pass)
+  std::vector<float> weight;       // alpha_ij k_ij of this step (by the spring pass), sliced
+  std::vector<float> k;            // k_ij at the current positions: for the queries only
+  /// What the spring pass reads of a partner, two 16-byte records per
+  /// particle: (x, a_r) and (v, a_t); one cache line instead of three.
+  std::vector<glm::vec4> spring_records;
   std::size_t clamped = 0;         // side factors held at the clamp
   std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
-  /// k, r and the sums belong to the current positions: the direction pass
-  /// of a step computes them for the next one.
-  bool lengths_current = false;
+  /// The sums belong to the current positions: the direction pass of a step
+  /// computes them for the next one.
+  bool sums_current = false;
+};
+
+// The connections in the solver's slice layout (connection_slices.hpp) with
+// the per-entry constants of the connection passes.
+struct Solver::Sliced {
+  ConnectionSlices layout;
+  std::vector<float> rest;        // l_ij
+  std::vector<float> inv_rest_w;  // 1 / W(l_ij, h1)
+  std::vector<float> share;       // w_i / (w_i + w_j), w the inverse mass
+  std::vector<float> strength;    // c_ij
+  std::vector<float> cos_rest, sin_rest;  // of theta_ij
+  std::vector<float> own_weight;  // the owner's weight in alpha_ij (pairFactor)
 };
 
 namespace {
@@ -79,6 +98,18 @@ inline float pairFactor(float own, float other, float own_weight) {
 
 constexpr std::size_t kBodyBlock = 256;
 
+// k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
+// for every pass that needs k_ij, so that each recomputes the same bits.
+struct SpringKernel {
+  float inv_h, norm_w;  // W(r, h1): 1/h1, 1/(4 pi h1^3)
+  explicit SpringKernel(const CubicKernel& k1) : inv_h(1.0f / k1.h()), norm_w(k1.W(0.0f) / 4.0f) {}
+};
+inline float springCoefficient(float strength, float r, float inv_h, float norm_w) {
+  const float s = r * inv_h;
+  const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+  return strength * (norm_w * (a * a * a - 4.0f * (c * c * c)));
+}
+
 }  // namespace
 
 Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<const Body> head,
@@ -88,7 +119,8 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
       head_(std::move(head)),
       trajectory_(std::move(trajectory)),
       time_(start_time),
-      scratch_(std::make_unique<Scratch>()) {
+      scratch_(std::make_unique<Scratch>()),
+      sliced_(std::make_unique<Sliced>()) {
   const auto problems = validate(params_);
   if (!problems.empty()) {
     std::string msg = "invalid simulation parameters:";
@@ -114,12 +146,6 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   cross_section_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     cross_section_[i] = std::pow(particles_.mass[i] / params_.material_density, 2.0f / 3.0f);
-  inverse_rest_kernel_.resize(connections_.entryCount());
-  {
-    const CubicKernel k1(params_.h1);
-    for (std::size_t e = 0; e < connections_.entryCount(); ++e)
-      inverse_rest_kernel_[e] = 1.0f / k1.W(connections_.rest_length[e]);
-  }
   rest_factor_root_.assign(n, 0.0f);
   rest_factor_tip_.assign(n, 0.0f);
   {
@@ -137,20 +163,36 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     }
   }
 
-  partner_root_.resize(connections_.entryCount());
-  for (std::size_t e = 0; e < connections_.entryCount(); ++e)
-    partner_root_[e] = particles_.is_root[connections_.partner[e]];
+  own_weight_.resize(connections_.entryCount());
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
+      own_weight_[e] = particles_.is_root[connections_.partner[e]] ? 1.0f
+                       : particles_.is_root[i]                     ? 0.0f
+                                                                   : 0.5f;
   std::vector<float> inverse_mass(n);  // 0 for a root (fixed)
   for (std::size_t i = 0; i < n; ++i)
     inverse_mass[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
-  entry_share_.resize(connections_.entryCount());
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
-      const float wi = inverse_mass[i], wj = inverse_mass[connections_.partner[e]];
-      entry_share_[e] = wi / (wi + wj);  // no root-root connections: never 0/0
-    }
-  owner_weight_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) owner_weight_[i] = particles_.is_root[i] ? 0.0f : 0.5f;
+  {
+    const std::size_t m = connections_.entryCount();
+    std::vector<float> share(m), inv_rest_w(m);
+    const CubicKernel k1(params_.h1);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
+        const float wi = inverse_mass[i], wj = inverse_mass[connections_.partner[e]];
+        share[e] = wi / (wi + wj);  // no root-root connections: never 0/0
+        inv_rest_w[e] = 1.0f / k1.W(connections_.rest_length[e]);
+      }
+    Sliced& sl = *sliced_;
+    sl.layout = sliceConnections(connections_);
+    // padding entries: finite values, masked out by the passes
+    sl.rest = sl.layout.arrange(connections_.rest_length, 1.0f);
+    sl.inv_rest_w = sl.layout.arrange(inv_rest_w, 1.0f);
+    sl.share = sl.layout.arrange(share, 0.0f);
+    sl.strength = sl.layout.arrange(connections_.strength, 0.0f);
+    sl.cos_rest = sl.layout.arrange(connections_.cos_rest, 1.0f);
+    sl.sin_rest = sl.layout.arrange(connections_.sin_rest, 0.0f);
+    sl.own_weight = sl.layout.arrange(own_weight_, 1.0f);
+  }
 
   grid_ = std::make_unique<NeighborGrid>();
   density_.assign(n, 0.0f);
@@ -161,7 +203,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   limited_position_.assign(n, glm::vec3(0.0f));
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
-  resizeScratch(*scratch_);
+  resizeScratch(*scratch_, false);
 
   // Initial density: rest density rho0 and the kernel-free collision and
   // friction coefficients (SPEC §4: d_c W / m summed over neighbours is about
@@ -240,7 +282,7 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   // Queries between steps (internalForces, density) see the new state.
   findNeighbors();
   computeDensity();
-  scratch_->lengths_current = false;
+  scratch_->sums_current = false;
   // A reset may leave particles inside the body or over-stretched; the
   // first step moves them back without turning the move into velocity.
   absorb_corrections_ = true;
@@ -399,19 +441,15 @@ void Solver::computeDensity() {
 }
 
 // ---- stage 3a: loose spring coefficients, eqs. 7, 10-14 ---------------------
-void Solver::resizeScratch(Scratch& s) const {
+void Solver::resizeScratch(Scratch& s, bool keep_k) const {
   const std::size_t n = particles_.size(), m = connections_.entryCount();
-  s.k.assign(m, 0.0f);
-  s.r.assign(m, 0.0f);
   s.sum_root.assign(n, 0.0f);
   s.sum_tip.assign(n, 0.0f);
   s.factor_root.assign(n, 0.0f);
   s.factor_tip.assign(n, 0.0f);
-  s.dx.assign(m, 0.0f);
-  s.dy.assign(m, 0.0f);
-  s.dz.assign(m, 0.0f);
-  s.alpha.assign(m, 0.0f);
-  s.lengths_current = false;
+  s.weight.assign(sliced_->layout.partner.size(), 0.0f);  // in the slice layout
+  s.k.assign(keep_k ? m : 0, 0.0f);
+  s.sums_current = false;
 }
 
 void Solver::computeSpringFactors(Scratch& s) const {
@@ -422,7 +460,9 @@ void Solver::computeSpringFactors(Scratch& s) const {
   const float clamp = params_.stiffness_clamp;
   const Index n = static_cast<Index>(x.size());
   std::size_t clamped = 0, active = 0;
-  const bool measure = !s.lengths_current;  // else the direction pass measured (and counted)
+  const bool measure = !s.sums_current;  // else the direction pass measured (and counted)
+  const bool keep_k = !s.k.empty();
+  const SpringKernel sk(k1);
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped, active)
   for (Index ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -435,10 +475,9 @@ void Solver::computeSpringFactors(Scratch& s) const {
         float sum = 0.0f;
         for (std::uint32_t e = bounds[side]; e < bounds[side + 1]; ++e) {
           const glm::vec3 d = x[c.partner[e]] - xi;
-          const float r = std::sqrt(glm::dot(d, d));
-          const float k = c.strength[e] * k1.W(r);
-          s.k[e] = k;
-          s.r[e] = r;
+          const float r = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+          const float k = springCoefficient(c.strength[e], r, sk.inv_h, sk.norm_w);
+          if (keep_k) s.k[e] = k;
           active += k > 0.0f ? 1 : 0;
           sum += c.rest_length[e] * k;
         }
@@ -462,91 +501,135 @@ void Solver::computeSpringFactors(Scratch& s) const {
   }
   s.clamped = clamped;
   if (measure) s.active_entries = active;
-  s.lengths_current = false;  // the step moves the particles
+  s.sums_current = false;  // the step moves the particles
 }
 
 // ---- stage 3b: damped spring forces (SPEC §3.2) ----------------------------
 namespace {
 
-// The damped spring force on i of each gathered connection:
-// alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|.
+// The damped spring forces of the connections of a run of slices:
+// alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|,
+// summed per lane in list order; and alpha_ij k_ij per entry, kept for the
+// direction pass. alpha_ij (eq. 14) from the owner's factor on the entry's
+// side and the partner's on the other side (gathered).
+struct SpringTerms {
+  float inv_h, norm_w;  // kernel W(r, h1)
+  float gamma;          // spring damping (s)
+};
 LOOSEHAIR_PAIR_KERNEL
-void springPairTerms(std::size_t pairs, float gamma, const float* __restrict dx,
-                     const float* __restrict dy, const float* __restrict dz,
-                     const float* __restrict vx, const float* __restrict vy,
-                     const float* __restrict vz, const float* __restrict alpha,
-                     const float* __restrict k, const float* __restrict length,
-                     const float* __restrict rest, float* __restrict fx, float* __restrict fy,
-                     float* __restrict fz) {
-  for (std::size_t q = 0; q < pairs; ++q) {
-    const float r = length[q];  // |x_ij|, from the factor pass
-    const float inv_r = r > 0.0f ? 1.0f / r : 0.0f;
-    const float nx = dx[q] * inv_r, ny = dy[q] * inv_r, nz = dz[q] * inv_r;
-    const float closing = vx[q] * nx + vy[q] * ny + vz[q] * nz;
-    const float f = alpha[q] * k[q] * ((r - rest[q]) + gamma * closing);
-    fx[q] = f * nx;
-    fy[q] = f * ny;
-    fz[q] = f * nz;
+void springSlices(std::size_t slices, const std::uint32_t* __restrict rows, const SpringTerms& p,
+                  const float* __restrict degree, const float* __restrict root_degree,
+                  const float* __restrict xi, const float* __restrict yi,
+                  const float* __restrict zi, const float* __restrict vxi,
+                  const float* __restrict vyi, const float* __restrict vzi,
+                  const float* __restrict own_root, const float* __restrict own_tip,
+                  const float* __restrict xj, const float* __restrict yj,
+                  const float* __restrict zj, const float* __restrict vxj,
+                  const float* __restrict vyj, const float* __restrict vzj,
+                  const float* __restrict frj, const float* __restrict ftj,
+                  const float* __restrict own_weight,
+                  const float* __restrict strength, const float* __restrict rest,
+                  float* __restrict weight, float* __restrict fx_out, float* __restrict fy_out,
+                  float* __restrict fz_out) {
+  constexpr std::size_t L = ConnectionSlices::kLanes;
+  const float inv_h = p.inv_h, norm_w = p.norm_w, gamma = p.gamma;
+  std::size_t q0 = 0;
+  for (std::size_t sl = 0; sl < slices; ++sl) {
+    float fx[L], fy[L], fz[L];
+    for (std::size_t l = 0; l < L; ++l) fx[l] = fy[l] = fz[l] = 0.0f;
+    const std::size_t o = sl * L;
+    for (std::uint32_t r = 0; r < rows[sl]; ++r, q0 += L) {
+      const float row = static_cast<float>(r);
+      for (std::size_t l = 0; l < L; ++l) {
+        const std::size_t q = q0 + l;
+        const float dx = xj[q] - xi[o + l], dy = yj[q] - yi[o + l], dz = zj[q] - zi[o + l];
+        const float ux = vxj[q] - vxi[o + l], uy = vyj[q] - vyi[o + l], uz = vzj[q] - vzi[o + l];
+        // root side: own factor a_r,i and the partner's a_t,j; tip side the
+        // reverse (all four loaded, then selected: the loop vectorises)
+        const float own_r = own_root[o + l], own_t = own_tip[o + l], fr_j = frj[q], ft_j = ftj[q];
+        const bool root_side = row < root_degree[o + l];
+        const float own = root_side ? own_r : own_t;
+        const float other = root_side ? ft_j : fr_j;
+        const float alpha = pairFactor(own, other, own_weight[q]);
+        const float len = std::sqrt(dx * dx + dy * dy + dz * dz);  // |x_ij|
+        const float w = alpha * springCoefficient(strength[q], len, inv_h, norm_w);
+        const float inv_r = len > 0.0f ? 1.0f / len : 0.0f;
+        const float nx = dx * inv_r, ny = dy * inv_r, nz = dz * inv_r;
+        const float closing = ux * nx + uy * ny + uz * nz;
+        const float f = w * ((len - rest[q]) + gamma * closing);
+        const bool valid = row < degree[o + l];
+        weight[q] = w;
+        fx[l] = valid ? fx[l] + f * nx : fx[l];
+        fy[l] = valid ? fy[l] + f * ny : fy[l];
+        fz[l] = valid ? fz[l] + f * nz : fz[l];
+      }
+    }
+    for (std::size_t l = 0; l < L; ++l) {
+      fx_out[o + l] = fx[l];
+      fy_out[o + l] = fy[l];
+      fz_out[o + l] = fz[l];
+    }
   }
 }
 
 }  // namespace
 
-void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force,
-                                    bool stored_offsets) const {
-  const std::size_t n = particles_.size();
+void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const {
+  constexpr std::size_t L = ConnectionSlices::kLanes;
   const glm::vec3* x = particles_.position.data();
   const glm::vec3* v = particles_.velocity.data();
-  const auto& c = connections_;
-  const float gamma = params_.spring_damping;
+  const Sliced& sl = *sliced_;
+  const ConnectionSlices& cs = sl.layout;
+  const CubicKernel k1(params_.h1);
+  const SpringKernel sk(k1);
+  const SpringTerms terms{sk.inv_h, sk.norm_w, params_.spring_damping};
   const float* fr = s.factor_root.data();
   const float* ft = s.factor_tip.data();
-  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
-  enum { VX, VY, VZ, FX, FY, FZ, kColumns };
+  const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
+  enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, kLaneColumns };
+  const std::size_t n = particles_.size();
+  s.spring_records.resize(2 * n);
+  glm::vec4* rec = s.spring_records.data();
+  const float* records = &rec[0].x;
 #pragma omp parallel num_threads(threads_)
   {
-    PairColumns& col = threadColumns();
+#pragma omp for schedule(static)
+    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      rec[2 * i] = glm::vec4(x[i], fr[i]);
+      rec[2 * i + 1] = glm::vec4(v[i], ft[i]);
+    }
+    SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, 2)
-    for (Index bb = 0; bb < blocks; ++bb) {
-      const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
-      const std::size_t e = std::min(n, b + kPairBlock);
-      const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
-      const std::size_t pairs = e1 - e0;
-      col.reserve(pairs, kColumns);
-      // x_ij and alpha_ij live in the scratch (the block's slice of it)
-      float *__restrict dx = s.dx.data() + e0, *__restrict dy = s.dy.data() + e0,
-                        *__restrict dz = s.dz.data() + e0;
-      float *__restrict alpha = s.alpha.data() + e0;
-      float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
-      float *__restrict fx = col[FX], *__restrict fy = col[FY], *__restrict fz = col[FZ];
-      for (std::size_t i = b; i < e; ++i) {
-        const glm::vec3 xi = x[i], vi = v[i];
-        const float wi = owner_weight_[i];
-        // root side: own factor a_r,i and the partner's a_t,j; tip side the reverse
-        const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
-        const float own[2] = {fr[i], ft[i]};
-        const float* other[2] = {ft, fr};
-        for (int side = 0; side < 2; ++side)
-          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
-            const std::uint32_t j = c.partner[q];
-            const std::size_t k = q - e0;
-            if (!stored_offsets) {
-              const glm::vec3 xij = x[j] - xi;
-              dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
-            }
-            const glm::vec3 vij = v[j] - vi;
-            vx[k] = vij.x, vy[k] = vij.y, vz[k] = vij.z;
-            alpha[k] = pairFactor(own[side], other[side][j], partner_root_[q] ? 1.0f : wi);
-          }
+    for (Index cc = 0; cc < chunks; ++cc) {
+      const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
+      const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
+      const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
+      const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
+      const std::size_t lanes = (s1 - s0) * L;
+      col.reserve(entries, kEntryColumns, lanes, kLaneColumns);
+      const std::uint32_t* partner = cs.partner.data() + q0;
+      const std::uint32_t* owner = cs.owner.data() + s0 * L;
+      for (int half = 0; half < 2; ++half) {  // (x, a_r), then (v, a_t)
+        const int e = half ? VXJ : XJ, o = half ? VXI : XI;
+        gatherRecords(records + 4 * half, 2, partner, entries, col.entry(e), col.entry(e + 1),
+                      col.entry(e + 2), col.entry(e + 3));
+        gatherRecords(records + 4 * half, 2, owner, lanes, col.lane(o), col.lane(o + 1),
+                      col.lane(o + 2), col.lane(o + 3));
       }
-      springPairTerms(pairs, gamma, dx, dy, dz, vx, vy, vz, alpha, s.k.data() + e0,
-                      s.r.data() + e0, c.rest_length.data() + e0, fx, fy, fz);
-      for (std::size_t i = b; i < e; ++i) {
-        glm::vec3 f(0.0f);
-        for (std::uint32_t q = c.begin(i) - e0; q < c.end(i) - e0; ++q)
-          f += glm::vec3(fx[q], fy[q], fz[q]);
-        force[i] = f;
-      }
+      std::uint32_t rows[kSliceChunk];
+      for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
+      springSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L,
+                   cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
+                   col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
+                   col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
+                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.own_weight.data() + q0, sl.strength.data() + q0,
+                   sl.rest.data() + q0, s.weight.data() + q0, col.lane(FX), col.lane(FY),
+                   col.lane(FZ));
+      const std::size_t used = std::min(lanes, cs.particle_count - s0 * L);
+      for (std::size_t l = 0; l < used; ++l)
+        force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
     }
   }
 }
@@ -921,88 +1004,114 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
 // ---- strain limit (SPEC §5, §9) ------------------------------------------------
 namespace {
 
-// The strain-limit correction of each gathered connection (for
+// The strain-limit corrections of the connections of a run of slices (for
 // Solver::limitStrain): a connection longer than (1 + max_strain) l_ij and
 // still within the kernel's support pulls i towards j by its share
 // w_i / (w_i + w_j) of the excess, scaled by the spring's looseness
 // W(r)/W(l_ij) (so a connection that is letting go, hair splitting, is not
-// pulled back hard). Writes the coefficient of x_ij and 1 or 0 (acting).
+// pulled back hard). Each lane sums, in its list's order, the shift and
+// the number of acting connections.
 struct StrainTerms {
   float inv_h, norm_w;  // kernel W(r, h1)
   float support2, max_len_scale;
 };
 LOOSEHAIR_PAIR_KERNEL
-void strainPairTerms(std::size_t pairs, const StrainTerms& p, const float* __restrict dx,
-                     const float* __restrict dy, const float* __restrict dz,
-                     const float* __restrict rest, const float* __restrict inv_rest_w,
-                     const float* __restrict share, float* __restrict coef,
-                     float* __restrict acting) {
+void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows,
+                  const StrainTerms& p, const float* __restrict degree,
+                  const float* __restrict xi, const float* __restrict yi,
+                  const float* __restrict zi, const float* __restrict xj,
+                  const float* __restrict yj, const float* __restrict zj,
+                  const float* __restrict rest, const float* __restrict inv_rest_w,
+                  const float* __restrict share, float* __restrict shift_x,
+                  float* __restrict shift_y, float* __restrict shift_z,
+                  float* __restrict acting) {
+  constexpr std::size_t L = ConnectionSlices::kLanes;
   const float inv_h = p.inv_h, norm_w = p.norm_w, support2 = p.support2,
               scale = p.max_len_scale;
-  for (std::size_t q = 0; q < pairs; ++q) {
-    const float r2 = dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q];
-    const float limit = scale * rest[q];
-    // slack connections and connections beyond the support stay free
-    const float on = r2 > limit * limit ? (r2 < support2 ? 1.0f : 0.0f) : 0.0f;
-    const float r = std::sqrt(r2);
-    const float s = r * inv_h;
-    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
-    const float looseness = std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w[q]);
-    coef[q] = on > 0.0f ? looseness * (r - limit) * share[q] / r : 0.0f;
-    acting[q] = on;
+  std::size_t q0 = 0;  // first entry of the slice's rows
+  for (std::size_t sl = 0; sl < slices; ++sl) {
+    float sx[L], sy[L], sz[L], act[L];
+    for (std::size_t l = 0; l < L; ++l) sx[l] = sy[l] = sz[l] = act[l] = 0.0f;
+    const std::size_t o = sl * L;
+    for (std::uint32_t r = 0; r < rows[sl]; ++r, q0 += L) {
+      const float row = static_cast<float>(r);
+      for (std::size_t l = 0; l < L; ++l) {
+        const std::size_t q = q0 + l;
+        const float dx = xj[q] - xi[o + l], dy = yj[q] - yi[o + l], dz = zj[q] - zi[o + l];
+        const float r2 = dx * dx + dy * dy + dz * dz;
+        const float limit = scale * rest[q];
+        // slack connections and connections beyond the support stay free
+        const float on = r2 > limit * limit ? (r2 < support2 ? 1.0f : 0.0f) : 0.0f;
+        const float len = std::sqrt(r2);
+        const float s = len * inv_h;
+        const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+        const float looseness =
+            std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w[q]);
+        const float coef = on > 0.0f ? looseness * (len - limit) * share[q] / len : 0.0f;
+        const bool valid = row < degree[o + l];  // not a padding entry
+        sx[l] = valid ? sx[l] + coef * dx : sx[l];
+        sy[l] = valid ? sy[l] + coef * dy : sy[l];
+        sz[l] = valid ? sz[l] + coef * dz : sz[l];
+        act[l] = valid ? act[l] + on : act[l];
+      }
+    }
+    for (std::size_t l = 0; l < L; ++l) {
+      shift_x[o + l] = sx[l];
+      shift_y[o + l] = sy[l];
+      shift_z[o + l] = sz[l];
+      acting[o + l] = act[l];
+    }
   }
 }
 
 }  // namespace
 
 std::size_t Solver::limitStrain() {
-  const std::size_t n = particles_.size();
+  constexpr std::size_t L = ConnectionSlices::kLanes;
   const auto& root = particles_.is_root;
   std::size_t limited = 0;
   if (!params_.strain_limit || params_.strain_limit_iterations <= 0) return 0;
   const CubicKernel k1(params_.h1);
   const StrainTerms terms{1.0f / k1.h(), k1.W(0.0f) / 4.0f, k1.support2(),
                           1.0f + params_.max_strain};
-  const auto& c = connections_;
-  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
-  enum { DX, DY, DZ, COEF, ACT, kColumns };
+  const Sliced& sl = *sliced_;
+  const ConnectionSlices& cs = sl.layout;
+  const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  enum { XJ, YJ, ZJ, kEntryColumns };
+  enum { XI, YI, ZI, SX, SY, SZ, ACT, kLaneColumns };
   for (int it = 0; it < params_.strain_limit_iterations; ++it) {
     const glm::vec3* x = particles_.position.data();
     glm::vec3* out = limited_position_.data();
     std::size_t count = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : count)
     {
-      PairColumns& col = threadColumns();
+      SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, 2)
-      for (Index bb = 0; bb < blocks; ++bb) {
-        const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
-        const std::size_t e = std::min(n, b + kPairBlock);
-        const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
-        const std::size_t pairs = e1 - e0;
-        col.reserve(pairs, kColumns);
-        float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
-        float *__restrict coef = col[COEF], *__restrict acting = col[ACT];
-        for (std::size_t i = b; i < e; ++i) {
-          const glm::vec3 xi = x[i];
-          for (std::uint32_t q = c.begin(i); q < c.end(i); ++q) {
-            const glm::vec3 xij = x[c.partner[q]] - xi;
-            const std::size_t k = q - e0;
-            dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
-          }
-        }
-        strainPairTerms(pairs, terms, dx, dy, dz, c.rest_length.data() + e0,
-                        inverse_rest_kernel_.data() + e0, entry_share_.data() + e0, coef, acting);
-        for (std::size_t i = b; i < e; ++i) {
+      for (Index cc = 0; cc < chunks; ++cc) {
+        const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
+        const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
+        const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
+        const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
+        col.reserve(entries, kEntryColumns, (s1 - s0) * L, kLaneColumns);
+        gatherRows3(&x[0].x, cs.partner.data() + q0, entries, col.entry(XJ), col.entry(YJ),
+                    col.entry(ZJ));
+        gatherRows3(&x[0].x, cs.owner.data() + s0 * L, (s1 - s0) * L, col.lane(XI),
+                    col.lane(YI), col.lane(ZI));
+        std::uint32_t rows[kSliceChunk];
+        for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
+        strainSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L, col.lane(XI), col.lane(YI),
+                     col.lane(ZI), col.entry(XJ), col.entry(YJ), col.entry(ZJ),
+                     sl.rest.data() + q0, sl.inv_rest_w.data() + q0, sl.share.data() + q0,
+                     col.lane(SX), col.lane(SY), col.lane(SZ), col.lane(ACT));
+        for (std::size_t k = s0 * L; k < s0 * L + (s1 - s0) * L; ++k) {
+          if (k >= cs.particle_count) break;
+          const std::uint32_t i = cs.owner[k];
+          const std::size_t l = k - s0 * L;
           out[i] = x[i];
           if (root[i]) continue;
-          glm::vec3 shift(0.0f);
-          float active = 0.0f;
-          for (std::uint32_t q = c.begin(i) - e0; q < c.end(i) - e0; ++q) {
-            shift += coef[q] * glm::vec3(dx[q], dy[q], dz[q]);
-            active += acting[q];
-          }
+          const float active = col.lane(ACT)[l];
           if (active > 0.0f) {
-            out[i] = x[i] + shift / active;
+            out[i] = x[i] + glm::vec3(col.lane(SX)[l], col.lane(SY)[l], col.lane(SZ)[l]) / active;
             ++count;
           }
         }
@@ -1126,108 +1235,123 @@ void Solver::moveAir(float dt, const std::vector<BodyFrame>& frames,
 // that every particle's state is finite.
 namespace {
 
-struct DirectionTerms {
-  float inv_h, norm_w;  // kernel W(r, h1)
-};
-// For each gathered connection: the direction t_ij that i's hair direction
-// would have if the pair kept its rest angle (x_ij turned by theta_ij
-// towards t_i), weighted by alpha_ij k_ij; and k_ij, |x_ij|, l_ij k_ij at
-// the new positions.
+// For the connections of a run of slices: the direction t_ij that i's hair
+// direction would have if the pair kept its rest angle (x_ij turned by
+// theta_ij towards t_i), weighted by this step's alpha_ij k_ij and summed
+// per lane; and per lane the sums of l_ij k_ij of each side and the count
+// of k_ij > 0 at the new positions.
 LOOSEHAIR_PAIR_KERNEL
-void directionPairTerms(std::size_t pairs, const DirectionTerms& p, const float* __restrict dx,
-                        const float* __restrict dy, const float* __restrict dz,
-                        const float* __restrict tix, const float* __restrict tiy,
-                        const float* __restrict tiz, const float* __restrict alpha,
-                        const float* __restrict strength, const float* __restrict rest,
-                        const float* __restrict cos_rest, const float* __restrict sin_rest,
-                        float* __restrict k, float* __restrict length, float* __restrict lk,
-                        float* __restrict ox, float* __restrict oy, float* __restrict oz) {
+void directionSlices(std::size_t slices, const std::uint32_t* __restrict rows,
+                     const SpringKernel& p, const float* __restrict degree,
+                     const float* __restrict root_degree, const float* __restrict xi,
+                     const float* __restrict yi, const float* __restrict zi,
+                     const float* __restrict tix, const float* __restrict tiy,
+                     const float* __restrict tiz, const float* __restrict xj,
+                     const float* __restrict yj, const float* __restrict zj,
+                     const float* __restrict weight, const float* __restrict strength,
+                     const float* __restrict rest, const float* __restrict cos_rest,
+                     const float* __restrict sin_rest, float* __restrict sum_root,
+                     float* __restrict sum_tip, float* __restrict active,
+                     float* __restrict ox_out, float* __restrict oy_out,
+                     float* __restrict oz_out) {
+  constexpr std::size_t L = ConnectionSlices::kLanes;
   const float inv_h = p.inv_h, norm_w = p.norm_w;
-  for (std::size_t q = 0; q < pairs; ++q) {
-    const float weight = alpha[q] * k[q];  // this step's k_ij
-    const float r = std::sqrt(dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q]);
-    const float s = r * inv_h;
-    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
-    const float k_next = strength[q] * (norm_w * (a * a * a - 4.0f * (c * c * c)));
-    k[q] = k_next;
-    length[q] = r;
-    lk[q] = rest[q] * k_next;
-    const float on = weight > 0.0f ? (r > 0.0f ? 1.0f : 0.0f) : 0.0f;
-    const float inv_r = 1.0f / (on > 0.0f ? r : 1.0f);
-    const float hx = dx[q] * inv_r, hy = dy[q] * inv_r, hz = dz[q] * inv_r;
-    // cos(theta) xhat + sin(theta) t_perp, t_perp the part of t_i normal to xhat
-    const float along = tix[q] * hx + tiy[q] * hy + tiz[q] * hz;
-    const float px = tix[q] - along * hx, py = tiy[q] - along * hy, pz = tiz[q] - along * hz;
-    const float perp_len = std::sqrt(px * px + py * py + pz * pz);
-    const float bent = perp_len > 1e-6f ? 1.0f : 0.0f;
-    const float sp = sin_rest[q] / (bent > 0.0f ? perp_len : 1.0f);
-    const float sign = cos_rest[q] >= 0.0f ? 1.0f : -1.0f;
-    const float tx = bent > 0.0f ? cos_rest[q] * hx + sp * px : sign * hx;
-    const float ty = bent > 0.0f ? cos_rest[q] * hy + sp * py : sign * hy;
-    const float tz = bent > 0.0f ? cos_rest[q] * hz + sp * pz : sign * hz;
-    const float w = on > 0.0f ? weight : 0.0f;
-    ox[q] = w * tx;
-    oy[q] = w * ty;
-    oz[q] = w * tz;
+  std::size_t q0 = 0;
+  for (std::size_t sl = 0; sl < slices; ++sl) {
+    float sr[L], st[L], act[L], ox[L], oy[L], oz[L];
+    for (std::size_t l = 0; l < L; ++l) sr[l] = st[l] = act[l] = ox[l] = oy[l] = oz[l] = 0.0f;
+    const std::size_t o = sl * L;
+    for (std::uint32_t r = 0; r < rows[sl]; ++r, q0 += L) {
+      const float row = static_cast<float>(r);
+      for (std::size_t l = 0; l < L; ++l) {
+        const std::size_t q = q0 + l;
+        const float dx = xj[q] - xi[o + l], dy = yj[q] - yi[o + l], dz = zj[q] - zi[o + l];
+        const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float k_next = springCoefficient(strength[q], len, inv_h, norm_w);
+        const float lk = rest[q] * k_next;
+        const float on = weight[q] > 0.0f ? (len > 0.0f ? 1.0f : 0.0f) : 0.0f;
+        const float inv_r = 1.0f / (on > 0.0f ? len : 1.0f);
+        const float hx = dx * inv_r, hy = dy * inv_r, hz = dz * inv_r;
+        // cos(theta) xhat + sin(theta) t_perp, t_perp the part of t_i normal to xhat
+        const float ti_x = tix[o + l], ti_y = tiy[o + l], ti_z = tiz[o + l];
+        const float along = ti_x * hx + ti_y * hy + ti_z * hz;
+        const float px = ti_x - along * hx, py = ti_y - along * hy, pz = ti_z - along * hz;
+        const float perp_len = std::sqrt(px * px + py * py + pz * pz);
+        const float bent = perp_len > 1e-6f ? 1.0f : 0.0f;
+        const float sp = sin_rest[q] / (bent > 0.0f ? perp_len : 1.0f);
+        const float sign = cos_rest[q] >= 0.0f ? 1.0f : -1.0f;
+        const float tx = bent > 0.0f ? cos_rest[q] * hx + sp * px : sign * hx;
+        const float ty = bent > 0.0f ? cos_rest[q] * hy + sp * py : sign * hy;
+        const float tz = bent > 0.0f ? cos_rest[q] * hz + sp * pz : sign * hz;
+        const float w = on > 0.0f ? weight[q] : 0.0f;
+        const bool valid = row < degree[o + l];
+        const bool root_side = row < root_degree[o + l];
+        sr[l] = valid && root_side ? sr[l] + lk : sr[l];
+        st[l] = valid && !root_side ? st[l] + lk : st[l];
+        act[l] = valid && k_next > 0.0f ? act[l] + 1.0f : act[l];
+        ox[l] = valid ? ox[l] + w * tx : ox[l];
+        oy[l] = valid ? oy[l] + w * ty : oy[l];
+        oz[l] = valid ? oz[l] + w * tz : oz[l];
+      }
+    }
+    for (std::size_t l = 0; l < L; ++l) {
+      sum_root[o + l] = sr[l];
+      sum_tip[o + l] = st[l];
+      active[o + l] = act[l];
+      ox_out[o + l] = ox[l];
+      oy_out[o + l] = oy[l];
+      oz_out[o + l] = oz[l];
+    }
   }
 }
 
 }  // namespace
 
 std::size_t Solver::updateDirections(Scratch& s) {
-  const std::size_t n = particles_.size();
+  constexpr std::size_t L = ConnectionSlices::kLanes;
   const glm::vec3* x = particles_.position.data();
   const glm::vec3* v = particles_.velocity.data();
   glm::vec3* dir = particles_.direction.data();
   const auto& root = particles_.is_root;
-  const auto& c = connections_;
-  const CubicKernel k1(params_.h1);
-  const DirectionTerms terms{1.0f / k1.h(), k1.W(0.0f) / 4.0f};
-  const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
-  enum { TX, TY, TZ, LK, OX, OY, OZ, kColumns };
+  const Sliced& sl = *sliced_;
+  const ConnectionSlices& cs = sl.layout;
+  const SpringKernel terms{CubicKernel(params_.h1)};
+  const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  enum { XJ, YJ, ZJ, kEntryColumns };
+  enum { XI, YI, ZI, TX, TY, TZ, SR, ST, ACT, OX, OY, OZ, kLaneColumns };
   std::size_t broken = 0, active = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : broken, active)
   {
-    PairColumns& col = threadColumns();
+    SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, 2)
-    for (Index bb = 0; bb < blocks; ++bb) {
-      const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
-      const std::size_t e = std::min(n, b + kPairBlock);
-      const std::uint32_t e0 = c.begin(b), e1 = c.begin(e);
-      const std::size_t pairs = e1 - e0;
-      col.reserve(pairs, kColumns);
-      // x_ij goes to the scratch: the next step's spring pass reads it there
-      float *__restrict dx = s.dx.data() + e0, *__restrict dy = s.dy.data() + e0,
-                        *__restrict dz = s.dz.data() + e0;
-      const float* alpha = s.alpha.data() + e0;  // this step's, from the spring pass
-      float *__restrict tx = col[TX], *__restrict ty = col[TY], *__restrict tz = col[TZ];
-      float *__restrict lk = col[LK];
-      float *__restrict ox = col[OX], *__restrict oy = col[OY], *__restrict oz = col[OZ];
-      for (std::size_t i = b; i < e; ++i) {
-        const glm::vec3 xi = x[i], ti = dir[i];
-        for (std::uint32_t q = c.begin(i); q < c.end(i); ++q) {
-          const glm::vec3 xij = x[c.partner[q]] - xi;
-          const std::size_t k = q - e0;
-          dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
-          tx[k] = ti.x, ty[k] = ti.y, tz[k] = ti.z;
-        }
-      }
-      directionPairTerms(pairs, terms, dx, dy, dz, tx, ty, tz, alpha, c.strength.data() + e0,
-                         c.rest_length.data() + e0, c.cos_rest.data() + e0,
-                         c.sin_rest.data() + e0, s.k.data() + e0, s.r.data() + e0, lk, ox, oy,
-                         oz);
-      for (std::size_t i = b; i < e; ++i) {
-        const std::uint32_t bounds[3] = {c.begin(i) - e0, c.tipBegin(i) - e0, c.end(i) - e0};
-        float side_sum[2] = {0.0f, 0.0f};
-        for (int side = 0; side < 2; ++side)
-          for (std::uint32_t q = bounds[side]; q < bounds[side + 1]; ++q) {
-            side_sum[side] += lk[q];
-            active += s.k[e0 + q] > 0.0f ? 1 : 0;
-          }
-        s.sum_root[i] = side_sum[0];
-        s.sum_tip[i] = side_sum[1];
-        glm::vec3 sum(0.0f);
-        for (std::uint32_t q = bounds[0]; q < bounds[2]; ++q) sum += glm::vec3(ox[q], oy[q], oz[q]);
+    for (Index cc = 0; cc < chunks; ++cc) {
+      const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
+      const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
+      const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
+      const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
+      const std::size_t lanes = (s1 - s0) * L;
+      col.reserve(entries, kEntryColumns, lanes, kLaneColumns);
+      gatherRows3(&x[0].x, cs.partner.data() + q0, entries, col.entry(XJ), col.entry(YJ),
+                  col.entry(ZJ));
+      const std::uint32_t* owner = cs.owner.data() + s0 * L;
+      gatherRows3(&x[0].x, owner, lanes, col.lane(XI), col.lane(YI), col.lane(ZI));
+      gatherRows3(&dir[0].x, owner, lanes, col.lane(TX), col.lane(TY), col.lane(TZ));
+      std::uint32_t rows[kSliceChunk];
+      for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
+      directionSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L,
+                      cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
+                      col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ), col.entry(YJ),
+                      col.entry(ZJ), s.weight.data() + q0, sl.strength.data() + q0,
+                      sl.rest.data() + q0, sl.cos_rest.data() + q0, sl.sin_rest.data() + q0,
+                      col.lane(SR), col.lane(ST), col.lane(ACT), col.lane(OX), col.lane(OY),
+                      col.lane(OZ));
+      const std::size_t used = std::min(lanes, cs.particle_count - s0 * L);
+      for (std::size_t l = 0; l < used; ++l) {
+        const std::uint32_t i = owner[l];
+        s.sum_root[i] = col.lane(SR)[l];
+        s.sum_tip[i] = col.lane(ST)[l];
+        active += static_cast<std::size_t>(col.lane(ACT)[l]);
+        const glm::vec3 sum(col.lane(OX)[l], col.lane(OY)[l], col.lane(OZ)[l]);
         const float len = std::sqrt(glm::dot(sum, sum));
         if (!root[i] && len > 0.0f) dir[i] = sum * (1.0f / len);
         // Never go on silently with a broken state.
@@ -1237,7 +1361,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
       }
     }
   }
-  s.lengths_current = true;
+  s.sums_current = true;
   s.active_entries = active;
   return broken;
 }
@@ -1259,9 +1383,8 @@ void Solver::step() {
   lap(st.neighbors);
   computeDensity();
   lap(st.density);
-  const bool stored_offsets = s.lengths_current;  // measured by the last direction pass
   computeSpringFactors(s);
-  accumulateSpringForces(s, force_, stored_offsets);
+  accumulateSpringForces(s, force_);
   lap(st.springs);
   if (params_.hair_hair) accumulateHairHairForces(force_, true);  // (x, m) records from computeDensity
   lap(st.hair_hair);
@@ -1354,7 +1477,7 @@ std::uint64_t Solver::stateHash() const {
 
 Solver::Scratch Solver::springFactorsNow() const {
   Scratch s;
-  resizeScratch(s);
+  resizeScratch(s, true);
   computeSpringFactors(s);
   return s;
 }
@@ -1364,7 +1487,7 @@ float Solver::entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) cons
   const std::uint32_t j = connections_.partner[e];
   const float own = tip ? s.factor_tip[i] : s.factor_root[i];
   const float other = tip ? s.factor_root[j] : s.factor_tip[j];
-  return pairFactor(own, other, partner_root_[e] ? 1.0f : owner_weight_[i]);
+  return pairFactor(own, other, own_weight_[e]);
 }
 
 double Solver::stableTimeStep() const {
@@ -1397,7 +1520,7 @@ std::vector<float> Solver::tensileModulus(Side side) const {
 std::vector<glm::vec3> Solver::internalForces() const {
   Scratch s = springFactorsNow();
   std::vector<glm::vec3> f(particles_.size());
-  accumulateSpringForces(s, f, false);
+  accumulateSpringForces(s, f);
   if (params_.hair_hair) accumulateHairHairForces(f, false);
   return f;
 }

@@ -184,14 +184,12 @@ class Solver {
 
  private:
   struct Scratch;
-  void resizeScratch(Scratch& s) const;
+  void resizeScratch(Scratch& s, bool keep_k) const;  // keep_k: store k_ij (queries)
   void computeSpringFactors(Scratch& s) const;
   Scratch springFactorsNow() const;  // fresh buffers, for the const queries
   float entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
-  /// Writes f and each entry's alpha_ij into s (the direction pass reuses
-  /// them). With `stored_offsets`, x_ij is taken from s (measured by the
-  /// last direction pass at the current positions) instead of gathered.
-  void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force, bool stored_offsets) const;
+  /// Writes f, and each entry's alpha_ij k_ij into s (for the direction pass).
+  void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const;
   /// `xm_ready`: computeDensity has just made the partners' (x, m) records
   /// (in a step, at the same positions).
   void accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const;
@@ -237,10 +235,7 @@ class Solver {
   // derived at initialisation
   std::vector<float> cross_section_;  // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
-  std::vector<float> inverse_rest_kernel_;  // 1 / W(l_ij, h1) per connection entry
-  std::vector<std::uint8_t> partner_root_;  // per entry: the partner is a root particle
-  std::vector<float> entry_share_;  // per entry: w_i / (w_i + w_j), w the inverse mass
-  std::vector<float> owner_weight_;  // per particle: 0 for a root, 1/2 otherwise (eq. 14)
+  std::vector<float> own_weight_;  // per entry: the owner's weight in alpha_ij (eq. 14)
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
 
   // per step
@@ -250,6 +245,8 @@ class Solver {
   std::vector<float> body_phi_;
   std::vector<glm::vec3> body_normal_;
   std::unique_ptr<Scratch> scratch_;
+  struct Sliced;  // the connections in the layout of the connection passes
+  std::unique_ptr<Sliced> sliced_;
 
   StepStats stats_;
   InitReport report_;

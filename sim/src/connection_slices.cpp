@@ -1,0 +1,165 @@
+#include "connection_slices.hpp"
+
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define LOOSEHAIR_HAVE_GATHER_PATH 1
+#endif
+
+#include <algorithm>
+#include <numeric>
+#include <cstdlib>
+
+namespace loosehair {
+
+ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window) {
+  constexpr std::size_t L = ConnectionSlices::kLanes;
+  ConnectionSlices out;
+  const std::size_t n = c.particleCount();
+  out.particle_count = n;
+  const std::size_t slices = (n + L - 1) / L;
+  window = std::max<std::size_t>(L, window / L * L);
+
+  // lanes: degree-sorted within each window (ties keep the index order)
+  std::vector<std::uint32_t> lane(n);
+  std::iota(lane.begin(), lane.end(), 0u);
+  for (std::size_t w = 0; w < n; w += window) {
+    const auto first = lane.begin() + static_cast<std::ptrdiff_t>(w);
+    const auto last = lane.begin() + static_cast<std::ptrdiff_t>(std::min(n, w + window));
+    std::stable_sort(first, last,
+                     [&](std::uint32_t a, std::uint32_t b) { return c.degree(a) > c.degree(b); });
+  }
+  out.owner.resize(slices * L);
+  out.degree.assign(slices * L, 0.0f);
+  out.root_degree.assign(slices * L, 0.0f);
+  out.row_begin.assign(slices + 1, 0);
+  for (std::size_t s = 0; s < slices; ++s) {
+    std::uint32_t rows = 0;
+    for (std::size_t p = 0; p < L; ++p) {
+      const std::size_t k = s * L + p;
+      if (k < n) {
+        const std::uint32_t i = lane[k];
+        out.owner[k] = i;
+        out.degree[k] = static_cast<float>(c.degree(i));
+        out.root_degree[k] = static_cast<float>(c.tipBegin(i) - c.begin(i));
+        rows = std::max(rows, c.degree(i));
+      } else {
+        out.owner[k] = lane[n - 1];  // a real particle; degree 0 masks it out
+      }
+    }
+    out.row_begin[s + 1] = out.row_begin[s] + rows;
+  }
+  const std::size_t entries = static_cast<std::size_t>(out.rowCount()) * L;
+  out.entry.assign(entries, ConnectionSlices::kPadding);
+  out.partner.resize(entries);
+  for (std::size_t s = 0; s < slices; ++s)
+    for (std::size_t p = 0; p < L; ++p) {
+      const std::size_t k = s * L + p;
+      const std::uint32_t i = out.owner[k];
+      const std::uint32_t deg = k < n ? c.degree(i) : 0;
+      for (std::uint32_t r = out.row_begin[s]; r < out.row_begin[s + 1]; ++r) {
+        const std::size_t slot = static_cast<std::size_t>(r) * L + p;
+        const std::uint32_t row = r - out.row_begin[s];
+        if (row < deg) {
+          out.entry[slot] = c.begin(i) + row;
+          out.partner[slot] = c.partner[c.begin(i) + row];
+        } else {
+          out.partner[slot] = i;
+        }
+      }
+    }
+  return out;
+}
+
+namespace {
+
+#if defined(LOOSEHAIR_HAVE_GATHER_PATH)
+// All 16 lanes of a[j] (the masked form: the plain one trips GCC 12's
+// maybe-uninitialized warning inside its own header). Indices are signed
+// 32-bit: 3 j stays below 2^31 for up to 700 M particles.
+__attribute__((target("avx512f"))) inline __m512 gatherAll(const float* a, __m512i j) {
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), __mmask16(0xffff), j, a, 4);
+}
+
+bool cpuHasAvx512() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f");
+}
+
+__attribute__((target("avx512f"))) void gather16(const float* a, const std::uint32_t* idx,
+                                                 std::size_t count, float* out) {
+  for (std::size_t k = 0; k < count; k += 16) {
+    const __m512i j = _mm512_loadu_si512(idx + k);
+    _mm512_storeu_ps(out + k, gatherAll(a, j));
+  }
+}
+
+__attribute__((target("avx512f"))) void gather16x3(const float* a, const std::uint32_t* idx,
+                                                   std::size_t count, float* ox, float* oy,
+                                                   float* oz) {
+  for (std::size_t k = 0; k < count; k += 16) {
+    const __m512i j = _mm512_loadu_si512(idx + k);
+    const __m512i j3 = _mm512_add_epi32(_mm512_add_epi32(j, j), j);
+    _mm512_storeu_ps(ox + k, gatherAll(a, j3));
+    _mm512_storeu_ps(oy + k, gatherAll(a + 1, j3));
+    _mm512_storeu_ps(oz + k, gatherAll(a + 2, j3));
+  }
+}
+#else
+bool cpuHasAvx512() { return false; }
+#endif
+
+bool useGather() {
+  static const bool available = getenv("LH_GATHER") && cpuHasAvx512();
+  return available;
+}
+
+}  // namespace
+
+void gatherRows(const float* a, const std::uint32_t* idx, std::size_t count, float* out) {
+#if defined(LOOSEHAIR_HAVE_GATHER_PATH)
+  if (useGather()) return gather16(a, idx, count, out);
+#endif
+  for (std::size_t k = 0; k < count; ++k) out[k] = a[idx[k]];
+}
+
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, float* ox,
+                 float* oy, float* oz) {
+#if defined(LOOSEHAIR_HAVE_GATHER_PATH)
+  if (useGather()) return gather16x3(a, idx, count, ox, oy, oz);
+#endif
+  for (std::size_t k = 0; k < count; ++k) {
+    const float* p = a + 3 * static_cast<std::size_t>(idx[k]);
+    ox[k] = p[0];
+    oy[k] = p[1];
+    oz[k] = p[2];
+  }
+}
+
+void gatherRecords(const float* rec, std::size_t stride, const std::uint32_t* idx,
+                   std::size_t count, float* o0, float* o1, float* o2, float* o3) {
+  const std::size_t step = 4 * stride;  // floats per index
+#if defined(__SSE2__)
+  for (std::size_t k = 0; k < count; k += 4) {  // count is a multiple of 16
+    __m128 c0 = _mm_loadu_ps(rec + step * idx[k]), c1 = _mm_loadu_ps(rec + step * idx[k + 1]),
+           c2 = _mm_loadu_ps(rec + step * idx[k + 2]), c3 = _mm_loadu_ps(rec + step * idx[k + 3]);
+    _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+    _mm_storeu_ps(o0 + k, c0);
+    _mm_storeu_ps(o1 + k, c1);
+    _mm_storeu_ps(o2 + k, c2);
+    _mm_storeu_ps(o3 + k, c3);
+  }
+#else
+  for (std::size_t k = 0; k < count; ++k) {
+    const float* p = rec + step * idx[k];
+    o0[k] = p[0];
+    o1[k] = p[1];
+    o2[k] = p[2];
+    o3[k] = p[3];
+  }
+#endif
+}
+
+}  // namespace loosehair

@@ -1,0 +1,80 @@
+// The connections of a ConnectionSet rearranged for the solver's connection
+// passes (springs, strain limit, directions): sliced ELLPACK with 16 lanes.
+//
+// A slice holds 16 particles (lanes). Its rows are 16 entries wide: row r
+// holds entry r of each lane's list (root-side entries first, then tip-side,
+// as in the ConnectionSet), so a pass visits a slice row by row and lane p
+// adds its terms in its list's order: each particle's sums are the same
+// sequence of IEEE operations as a loop over its CSR list, and so are their
+// bits, whatever the vector width. A slice has as many rows as its longest
+// list; shorter lists are padded with entries that the passes mask out.
+// Particles are sorted by degree within windows of consecutive particles
+// (which are near each other in space: the scene orders them along a Morton
+// curve), so a slice's lists have similar lengths and little padding.
+//
+// Per-entry data are columns of length rows * 16: loads are whole vectors,
+// per-lane sums need no shuffles, and the only scattered reads are the
+// partners' states (gatherRows).
+#pragma once
+
+#include "loosehair/connections.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace loosehair {
+
+struct ConnectionSlices {
+  static constexpr std::size_t kLanes = 16;
+  static constexpr std::uint32_t kPadding = 0xffffffffu;
+
+  std::size_t particle_count = 0;
+  /// Lane s * 16 + p is particle owner[...]; lanes past the last particle
+  /// (only in the last slice) repeat a real particle and have degree 0.
+  std::vector<std::uint32_t> owner;
+  /// Rows of slice s: [row_begin[s], row_begin[s + 1]).
+  std::vector<std::uint32_t> row_begin;
+  /// Per lane, as floats for the lane masks: the list's length, and the
+  /// number of its root-side entries (rows below it are root-side).
+  std::vector<float> degree, root_degree;
+  /// Per entry (row * 16 + lane): its index in the ConnectionSet, or
+  /// kPadding; and the partner j (the owner itself for padding).
+  std::vector<std::uint32_t> entry;
+  std::vector<std::uint32_t> partner;
+
+  std::size_t sliceCount() const { return row_begin.empty() ? 0 : row_begin.size() - 1; }
+  std::size_t rowCount() const { return row_begin.empty() ? 0 : row_begin.back(); }
+  /// Lanes of slice s that hold a particle.
+  std::size_t lanesUsed(std::size_t s) const {
+    const std::size_t first = s * kLanes;
+    return particle_count - first < kLanes ? particle_count - first : kLanes;
+  }
+  /// A per-entry column of the ConnectionSet in this layout, `pad` in the
+  /// padding entries.
+  template <class T>
+  std::vector<T> arrange(const std::vector<T>& csr, T pad) const {
+    std::vector<T> out(entry.size(), pad);
+    for (std::size_t k = 0; k < entry.size(); ++k)
+      if (entry[k] != kPadding) out[k] = csr[entry[k]];
+    return out;
+  }
+};
+
+/// Slices of `c`, sorting by degree within windows of `window` particles.
+ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window = 256);
+
+/// out[k] = a[idx[k]] for k < count (count a multiple of 16): the partners'
+/// values of whole rows, 16 at a time with the CPU's gather instruction
+/// where it has one.
+void gatherRows(const float* a, const std::uint32_t* idx, std::size_t count, float* out);
+/// The same for 3-vectors stored as xyz triples: ox/oy/oz[k] = a[idx[k]].
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, float* ox,
+                 float* oy, float* oz);
+/// The same for records of 4 floats, `stride` records apart per index:
+/// o0..o3[k] = the 4 floats of rec[stride * idx[k]], one 16-byte load each
+/// (one cache line per partner for all four values).
+void gatherRecords(const float* rec, std::size_t stride, const std::uint32_t* idx,
+                   std::size_t count, float* o0, float* o1, float* o2, float* o3);
+
+}  // namespace loosehair
