@@ -42,6 +42,24 @@ bool expectMatchesBruteForce(const std::vector<glm::vec3>& x, float radius) {
     differ += std::equal(a.begin(), a.end(), d.begin(), d.end()) ? 0 : 1;
   }
   EXPECT_EQ(differ, 0u) << "points whose lists differ between the candidate tests";
+  // Lists of positions in the search order name the same points in the
+  // same order, with both candidate tests.
+  for (bool wide : {true, false}) {
+    NeighborGrid::setWideSearch(wide);
+    NeighborGrid positions;
+    positions.build(x, radius, 2, NeighborGrid::ListIndex::SearchOrder);
+    NeighborGrid::setWideSearch(true);
+    const auto order = positions.searchOrder();
+    std::size_t mismatched = 0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const auto list = positions.list(k), want = one.neighbors(order[k]);
+      std::vector<std::uint32_t> named;
+      for (std::uint32_t q : list) named.push_back(order[q]);
+      mismatched += std::equal(named.begin(), named.end(), want.begin(), want.end()) ? 0 : 1;
+    }
+    EXPECT_EQ(mismatched, 0u) << "search-order lists that name other points (wide test " << wide
+                              << ")";
+  }
   EXPECT_EQ(one.pointCount(), x.size());
   std::size_t total = 0, wrong = 0;
   for (std::size_t i = 0; i < x.size() && wrong < 5; ++i) {

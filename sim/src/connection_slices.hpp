@@ -64,11 +64,8 @@ struct ConnectionSlices {
 /// Slices of `c`, sorting by degree within windows of `window` particles.
 ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window = 256);
 
-/// out[k] = a[idx[k]] for k < count (count a multiple of 16): the partners'
-/// values of whole rows, 16 at a time with the CPU's gather instruction
-/// where it has one.
-void gatherRows(const float* a, const std::uint32_t* idx, std::size_t count, float* out);
-/// The same for 3-vectors stored as xyz triples: ox/oy/oz[k] = a[idx[k]].
+/// The partners' values of whole rows (count a multiple of 16), for 3-vectors
+/// stored as xyz triples: ox/oy/oz[k] = a[idx[k]].
 void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, float* ox,
                  float* oy, float* oz);
 /// The same for records of 4 floats, `stride` records apart per index:

@@ -73,6 +73,8 @@ __attribute__((target("avx512f"))) std::size_t collect16(
     std::size_t k, const std::uint32_t* range_begin, const std::uint32_t* range_end, int nr,
     float r2, const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
     const std::uint32_t* __restrict order, std::uint32_t* __restrict out) {
+  // order == nullptr: the lists hold positions in the search order
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512 xi = _mm512_set1_ps(cx[k]), yi = _mm512_set1_ps(cy[k]), zi = _mm512_set1_ps(cz[k]);
   const __m512 rr = _mm512_set1_ps(r2);
   std::size_t found = 0;
@@ -88,7 +90,8 @@ __attribute__((target("avx512f"))) std::size_t collect16(
       const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
                                       _mm512_mul_ps(dz, dz));
       const __mmask16 hit = _mm512_mask_cmp_ps_mask(inside, d2, rr, _CMP_LT_OQ);
-      const __m512i idx = _mm512_maskz_loadu_epi32(inside, order + q);
+      const __m512i idx = order ? _mm512_maskz_loadu_epi32(inside, order + q)
+                                : _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(q)), iota);
       _mm512_storeu_si512(out + found, _mm512_maskz_compress_epi32(hit, idx));
       found += static_cast<std::size_t>(__builtin_popcount(hit));
     }
@@ -331,17 +334,18 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
 
 std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begin,
                                   const std::uint32_t* range_end, int nr, float r2,
-                                  std::uint32_t* __restrict out) const {
+                                  bool point_index, std::uint32_t* __restrict out) const {
   // Every candidate is written and kept by advancing the count: no
   // unpredictable branch per pair. The distance is computed in the same
   // order of operations in both paths, so they accept the same pairs.
-  const std::uint32_t* __restrict order = order_.data();
   std::size_t found = 0;
 #if defined(LOOSEHAIR_HAVE_AVX512_PATH)
   if (wide_)
     return collect16(k, range_begin, range_end, nr, r2, sorted_cx_.data(), sorted_cy_.data(),
-                     sorted_cz_.data(), order, out);
+                     sorted_cz_.data(), point_index ? order_.data() : nullptr, out);
 #endif
+  // the index written for sorted point q: the point's, or q itself
+  const std::uint32_t* __restrict order = point_index ? order_.data() : nullptr;
 #if defined(__SSE2__)
   const float* __restrict cx = sorted_cx_.data();
   const float* __restrict cy = sorted_cy_.data();
@@ -364,13 +368,13 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
       const __m128i not_self = _mm_andnot_si128(_mm_cmpeq_epi32(idx, self), inside);
       const int mask = _mm_movemask_ps(
           _mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
-      out[found] = order[q];
+      out[found] = order ? order[q] : q;
       found += static_cast<std::size_t>(mask & 1);
-      out[found] = order[q + 1];
+      out[found] = order ? order[q + 1] : q + 1;
       found += static_cast<std::size_t>((mask >> 1) & 1);
-      out[found] = order[q + 2];
+      out[found] = order ? order[q + 2] : q + 2;
       found += static_cast<std::size_t>((mask >> 2) & 1);
-      out[found] = order[q + 3];
+      out[found] = order ? order[q + 3] : q + 3;
       found += static_cast<std::size_t>((mask >> 3) & 1);
     }
   }
@@ -381,7 +385,7 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
     const std::uint32_t qb = range_begin[r], qe = range_end[r];
     for (std::uint32_t q = qb; q < qe; ++q) {
       const glm::vec3 d = sx[q] - xi;
-      out[found] = order[q];
+      out[found] = order ? order[q] : q;
       found += static_cast<std::size_t>((d.x * d.x + d.y * d.y + d.z * d.z < r2) & (q != k));
     }
   }
@@ -389,7 +393,8 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
   return found;
 }
 
-void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads) {
+void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads,
+                         ListIndex index) {
   const std::size_t n = x.size();
   radius_ = radius;
   inv_cell_ = 1.0f / radius;
@@ -406,6 +411,13 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   begin_.resize(n);
   count_.resize(n);
   offset_.resize(n);
+  const bool point_index = index == ListIndex::Point;
+  if (point_index) {
+    rank_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) rank_[order_[k]] = static_cast<std::uint32_t>(k);
+  } else {
+    rank_.clear();  // neighbors(i) is for point-index lists only
+  }
   if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
@@ -436,18 +448,17 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
         // Room for every candidate, so the loop below writes each one and
         // keeps it by advancing the count: no unpredictable branch per pair.
         if (buf.size() < used + candidates) buf.resize(2 * (used + candidates));
-        const std::size_t found =
-            collect(k, range_begin.data(), range_end.data(), nr, r2, buf.data() + used);
-        const std::uint32_t i = order_[k];
-        offset_[i] = static_cast<std::uint32_t>(used);
-        count_[i] = static_cast<std::uint32_t>(found);
+        const std::size_t found = collect(k, range_begin.data(), range_end.data(), nr, r2,
+                                          point_index, buf.data() + used);
+        offset_[k] = static_cast<std::uint32_t>(used);
+        count_[k] = static_cast<std::uint32_t>(found);
         used += found;
       }
     }
     // The buffer no longer grows: turn offsets into pointers.
     for (const std::int64_t chunk : mine) {
       const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk, k1 = std::min(n, k0 + kChunk);
-      for (std::size_t k = k0; k < k1; ++k) begin_[order_[k]] = buf.data() + offset_[order_[k]];
+      for (std::size_t k = k0; k < k1; ++k) begin_[k] = buf.data() + offset_[k];
     }
   }
 }

@@ -27,19 +27,28 @@ namespace loosehair {
 
 class NeighborGrid {
  public:
+  /// What the lists hold: the points' indices, or their positions in the
+  /// search order (searchOrder()[k] is the point at position k). A pair loop
+  /// that works in the search order (the points sorted by cell) reads its
+  /// partners' data from a few nearby ranges, however far the points have
+  /// moved from their initial order.
+  enum class ListIndex { Point, SearchOrder };
+
   /// Finds, for every point i, every other point j with |x_i - x_j| < radius.
   /// The cell size is `radius` (2*h2 for the solver). Non-finite points get
   /// no neighbours (and send the build to the hashed layout).
-  void build(std::span<const glm::vec3> x, float radius, int threads);
+  void build(std::span<const glm::vec3> x, float radius, int threads,
+             ListIndex index = ListIndex::Point);
 
-  /// Neighbours of point i (without i itself), in stable order.
-  std::span<const std::uint32_t> neighbors(std::size_t i) const {
-    return {begin_[i], count_[i]};
-  }
+  /// Neighbours of point i (without i itself), in stable order, as point
+  /// indices (after a build with ListIndex::Point).
+  std::span<const std::uint32_t> neighbors(std::size_t i) const { return list(rank_[i]); }
+  /// The list of the point at position k of the search order, as the
+  /// build's ListIndex says. The lists lie in memory in this order (chunk
+  /// by chunk), so a loop over k reads them in sequence.
+  std::span<const std::uint32_t> list(std::size_t k) const { return {begin_[k], count_[k]}; }
   std::size_t pointCount() const { return count_.size(); }
-  /// The points in the order in which the search made their lists: the
-  /// lists lie in memory in this order (chunk by chunk), so a pair loop
-  /// that visits the points in it reads the lists in sequence.
+  /// The points in the order in which the search made their lists.
   std::span<const std::uint32_t> searchOrder() const { return {order_.data(), count_.size()}; }
   /// Number of ordered pairs (each unordered pair counts twice).
   std::size_t pairCount() const;
@@ -66,7 +75,7 @@ class NeighborGrid {
   /// Writes the neighbours of sorted point k among the given ranges to out
   /// (room for every candidate plus kRangeSlack per range) and returns their number.
   std::size_t collect(std::size_t k, const std::uint32_t* range_begin,
-                      const std::uint32_t* range_end, int nr, float r2,
+                      const std::uint32_t* range_end, int nr, float r2, bool point_index,
                       std::uint32_t* out) const;
   std::uint32_t findCell(std::uint64_t key) const;
   /// Point ranges [begin, end) in sorted order of the cells around `cell`,
@@ -94,9 +103,11 @@ class NeighborGrid {
   int table_shift_ = 64;
 
   std::vector<std::vector<std::uint32_t>> buffers_;  // one per thread
+  // per position k in the search order
   std::vector<const std::uint32_t*> begin_;
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> offset_;  // into the owning thread's buffer
+  std::vector<std::uint32_t> rank_;    // point i is at position rank_[i] (ListIndex::Point)
 };
 
 }  // namespace loosehair

@@ -300,7 +300,9 @@ Solver& Solver::operator=(Solver&&) noexcept = default;
 
 // ---- stage 1: neighbours ---------------------------------------------------
 void Solver::findNeighbors() {
-  grid_->build(particles_.position, 2.0f * params_.h2, threads_);
+  // lists of positions in the search order: density and hair-hair work in it
+  grid_->build(particles_.position, 2.0f * params_.h2, threads_,
+               NeighborGrid::ListIndex::SearchOrder);
 }
 
 // ---- stage 2: density, eq. 1 -----------------------------------------------
@@ -308,11 +310,15 @@ void Solver::findNeighbors() {
 namespace {
 
 // What the density and hair-hair gathers read of a partner, as 16-byte
-// records per particle: (x, m) for both, (v, P/rho^2) and (t, 0) for
-// hair-hair. Four partners' records are loaded whole and transposed into
-// the columns (4 loads and a few shuffles where a scalar gather makes 12
-// loads and 12 stores). The calling thread's buffers, shared with its
-// OpenMP team, so that const queries from several threads stay safe.
+// records in the neighbour search's order (record k is particle
+// searchOrder()[k], the lists hold these positions): (x, m) for both,
+// (v, P/rho^2) and (t, 0) for hair-hair. The search sorts the particles by
+// cell, so a particle's partners lie in a few short runs of records, near
+// its own, however the hair has moved since it was made. Four partners'
+// records are loaded whole and transposed into the columns (4 loads and a
+// few shuffles where a scalar gather makes 12 loads and 12 stores). The
+// calling thread's buffers, shared with its OpenMP team, so that const
+// queries from several threads stay safe.
 struct HairRecords {
   std::vector<glm::vec4> xm, vp, tt;
 };
@@ -321,13 +327,17 @@ HairRecords& hairRecords() {
   return records;
 }
 
-// Called by every thread of a parallel region: out[i] = (a[i], w[i]), or
-// (a[i], 0) without w, for i < n, shared out among the team (no barrier).
-void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w, std::size_t n) {
+// Called by every thread of a parallel region: out[k] = (a[i], w[i]), or
+// (a[i], 0) without w, i = ord[k], for k < n, shared out among the team (no
+// barrier).
+void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w,
+                 const std::uint32_t* ord, std::size_t n) {
   glm::vec4* o = out.data();
 #pragma omp for schedule(static) nowait
-  for (Index ii = 0; ii < static_cast<Index>(n); ++ii)
-    o[ii] = glm::vec4(a[ii], w ? w[ii] : 0.0f);
+  for (Index kk = 0; kk < static_cast<Index>(n); ++kk) {
+    const std::uint32_t i = ord[kk];
+    o[kk] = glm::vec4(a[i], w ? w[i] : 0.0f);
+  }
 }
 
 #if defined(__SSE2__)
@@ -381,13 +391,14 @@ void Solver::computeDensity() {
   // Blocks of points in the search's order, whose lists lie one after the
   // other in memory (each point's sum is the same in any visiting order).
   const std::uint32_t* ord = grid_->searchOrder().data();
+  const NeighborGrid& grid = *grid_;
   std::vector<glm::vec4>& records = hairRecords().xm;  // (x, m), kept for the hair-hair pass
   records.resize(n);
   [[maybe_unused]] const glm::vec4* xm = records.data();  // read by the SSE gather
   enum { R2, MJ, RHO, kColumns };
 #pragma omp parallel num_threads(threads_)
   {
-    fillRecords(records, x, m, n);
+    fillRecords(records, x, m, ord, n);
 #pragma omp barrier
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
@@ -395,17 +406,16 @@ void Solver::computeDensity() {
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
       std::size_t pairs = 0;
-      for (std::size_t p = b; p < e; ++p) pairs += grid_->neighbors(ord[p]).size();
+      for (std::size_t p = b; p < e; ++p) pairs += grid.list(p).size();
       col.reserve(pairs + 4, kColumns);  // a group of 4 may write 3 past the last pair
       float *__restrict r2 = col[R2], *__restrict mj = col[MJ], *__restrict rho = col[RHO];
       std::size_t k = 0;
       for (std::size_t p = b; p < e; ++p) {
-        const std::uint32_t i = ord[p];
-        const auto list = grid_->neighbors(i);
+        const auto list = grid.list(p);
 #if defined(__SSE2__)
         const std::size_t count = list.size();
         __m128 ri[4], a[4];
-        broadcastRecord(xm[i], ri);
+        broadcastRecord(xm[p], ri);
         for (std::size_t g = 0; g < count; g += 4) {
           transposedRecords(xm, PartnerGroup(list, g), a);
           const __m128 dx = _mm_sub_ps(a[0], ri[0]), dy = _mm_sub_ps(a[1], ri[1]),
@@ -417,11 +427,11 @@ void Solver::computeDensity() {
         }
         k += count;
 #else
-        const glm::vec3 xi = x[i];
+        const glm::vec3 xi(xm[p]);
         for (std::uint32_t j : list) {
-          const glm::vec3 d = x[j] - xi;
+          const glm::vec3 d = glm::vec3(xm[j]) - xi;
           r2[k] = glm::dot(d, d);
-          mj[k] = m[j];
+          mj[k] = xm[j].w;
           ++k;
         }
 #endif
@@ -431,7 +441,7 @@ void Solver::computeDensity() {
       for (std::size_t p = b; p < e; ++p) {
         const std::uint32_t i = ord[p];
         float sum = m[i] * w0;
-        for (std::size_t end = k + grid_->neighbors(i).size(); k < end; ++k) sum += rho[k];
+        for (std::size_t end = k + grid.list(p).size(); k < end; ++k) sum += rho[k];
         density_[i] = sum;
         pressure_[i] = ka * (sum - rest_density_);
         pressure_term_[i] = pressure_[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
@@ -713,6 +723,7 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
   const HairHairTerms terms{1.0f / k2.h(), k2.W(0.0f) / 4.0f, -k2.dWdr(k2.h()) / 3.0f, dc_, dfr_};
   const Index blocks = static_cast<Index>((n + kPairBlock - 1) / kPairBlock);
   const std::uint32_t* ord = grid_->searchOrder().data();  // as in computeDensity
+  const NeighborGrid& grid = *grid_;
   enum { DX, DY, DZ, VX, VY, VZ, TIX, TIY, TIZ, TJX, TJY, TJZ, MM, PP, FX, FY, FZ, kColumns };
   // The partners' records (hairRecords()); (x, m) comes from computeDensity
   // in a step, and is made here for a query between steps.
@@ -724,9 +735,9 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
                                    *tt = rec.tt.data();  // read by the SSE gather
 #pragma omp parallel num_threads(threads_)
   {
-    if (!xm_ready) fillRecords(rec.xm, x, m, n);
-    fillRecords(rec.vp, v, pterm, n);
-    fillRecords(rec.tt, t, nullptr, n);
+    if (!xm_ready) fillRecords(rec.xm, x, m, ord, n);
+    fillRecords(rec.vp, v, pterm, ord, n);
+    fillRecords(rec.tt, t, nullptr, ord, n);
 #pragma omp barrier
     PairColumns& col = threadColumns();
 #pragma omp for schedule(dynamic, 2)
@@ -734,7 +745,7 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
       std::size_t pairs = 0;
-      for (std::size_t p = b; p < e; ++p) pairs += grid_->neighbors(ord[p]).size();
+      for (std::size_t p = b; p < e; ++p) pairs += grid.list(p).size();
       col.reserve(pairs + 4, kColumns);  // a group of 4 may write 3 past the last pair
       float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
       float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
@@ -745,14 +756,13 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
       // 1. gather: x_ij, v_ij, t_i, t_j, m_i m_j, P_i/rho_i^2 + P_j/rho_j^2
       std::size_t k = 0;
       for (std::size_t p = b; p < e; ++p) {
-        const std::uint32_t i = ord[p];
-        const auto list = grid_->neighbors(i);
+        const auto list = grid.list(p);
 #if defined(__SSE2__)
         const std::size_t count = list.size();
         __m128 ri[4], qi[4], ui[4], a[4], bv[4], c[4];  // i's and the partners' records
-        broadcastRecord(xm[i], ri);
-        broadcastRecord(vp[i], qi);
-        broadcastRecord(tt[i], ui);
+        broadcastRecord(xm[p], ri);
+        broadcastRecord(vp[p], qi);
+        broadcastRecord(tt[p], ui);
         for (std::size_t g = 0; g < count; g += 4) {
           const PartnerGroup group(list, g);
           transposedRecords(xm, group, a);
@@ -776,16 +786,17 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
         }
         k += count;
 #else
-        const glm::vec3 xi = x[i], vi = v[i], ti = t[i];
-        const float mi = m[i], pi = pterm[i];
+        const glm::vec3 xi(xm[p]), vi(vp[p]), ti(tt[p]);
+        const float mi = xm[p].w, pi = vp[p].w;
         for (std::uint32_t j : list) {
-          const glm::vec3 xij = x[j] - xi, vij = v[j] - vi, tj = t[j];
+          const glm::vec3 xij = glm::vec3(xm[j]) - xi, vij = glm::vec3(vp[j]) - vi;
+          const glm::vec3 tj(tt[j]);
           dx[k] = xij.x, dy[k] = xij.y, dz[k] = xij.z;
           vx[k] = vij.x, vy[k] = vij.y, vz[k] = vij.z;
           tix[k] = ti.x, tiy[k] = ti.y, tiz[k] = ti.z;
           tjx[k] = tj.x, tjy[k] = tj.y, tjz[k] = tj.z;
-          mm[k] = mi * m[j];
-          pp[k] = pi + pterm[j];
+          mm[k] = mi * xm[j].w;
+          pp[k] = pi + vp[j].w;
           ++k;
         }
 #endif
@@ -796,11 +807,10 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
       // 3. reduce in list order
       k = 0;
       for (std::size_t p = b; p < e; ++p) {
-        const std::uint32_t i = ord[p];
         glm::vec3 f(0.0f);
-        for (std::size_t end = k + grid_->neighbors(i).size(); k < end; ++k)
+        for (std::size_t end = k + grid.list(p).size(); k < end; ++k)
           f += glm::vec3(fx[k], fy[k], fz[k]);
-        force[i] += f;
+        force[ord[p]] += f;
       }
     }
   }
