@@ -69,8 +69,6 @@ struct Solver::Scratch {
 struct Solver::Sliced {
   ConnectionSlices layout;
   std::vector<float> rest;        // l_ij
-  std::vector<float> inv_rest_w;  // 1 / W(l_ij, h1)
-  std::vector<float> share;       // w_i / (w_i + w_j), w the inverse mass
   std::vector<float> strength;    // c_ij
   std::vector<float> cos_rest, sin_rest;  // of theta_ij
   std::vector<float> own_weight;  // the owner's weight in alpha_ij (pairFactor)
@@ -169,25 +167,14 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
       own_weight_[e] = particles_.is_root[connections_.partner[e]] ? 1.0f
                        : particles_.is_root[i]                     ? 0.0f
                                                                    : 0.5f;
-  std::vector<float> inverse_mass(n);  // 0 for a root (fixed)
+  inverse_mass_.resize(n);  // 0 for a root (fixed); no root-root connections
   for (std::size_t i = 0; i < n; ++i)
-    inverse_mass[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
+    inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
   {
-    const std::size_t m = connections_.entryCount();
-    std::vector<float> share(m), inv_rest_w(m);
-    const CubicKernel k1(params_.h1);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
-        const float wi = inverse_mass[i], wj = inverse_mass[connections_.partner[e]];
-        share[e] = wi / (wi + wj);  // no root-root connections: never 0/0
-        inv_rest_w[e] = 1.0f / k1.W(connections_.rest_length[e]);
-      }
     Sliced& sl = *sliced_;
     sl.layout = sliceConnections(connections_);
     // padding entries: finite values, masked out by the passes
     sl.rest = sl.layout.arrange(connections_.rest_length, 1.0f);
-    sl.inv_rest_w = sl.layout.arrange(inv_rest_w, 1.0f);
-    sl.share = sl.layout.arrange(share, 0.0f);
     sl.strength = sl.layout.arrange(connections_.strength, 0.0f);
     sl.cos_rest = sl.layout.arrange(connections_.cos_rest, 1.0f);
     sl.sin_rest = sl.layout.arrange(connections_.sin_rest, 0.0f);
@@ -1020,7 +1007,9 @@ namespace {
 // w_i / (w_i + w_j) of the excess, scaled by the spring's looseness
 // W(r)/W(l_ij) (so a connection that is letting go, hair splitting, is not
 // pulled back hard). Each lane sums, in its list's order, the shift and
-// the number of acting connections.
+// the number of acting connections. 1/W(l_ij) and the shares are computed
+// here, as the constructor would (the same bits), rather than streamed
+// from memory: the pass runs twice a step over every connection entry.
 struct StrainTerms {
   float inv_h, norm_w;  // kernel W(r, h1)
   float support2, max_len_scale;
@@ -1029,10 +1018,10 @@ LOOSEHAIR_PAIR_KERNEL
 void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows,
                   const StrainTerms& p, const float* __restrict degree,
                   const float* __restrict xi, const float* __restrict yi,
-                  const float* __restrict zi, const float* __restrict xj,
-                  const float* __restrict yj, const float* __restrict zj,
-                  const float* __restrict rest, const float* __restrict inv_rest_w,
-                  const float* __restrict share, float* __restrict shift_x,
+                  const float* __restrict zi, const float* __restrict wi,
+                  const float* __restrict xj, const float* __restrict yj,
+                  const float* __restrict zj, const float* __restrict wj,
+                  const float* __restrict rest, float* __restrict shift_x,
                   float* __restrict shift_y, float* __restrict shift_z,
                   float* __restrict acting) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
@@ -1055,9 +1044,13 @@ void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows,
         const float len = std::sqrt(r2);
         const float s = len * inv_h;
         const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
+        const float s0 = rest[q] * inv_h;
+        const float a0 = std::max(2.0f - s0, 0.0f), c0 = std::max(1.0f - s0, 0.0f);
+        const float inv_rest_w = 1.0f / (norm_w * (a0 * a0 * a0 - 4.0f * (c0 * c0 * c0)));
         const float looseness =
-            std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w[q]);
-        const float coef = on > 0.0f ? looseness * (len - limit) * share[q] / len : 0.0f;
+            std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w);
+        const float w_i = wi[o + l], share = w_i / (w_i + wj[q]);  // w: inverse mass
+        const float coef = on > 0.0f ? looseness * (len - limit) * share / len : 0.0f;
         const bool valid = row < degree[o + l];  // not a padding entry
         sx[l] = valid ? sx[l] + coef * dx : sx[l];
         sy[l] = valid ? sy[l] + coef * dy : sy[l];
@@ -1087,11 +1080,25 @@ std::size_t Solver::limitStrain() {
   const Sliced& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
   const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
-  enum { XJ, YJ, ZJ, kEntryColumns };
-  enum { XI, YI, ZI, SX, SY, SZ, ACT, kLaneColumns };
+  enum { XJ, YJ, ZJ, WJ, kEntryColumns };
+  enum { XI, YI, ZI, WI, SX, SY, SZ, ACT, kLaneColumns };
+  // The partners' (x, w) records, w the inverse mass, made for the first
+  // iteration and by each iteration for the next.
+  const std::size_t n = particles_.size();
+  const float* inv_mass = inverse_mass_.data();
+  for (auto& r : strain_records_) r.resize(n);
+  {
+    const glm::vec3* x = particles_.position.data();
+    glm::vec4* rec = strain_records_[0].data();
+#pragma omp parallel for num_threads(threads_) schedule(static)
+    for (Index ii = 0; ii < static_cast<Index>(n); ++ii)
+      rec[ii] = glm::vec4(x[ii], inv_mass[ii]);
+  }
   for (int it = 0; it < params_.strain_limit_iterations; ++it) {
     const glm::vec3* x = particles_.position.data();
     glm::vec3* out = limited_position_.data();
+    const float* rec_in = &strain_records_[it & 1][0].x;
+    glm::vec4* rec_out = strain_records_[(it + 1) & 1].data();
     std::size_t count = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : count)
     {
@@ -1103,27 +1110,27 @@ std::size_t Solver::limitStrain() {
         const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
         const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
         col.reserve(entries, kEntryColumns, (s1 - s0) * L, kLaneColumns);
-        gatherRows3(&x[0].x, cs.partner.data() + q0, entries, col.entry(XJ), col.entry(YJ),
-                    col.entry(ZJ));
-        gatherRows3(&x[0].x, cs.owner.data() + s0 * L, (s1 - s0) * L, col.lane(XI),
-                    col.lane(YI), col.lane(ZI));
+        gatherRecords(rec_in, 1, cs.partner.data() + q0, entries, col.entry(XJ), col.entry(YJ),
+                      col.entry(ZJ), col.entry(WJ));
+        gatherRecords(rec_in, 1, cs.owner.data() + s0 * L, (s1 - s0) * L, col.lane(XI),
+                      col.lane(YI), col.lane(ZI), col.lane(WI));
         std::uint32_t rows[kSliceChunk];
         for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
         strainSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L, col.lane(XI), col.lane(YI),
-                     col.lane(ZI), col.entry(XJ), col.entry(YJ), col.entry(ZJ),
-                     sl.rest.data() + q0, sl.inv_rest_w.data() + q0, sl.share.data() + q0,
-                     col.lane(SX), col.lane(SY), col.lane(SZ), col.lane(ACT));
+                     col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ), col.entry(ZJ),
+                     col.entry(WJ), sl.rest.data() + q0, col.lane(SX), col.lane(SY),
+                     col.lane(SZ), col.lane(ACT));
         for (std::size_t k = s0 * L; k < s0 * L + (s1 - s0) * L; ++k) {
           if (k >= cs.particle_count) break;
           const std::uint32_t i = cs.owner[k];
           const std::size_t l = k - s0 * L;
           out[i] = x[i];
-          if (root[i]) continue;
           const float active = col.lane(ACT)[l];
-          if (active > 0.0f) {
+          if (!root[i] && active > 0.0f) {
             out[i] = x[i] + glm::vec3(col.lane(SX)[l], col.lane(SY)[l], col.lane(SZ)[l]) / active;
             ++count;
           }
+          rec_out[i] = glm::vec4(out[i], inv_mass[i]);
         }
       }
     }

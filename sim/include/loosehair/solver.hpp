@@ -16,6 +16,8 @@
 #include "loosehair/particles.hpp"
 #include "loosehair/wind.hpp"
 
+#include <glm/vec4.hpp>
+
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -242,6 +244,8 @@ class Solver {
   std::unique_ptr<NeighborGrid> grid_;
   std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
   std::vector<glm::vec3> force_, integrated_position_, limited_position_;
+  std::vector<float> inverse_mass_;  // 0 for a root
+  std::vector<glm::vec4> strain_records_[2];  // (x, 1/m) in and out of a strain iteration
   std::vector<float> body_phi_;
   std::vector<glm::vec3> body_normal_;
   std::unique_ptr<Scratch> scratch_;
