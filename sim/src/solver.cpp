@@ -320,8 +320,13 @@ HairRecords& hairRecords() {
 void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w,
                  const std::uint32_t* ord, std::size_t n) {
   glm::vec4* o = out.data();
+  constexpr Index kAhead = 32;  // ord-indirect: the hardware cannot see these coming
 #pragma omp for schedule(static) nowait
   for (Index kk = 0; kk < static_cast<Index>(n); ++kk) {
+    if (kk + kAhead < static_cast<Index>(n)) {
+      __builtin_prefetch(&a[ord[kk + kAhead]]);
+      if (w) __builtin_prefetch(&w[ord[kk + kAhead]]);
+    }
     const std::uint32_t i = ord[kk];
     o[kk] = glm::vec4(a[i], w ? w[i] : 0.0f);
   }
@@ -732,7 +737,10 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
       const std::size_t b = static_cast<std::size_t>(bb) * kPairBlock;
       const std::size_t e = std::min(n, b + kPairBlock);
       std::size_t pairs = 0;
-      for (std::size_t p = b; p < e; ++p) pairs += grid.list(p).size();
+      for (std::size_t p = b; p < e; ++p) {
+        pairs += grid.list(p).size();
+        __builtin_prefetch(&force[ord[p]], 1);  // added to in step 3, in search order
+      }
       col.reserve(pairs + 4, kColumns);  // a group of 4 may write 3 past the last pair
       float *__restrict dx = col[DX], *__restrict dy = col[DY], *__restrict dz = col[DZ];
       float *__restrict vx = col[VX], *__restrict vy = col[VY], *__restrict vz = col[VZ];
