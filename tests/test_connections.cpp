@@ -1,10 +1,12 @@
 // SPEC §3.1: alignment, thresholds, pruning and the connectivity check.
 #include "connection_builder.hpp"
+#include "connection_slices.hpp"
 #include "random.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace loosehair;
@@ -158,4 +160,70 @@ TEST(Connections, BundledSceneIsFullyAnchored) {
     EXPECT_GT(solver.initReport().mean_degree, 8.0);
     EXPECT_LT(solver.initReport().mean_degree, 16.0);
   }
+}
+
+// The solver's connection passes run over a sliced layout of the connections
+// (connection_slices.hpp): every entry must be there once, in its list's
+// order, at its particle's lane, and the padding must be recognisable.
+TEST(ConnectionSlices, HoldEveryEntryOnceInListOrder) {
+  Random rng(7);
+  ConnectionSet c;
+  const std::size_t n = 301;  // not a multiple of 16: the last slice is partial
+  c.offset.push_back(0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto degree = static_cast<std::uint32_t>(rng.uniform() * 21.0);  // 0..20
+    const auto roots = static_cast<std::uint32_t>(rng.uniform() * (degree + 1));
+    for (std::uint32_t e = 0; e < degree; ++e)
+      c.partner.push_back(static_cast<std::uint32_t>(rng.uniform() * n) % n);
+    c.tip_offset.push_back(c.offset.back() + std::min(roots, degree));
+    c.offset.push_back(c.offset.back() + degree);
+  }
+  const ConnectionSlices s = sliceConnections(c, 64);
+  constexpr std::size_t L = ConnectionSlices::kLanes;
+  ASSERT_EQ(s.sliceCount(), (n + L - 1) / L);
+  std::vector<int> seen(n, 0);
+  std::vector<int> entry_seen(c.entryCount(), 0);
+  std::size_t slots = 0;
+  for (std::size_t sl = 0; sl < s.sliceCount(); ++sl) {
+    const std::uint32_t rows = s.row_begin[sl + 1] - s.row_begin[sl];
+    std::uint32_t longest = 0;
+    for (std::size_t l = 0; l < L; ++l) {
+      const std::size_t lane = sl * L + l;
+      const std::uint32_t i = s.owner[lane];
+      ASSERT_LT(i, n);
+      const bool real = lane < n;
+      if (real) ++seen[i];
+      const std::uint32_t degree = real ? c.degree(i) : 0;
+      EXPECT_EQ(s.degree[lane], static_cast<float>(degree)) << "lane " << lane;
+      if (real) {
+        EXPECT_EQ(s.root_degree[lane], static_cast<float>(c.tipBegin(i) - c.begin(i)));
+      }
+      longest = std::max(longest, degree);
+      for (std::uint32_t r = 0; r < rows; ++r) {
+        const std::size_t slot = (std::size_t{s.row_begin[sl]} + r) * L + l;
+        ++slots;
+        if (r < degree) {
+          ASSERT_EQ(s.entry[slot], c.begin(i) + r) << "lane " << lane << " row " << r;
+          EXPECT_EQ(s.partner[slot], c.partner[c.begin(i) + r]);
+          ++entry_seen[s.entry[slot]];
+        } else {
+          EXPECT_EQ(s.entry[slot], ConnectionSlices::kPadding);
+          EXPECT_EQ(s.partner[slot], i);  // a valid index for the gathers
+        }
+      }
+    }
+    EXPECT_EQ(rows, longest) << "slice " << sl << " has rows beyond its longest list";
+  }
+  for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(seen[i], 1) << "particle " << i;
+  for (std::size_t e = 0; e < c.entryCount(); ++e) EXPECT_EQ(entry_seen[e], 1) << "entry " << e;
+  // sorting by degree within windows keeps the padding small
+  EXPECT_LT(static_cast<double>(slots - c.entryCount()), 0.25 * static_cast<double>(slots));
+  // arrange() moves a per-entry column into the layout
+  std::vector<float> value(c.entryCount());
+  for (std::size_t e = 0; e < value.size(); ++e) value[e] = static_cast<float>(e);
+  const std::vector<float> arranged = s.arrange(value, -1.0f);
+  for (std::size_t k = 0; k < arranged.size(); ++k)
+    EXPECT_EQ(arranged[k], s.entry[k] == ConnectionSlices::kPadding
+                               ? -1.0f
+                               : static_cast<float>(s.entry[k]));
 }

@@ -14,7 +14,7 @@
 //
 // Per-entry data are columns of length rows * 16: loads are whole vectors,
 // per-lane sums need no shuffles, and the only scattered reads are the
-// partners' states (gatherRows).
+// partners' states (gatherRows3, gatherRecords).
 #pragma once
 
 #include "loosehair/connections.hpp"
@@ -45,11 +45,6 @@ struct ConnectionSlices {
 
   std::size_t sliceCount() const { return row_begin.empty() ? 0 : row_begin.size() - 1; }
   std::size_t rowCount() const { return row_begin.empty() ? 0 : row_begin.back(); }
-  /// Lanes of slice s that hold a particle.
-  std::size_t lanesUsed(std::size_t s) const {
-    const std::size_t first = s * kLanes;
-    return particle_count - first < kLanes ? particle_count - first : kLanes;
-  }
   /// A per-entry column of the ConnectionSet in this layout, `pad` in the
   /// padding entries.
   template <class T>
