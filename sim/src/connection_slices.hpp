@@ -56,8 +56,12 @@ struct ConnectionSlices {
   }
 };
 
-/// Slices of `c`, sorting by degree within windows of `window` particles.
-ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window = 256);
+/// Particles per sorting window of the solver's layout.
+inline constexpr std::size_t kSliceWindow = 256;
+
+/// Slices of `c`, sorting by degree within windows of `window` particles
+/// (a multiple of 16).
+ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window = kSliceWindow);
 
 /// The partners' values of whole rows (count a multiple of 16), for 3-vectors
 /// stored as xyz triples: ox/oy/oz[k] = a[idx[k]].

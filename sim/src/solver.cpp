@@ -96,6 +96,13 @@ inline float pairFactor(float own, float other, float own_weight) {
 
 constexpr std::size_t kBodyBlock = 256;
 
+// Work items of the connection passes: a whole sorting window of the slice
+// layout (its particles' lanes are shuffled by degree), so that no two
+// threads write results of particles that share a cache line.
+constexpr int kWindowChunks =
+    static_cast<int>(kSliceWindow / (ConnectionSlices::kLanes * kSliceChunk));
+static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWindow);
+
 // k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
 // for every pass that needs k_ij, so that each recomputes the same bits.
 struct SpringKernel {
@@ -172,7 +179,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
   {
     Sliced& sl = *sliced_;
-    sl.layout = sliceConnections(connections_);
+    sl.layout = sliceConnections(connections_, kSliceWindow);
     // padding entries: finite values, masked out by the passes
     sl.rest = sl.layout.arrange(connections_.rest_length, 1.0f);
     sl.strength = sl.layout.arrange(connections_.strength, 0.0f);
@@ -603,7 +610,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
       rec[2 * i + 1] = glm::vec4(v[i], ft[i]);
     }
     SliceColumns& col = threadSliceColumns();
-#pragma omp for schedule(dynamic, 2)
+#pragma omp for schedule(dynamic, kWindowChunks)
     for (Index cc = 0; cc < chunks; ++cc) {
       const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
       const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
@@ -1111,7 +1118,7 @@ std::size_t Solver::limitStrain() {
 #pragma omp parallel num_threads(threads_) reduction(+ : count)
     {
       SliceColumns& col = threadSliceColumns();
-#pragma omp for schedule(dynamic, 2)
+#pragma omp for schedule(dynamic, kWindowChunks)
       for (Index cc = 0; cc < chunks; ++cc) {
         const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
         const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
@@ -1348,7 +1355,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
 #pragma omp parallel num_threads(threads_) reduction(+ : broken, active)
   {
     SliceColumns& col = threadSliceColumns();
-#pragma omp for schedule(dynamic, 2)
+#pragma omp for schedule(dynamic, kWindowChunks)
     for (Index cc = 0; cc < chunks; ++cc) {
       const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
       const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
