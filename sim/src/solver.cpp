@@ -103,6 +103,27 @@ constexpr int kWindowChunks =
     static_cast<int>(kSliceWindow / (ConnectionSlices::kLanes * kSliceChunk));
 static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWindow);
 
+// One work item of a connection pass: slices [s0, s1) of the layout, their
+// entries from q0 on, their lanes from s0 * 16 on (`used` of them hold a
+// particle) and each slice's row count.
+struct SliceRun {
+  static constexpr std::size_t L = ConnectionSlices::kLanes;
+  std::size_t s0, s1, q0, entries, lanes, used;
+  std::uint32_t rows[kSliceChunk];
+  SliceRun(const ConnectionSlices& cs, Index chunk)
+      : s0(static_cast<std::size_t>(chunk) * kSliceChunk),
+        s1(std::min(cs.sliceCount(), s0 + kSliceChunk)),
+        q0(std::size_t{cs.row_begin[s0]} * L),
+        entries(std::size_t{cs.row_begin[s1]} * L - q0),
+        lanes((s1 - s0) * L),
+        used(std::min(lanes, cs.particle_count - s0 * L)) {
+    for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
+  }
+  static Index count(const ConnectionSlices& cs) {
+    return static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  }
+};
+
 // k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
 // for every pass that needs k_ij, so that each recomputes the same bits.
 struct SpringKernel {
@@ -594,7 +615,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
   const SpringTerms terms{sk.inv_h, sk.norm_w, params_.spring_damping};
   const float* fr = s.factor_root.data();
   const float* ft = s.factor_tip.data();
-  const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  const Index chunks = SliceRun::count(cs);
   enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
   enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, kLaneColumns };
   const std::size_t n = particles_.size();
@@ -612,32 +633,26 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
     SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, kWindowChunks)
     for (Index cc = 0; cc < chunks; ++cc) {
-      const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
-      const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
-      const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
-      const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
-      const std::size_t lanes = (s1 - s0) * L;
-      col.reserve(entries, kEntryColumns, lanes, kLaneColumns);
+      const SliceRun run(cs, cc);
+      const std::size_t q0 = run.q0, s0 = run.s0;
+      col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
       const std::uint32_t* partner = cs.partner.data() + q0;
       const std::uint32_t* owner = cs.owner.data() + s0 * L;
       for (int half = 0; half < 2; ++half) {  // (x, a_r), then (v, a_t)
         const int e = half ? VXJ : XJ, o = half ? VXI : XI;
-        gatherRecords(records + 4 * half, 2, partner, entries, col.entry(e), col.entry(e + 1),
-                      col.entry(e + 2), col.entry(e + 3));
-        gatherRecords(records + 4 * half, 2, owner, lanes, col.lane(o), col.lane(o + 1),
+        gatherRecords(records + 4 * half, 2, partner, run.entries, col.entry(e),
+                      col.entry(e + 1), col.entry(e + 2), col.entry(e + 3));
+        gatherRecords(records + 4 * half, 2, owner, run.lanes, col.lane(o), col.lane(o + 1),
                       col.lane(o + 2), col.lane(o + 3));
       }
-      std::uint32_t rows[kSliceChunk];
-      for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
-      springSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L,
+      springSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
                    cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
                    col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
                    col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
-                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.own_weight.data() + q0, sl.strength.data() + q0,
-                   sl.rest.data() + q0, s.weight.data() + q0, col.lane(FX), col.lane(FY),
-                   col.lane(FZ));
-      const std::size_t used = std::min(lanes, cs.particle_count - s0 * L);
-      for (std::size_t l = 0; l < used; ++l)
+                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.own_weight.data() + q0,
+                   sl.strength.data() + q0, sl.rest.data() + q0, s.weight.data() + q0,
+                   col.lane(FX), col.lane(FY), col.lane(FZ));
+      for (std::size_t l = 0; l < run.used; ++l)
         force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
     }
   }
@@ -1094,7 +1109,7 @@ std::size_t Solver::limitStrain() {
                           1.0f + params_.max_strain};
   const Sliced& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
-  const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  const Index chunks = SliceRun::count(cs);
   enum { XJ, YJ, ZJ, WJ, kEntryColumns };
   enum { XI, YI, ZI, WI, SX, SY, SZ, ACT, kLaneColumns };
   // The partners' (x, w) records, w the inverse mass, made for the first
@@ -1120,25 +1135,20 @@ std::size_t Solver::limitStrain() {
       SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, kWindowChunks)
       for (Index cc = 0; cc < chunks; ++cc) {
-        const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
-        const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
-        const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
-        const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
-        col.reserve(entries, kEntryColumns, (s1 - s0) * L, kLaneColumns);
-        gatherRecords(rec_in, 1, cs.partner.data() + q0, entries, col.entry(XJ), col.entry(YJ),
-                      col.entry(ZJ), col.entry(WJ));
-        gatherRecords(rec_in, 1, cs.owner.data() + s0 * L, (s1 - s0) * L, col.lane(XI),
-                      col.lane(YI), col.lane(ZI), col.lane(WI));
-        std::uint32_t rows[kSliceChunk];
-        for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
-        strainSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L, col.lane(XI), col.lane(YI),
-                     col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ), col.entry(ZJ),
-                     col.entry(WJ), sl.rest.data() + q0, col.lane(SX), col.lane(SY),
-                     col.lane(SZ), col.lane(ACT));
-        for (std::size_t k = s0 * L; k < s0 * L + (s1 - s0) * L; ++k) {
-          if (k >= cs.particle_count) break;
-          const std::uint32_t i = cs.owner[k];
-          const std::size_t l = k - s0 * L;
+        const SliceRun run(cs, cc);
+        const std::size_t q0 = run.q0, s0 = run.s0;
+        col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
+        const std::uint32_t* owner = cs.owner.data() + s0 * L;
+        gatherRecords(rec_in, 1, cs.partner.data() + q0, run.entries, col.entry(XJ),
+                      col.entry(YJ), col.entry(ZJ), col.entry(WJ));
+        gatherRecords(rec_in, 1, owner, run.lanes, col.lane(XI), col.lane(YI), col.lane(ZI),
+                      col.lane(WI));
+        strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI),
+                     col.lane(YI), col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ),
+                     col.entry(ZJ), col.entry(WJ), sl.rest.data() + q0, col.lane(SX),
+                     col.lane(SY), col.lane(SZ), col.lane(ACT));
+        for (std::size_t l = 0; l < run.used; ++l) {
+          const std::uint32_t i = owner[l];
           out[i] = x[i];
           const float active = col.lane(ACT)[l];
           if (!root[i] && active > 0.0f) {
@@ -1348,7 +1358,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
   const Sliced& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
   const SpringKernel terms{CubicKernel(params_.h1)};
-  const Index chunks = static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
+  const Index chunks = SliceRun::count(cs);
   enum { XJ, YJ, ZJ, kEntryColumns };
   enum { XI, YI, ZI, TX, TY, TZ, SR, ST, ACT, OX, OY, OZ, kLaneColumns };
   std::size_t broken = 0, active = 0;
@@ -1357,28 +1367,22 @@ std::size_t Solver::updateDirections(Scratch& s) {
     SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, kWindowChunks)
     for (Index cc = 0; cc < chunks; ++cc) {
-      const std::size_t s0 = static_cast<std::size_t>(cc) * kSliceChunk;
-      const std::size_t s1 = std::min(cs.sliceCount(), s0 + kSliceChunk);
-      const std::size_t q0 = std::size_t{cs.row_begin[s0]} * L;
-      const std::size_t entries = std::size_t{cs.row_begin[s1]} * L - q0;
-      const std::size_t lanes = (s1 - s0) * L;
-      col.reserve(entries, kEntryColumns, lanes, kLaneColumns);
-      gatherRows3(&x[0].x, cs.partner.data() + q0, entries, col.entry(XJ), col.entry(YJ),
+      const SliceRun run(cs, cc);
+      const std::size_t q0 = run.q0, s0 = run.s0;
+      col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
+      gatherRows3(&x[0].x, cs.partner.data() + q0, run.entries, col.entry(XJ), col.entry(YJ),
                   col.entry(ZJ));
       const std::uint32_t* owner = cs.owner.data() + s0 * L;
-      gatherRows3(&x[0].x, owner, lanes, col.lane(XI), col.lane(YI), col.lane(ZI));
-      gatherRows3(&dir[0].x, owner, lanes, col.lane(TX), col.lane(TY), col.lane(TZ));
-      std::uint32_t rows[kSliceChunk];
-      for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
-      directionSlices(s1 - s0, rows, terms, cs.degree.data() + s0 * L,
+      gatherRows3(&x[0].x, owner, run.lanes, col.lane(XI), col.lane(YI), col.lane(ZI));
+      gatherRows3(&dir[0].x, owner, run.lanes, col.lane(TX), col.lane(TY), col.lane(TZ));
+      directionSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
                       cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
                       col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ), col.entry(YJ),
                       col.entry(ZJ), s.weight.data() + q0, sl.strength.data() + q0,
                       sl.rest.data() + q0, sl.cos_rest.data() + q0, sl.sin_rest.data() + q0,
                       col.lane(SR), col.lane(ST), col.lane(ACT), col.lane(OX), col.lane(OY),
                       col.lane(OZ));
-      const std::size_t used = std::min(lanes, cs.particle_count - s0 * L);
-      for (std::size_t l = 0; l < used; ++l) {
+      for (std::size_t l = 0; l < run.used; ++l) {
         const std::uint32_t i = owner[l];
         s.sum_root[i] = col.lane(SR)[l];
         s.sum_tip[i] = col.lane(ST)[l];
