@@ -18,6 +18,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -42,7 +43,10 @@ class NeighborGrid {
 
   /// Neighbours of point i (without i itself), in stable order, as point
   /// indices (after a build with ListIndex::Point).
-  std::span<const std::uint32_t> neighbors(std::size_t i) const { return list(rank_[i]); }
+  std::span<const std::uint32_t> neighbors(std::size_t i) const {
+    assert(rank_.size() == count_.size() && "neighbors(i) needs a ListIndex::Point build");
+    return list(rank_[i]);
+  }
   /// The list of the point at position k of the search order, as the
   /// build's ListIndex says. The lists lie in memory in this order (chunk
   /// by chunk), so a loop over k reads them in sequence.

@@ -93,6 +93,10 @@ using Index = std::int64_t;  // OpenMP loop index
 inline float pairFactor(float own, float other, float own_weight) {
   return own_weight * own + (1.0f - own_weight) * other;
 }
+// The `own_weight` of an entry from whether its owner and partner are roots.
+inline float ownWeight(bool owner_root, bool partner_root) {
+  return partner_root ? 1.0f : owner_root ? 0.0f : 0.5f;
+}
 
 constexpr std::size_t kBodyBlock = 256;
 
@@ -189,12 +193,6 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     }
   }
 
-  own_weight_.resize(connections_.entryCount());
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
-      own_weight_[e] = particles_.is_root[connections_.partner[e]] ? 1.0f
-                       : particles_.is_root[i]                     ? 0.0f
-                                                                   : 0.5f;
   inverse_mass_.resize(n);  // 0 for a root (fixed); no root-root connections
   for (std::size_t i = 0; i < n; ++i)
     inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
@@ -206,7 +204,12 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     sl.strength = sl.layout.arrange(connections_.strength, 0.0f);
     sl.cos_rest = sl.layout.arrange(connections_.cos_rest, 1.0f);
     sl.sin_rest = sl.layout.arrange(connections_.sin_rest, 0.0f);
-    sl.own_weight = sl.layout.arrange(own_weight_, 1.0f);
+    std::vector<float> own_weight(connections_.entryCount());
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
+        own_weight[e] =
+            ownWeight(particles_.is_root[i], particles_.is_root[connections_.partner[e]]);
+    sl.own_weight = sl.layout.arrange(own_weight, 1.0f);
   }
 
   grid_ = std::make_unique<NeighborGrid>();
@@ -414,7 +417,7 @@ void Solver::computeDensity() {
   const NeighborGrid& grid = *grid_;
   std::vector<glm::vec4>& records = hairRecords().xm;  // (x, m), kept for the hair-hair pass
   records.resize(n);
-  [[maybe_unused]] const glm::vec4* xm = records.data();  // read by the SSE gather
+  const glm::vec4* xm = records.data();
   enum { R2, MJ, RHO, kColumns };
 #pragma omp parallel num_threads(threads_)
   {
@@ -745,8 +748,7 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
   rec.xm.resize(n);
   rec.vp.resize(n);
   rec.tt.resize(n);
-  [[maybe_unused]] const glm::vec4 *xm = rec.xm.data(), *vp = rec.vp.data(),
-                                   *tt = rec.tt.data();  // read by the SSE gather
+  const glm::vec4 *xm = rec.xm.data(), *vp = rec.vp.data(), *tt = rec.tt.data();
 #pragma omp parallel num_threads(threads_)
   {
     if (!xm_ready) fillRecords(rec.xm, x, m, ord, n);
@@ -1422,7 +1424,8 @@ void Solver::step() {
   computeSpringFactors(s);
   accumulateSpringForces(s, force_);
   lap(st.springs);
-  if (params_.hair_hair) accumulateHairHairForces(force_, true);  // (x, m) records from computeDensity
+  // the (x, m) records are computeDensity's
+  if (params_.hair_hair) accumulateHairHairForces(force_, true);
   lap(st.hair_hair);
   if (air_) {
     // air neighbours, density, pressure, viscosity and the hair-air drag (SPEC §5)
@@ -1523,7 +1526,7 @@ float Solver::entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) cons
   const std::uint32_t j = connections_.partner[e];
   const float own = tip ? s.factor_tip[i] : s.factor_root[i];
   const float other = tip ? s.factor_root[j] : s.factor_tip[j];
-  return pairFactor(own, other, own_weight_[e]);
+  return pairFactor(own, other, ownWeight(particles_.is_root[i], particles_.is_root[j]));
 }
 
 double Solver::stableTimeStep() const {

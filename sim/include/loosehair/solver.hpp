@@ -237,7 +237,6 @@ class Solver {
   // derived at initialisation
   std::vector<float> cross_section_;  // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
-  std::vector<float> own_weight_;  // per entry: the owner's weight in alpha_ij (eq. 14)
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
 
   // per step
