@@ -140,7 +140,7 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
     cs.rest_length[e] = c.length;
     cs.strength[e] = c.strength;
     cs.cos_rest[e] = cos_theta;
-    cs.sin_rest[e] = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+    cs.sin_rest[e] = restSine(cos_theta);
     cs.tip_side[e] = tip ? 1 : 0;
   };
   for (std::size_t k = 0; k < cand.size(); ++k) {

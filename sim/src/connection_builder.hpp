@@ -5,6 +5,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 
@@ -13,6 +15,13 @@ namespace loosehair {
 /// Alignment a_ij of SPEC §3.1 (eq. 6 reconstructed) for directions t_i, t_j
 /// and the pair vector x_ij = x_j - x_i (any length > 0).
 float alignment(const glm::vec3& ti, const glm::vec3& tj, const glm::vec3& xij);
+
+/// sin(theta_ij) from cos(theta_ij) (ConnectionSet::sin_rest). The solver's
+/// direction pass computes it with this same function rather than streaming
+/// the stored column, so both give the same bits.
+inline float restSine(float cos_theta) {
+  return std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+}
 
 struct ConnectionOptions {
   float h1 = 0.0f;                  // m

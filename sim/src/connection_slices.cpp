@@ -46,7 +46,7 @@ ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window) {
     }
     out.row_begin[s + 1] = out.row_begin[s] + rows;
   }
-  const std::size_t entries = static_cast<std::size_t>(out.rowCount()) * L;
+  const std::size_t entries = out.entryCount();
   out.entry.assign(entries, ConnectionSlices::kPadding);
   out.partner.resize(entries);
   for (std::size_t s = 0; s < slices; ++s)
@@ -101,6 +101,39 @@ void gatherRecords(const float* rec, std::size_t stride, const std::uint32_t* id
     o1[k] = p[1];
     o2[k] = p[2];
     o3[k] = p[3];
+  }
+#endif
+}
+
+void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count, float* out,
+                       std::size_t column_stride) {
+  float* o[8];
+  for (std::size_t c = 0; c < 8; ++c) o[c] = out + c * column_stride;
+#if defined(__SSE2__)
+  for (std::size_t k = 0; k < count; k += 4) {  // count is a multiple of 16
+    const float* p0 = rec + 8 * std::size_t{idx[k]};
+    const float* p1 = rec + 8 * std::size_t{idx[k + 1]};
+    const float* p2 = rec + 8 * std::size_t{idx[k + 2]};
+    const float* p3 = rec + 8 * std::size_t{idx[k + 3]};
+    __m128 a0 = _mm_loadu_ps(p0), a1 = _mm_loadu_ps(p1), a2 = _mm_loadu_ps(p2),
+           a3 = _mm_loadu_ps(p3);
+    __m128 b0 = _mm_loadu_ps(p0 + 4), b1 = _mm_loadu_ps(p1 + 4), b2 = _mm_loadu_ps(p2 + 4),
+           b3 = _mm_loadu_ps(p3 + 4);
+    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
+    _mm_storeu_ps(o[0] + k, a0);
+    _mm_storeu_ps(o[1] + k, a1);
+    _mm_storeu_ps(o[2] + k, a2);
+    _mm_storeu_ps(o[3] + k, a3);
+    _mm_storeu_ps(o[4] + k, b0);
+    _mm_storeu_ps(o[5] + k, b1);
+    _mm_storeu_ps(o[6] + k, b2);
+    _mm_storeu_ps(o[7] + k, b3);
+  }
+#else
+  for (std::size_t k = 0; k < count; ++k) {
+    const float* p = rec + 8 * std::size_t{idx[k]};
+    for (std::size_t c = 0; c < 8; ++c) o[c][k] = p[c];
   }
 #endif
 }

@@ -45,6 +45,7 @@ struct ConnectionSlices {
 
   std::size_t sliceCount() const { return row_begin.empty() ? 0 : row_begin.size() - 1; }
   std::size_t rowCount() const { return row_begin.empty() ? 0 : row_begin.back(); }
+  std::size_t entryCount() const { return rowCount() * kLanes; }
   /// A per-entry column of the ConnectionSet in this layout, `pad` in the
   /// padding entries.
   template <class T>
@@ -72,5 +73,10 @@ void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, fl
 /// (one cache line per partner for all four values).
 void gatherRecords(const float* rec, std::size_t stride, const std::uint32_t* idx,
                    std::size_t count, float* o0, float* o1, float* o2, float* o3);
+/// Two adjacent records per index (8 floats at rec + 8 * idx[k]) into the
+/// 8 columns out + c * column_stride, c = 0..7: both records of a partner
+/// read from one 32-byte run, its index read once.
+void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count, float* out,
+                       std::size_t column_stride);
 
 }  // namespace loosehair

@@ -55,6 +55,8 @@ class PairColumns {
     }
   }
   float* operator[](int c) { return data_.data() + static_cast<std::size_t>(c) * stride_; }
+  /// Floats from one column to the next.
+  std::size_t stride() const { return stride_; }
 
  private:
   std::vector<float> data_;
@@ -82,6 +84,8 @@ class SliceColumns {
   }
   float* entry(int c) { return entries_[c]; }
   float* lane(int c) { return lanes_[c]; }
+  std::size_t entryStride() const { return entries_.stride(); }
+  std::size_t laneStride() const { return lanes_.stride(); }
 
  private:
   PairColumns entries_, lanes_;

@@ -70,8 +70,7 @@ struct Solver::Sliced {
   ConnectionSlices layout;
   std::vector<float> rest;        // l_ij
   std::vector<float> strength;    // c_ij
-  std::vector<float> cos_rest, sin_rest;  // of theta_ij
-  std::vector<float> own_weight;  // the owner's weight in alpha_ij (pairFactor)
+  std::vector<float> cos_rest;    // of theta_ij (the pass takes sin from it: restSine)
 };
 
 namespace {
@@ -97,6 +96,12 @@ inline float pairFactor(float own, float other, float own_weight) {
 inline float ownWeight(bool owner_root, bool partner_root) {
   return partner_root ? 1.0f : owner_root ? 0.0f : 0.5f;
 }
+// A root's side factors are weighted by 0 in every alpha_ij it enters (there
+// are no root-root connections), so the spring pass's records carry this
+// marker in their place and the entries find their roots from it; 0 * -1 is
+// -0 where 0 * a_root was +0, and x + -0 = x + +0 for every x >= 0 (a
+// factor), so alpha_ij keeps its bits.
+constexpr float kRootFactor = -1.0f;
 
 constexpr std::size_t kBodyBlock = 256;
 
@@ -203,13 +208,6 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     sl.rest = sl.layout.arrange(connections_.rest_length, 1.0f);
     sl.strength = sl.layout.arrange(connections_.strength, 0.0f);
     sl.cos_rest = sl.layout.arrange(connections_.cos_rest, 1.0f);
-    sl.sin_rest = sl.layout.arrange(connections_.sin_rest, 0.0f);
-    std::vector<float> own_weight(connections_.entryCount());
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e)
-        own_weight[e] =
-            ownWeight(particles_.is_root[i], particles_.is_root[connections_.partner[e]]);
-    sl.own_weight = sl.layout.arrange(own_weight, 1.0f);
   }
 
   grid_ = std::make_unique<NeighborGrid>();
@@ -480,7 +478,7 @@ void Solver::resizeScratch(Scratch& s, bool keep_k) const {
   s.sum_tip.assign(n, 0.0f);
   s.factor_root.assign(n, 0.0f);
   s.factor_tip.assign(n, 0.0f);
-  s.weight.assign(sliced_->layout.partner.size(), 0.0f);  // in the slice layout
+  s.weight.assign(sliced_->layout.entryCount(), 0.0f);  // in the slice layout
   s.k.assign(keep_k ? m : 0, 0.0f);
   s.sums_current = false;
 }
@@ -544,7 +542,8 @@ namespace {
 // alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|,
 // summed per lane in list order; and alpha_ij k_ij per entry, kept for the
 // direction pass. alpha_ij (eq. 14) from the owner's factor on the entry's
-// side and the partner's on the other side (gathered).
+// side and the partner's on the other side (gathered); roots are known by
+// their factors' kRootFactor.
 struct SpringTerms {
   float inv_h, norm_w;  // kernel W(r, h1)
   float gamma;          // spring damping (s)
@@ -560,7 +559,6 @@ void springSlices(std::size_t slices, const std::uint32_t* __restrict rows, cons
                   const float* __restrict zj, const float* __restrict vxj,
                   const float* __restrict vyj, const float* __restrict vzj,
                   const float* __restrict frj, const float* __restrict ftj,
-                  const float* __restrict own_weight,
                   const float* __restrict strength, const float* __restrict rest,
                   float* __restrict weight, float* __restrict fx_out, float* __restrict fy_out,
                   float* __restrict fz_out) {
@@ -583,7 +581,7 @@ void springSlices(std::size_t slices, const std::uint32_t* __restrict rows, cons
         const bool root_side = row < root_degree[o + l];
         const float own = root_side ? own_r : own_t;
         const float other = root_side ? ft_j : fr_j;
-        const float alpha = pairFactor(own, other, own_weight[q]);
+        const float alpha = pairFactor(own, other, ownWeight(own_r < 0.0f, fr_j < 0.0f));
         const float len = std::sqrt(dx * dx + dy * dy + dz * dz);  // |x_ij|
         const float w = alpha * springCoefficient(strength[q], len, inv_h, norm_w);
         const float inv_r = len > 0.0f ? 1.0f / len : 0.0f;
@@ -618,7 +616,9 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
   const SpringTerms terms{sk.inv_h, sk.norm_w, params_.spring_damping};
   const float* fr = s.factor_root.data();
   const float* ft = s.factor_tip.data();
+  const std::uint8_t* root = particles_.is_root.data();
   const Index chunks = SliceRun::count(cs);
+  // the first 8 columns of each: the two records' 4 + 4 floats (gatherRecordPairs)
   enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
   enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, kLaneColumns };
   const std::size_t n = particles_.size();
@@ -630,8 +630,9 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
 #pragma omp for schedule(static)
     for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
       const auto i = static_cast<std::size_t>(ii);
-      rec[2 * i] = glm::vec4(x[i], fr[i]);
-      rec[2 * i + 1] = glm::vec4(v[i], ft[i]);
+      const bool r = root[i] != 0;
+      rec[2 * i] = glm::vec4(x[i], r ? kRootFactor : fr[i]);
+      rec[2 * i + 1] = glm::vec4(v[i], r ? kRootFactor : ft[i]);
     }
     SliceColumns& col = threadSliceColumns();
 #pragma omp for schedule(dynamic, kWindowChunks)
@@ -641,18 +642,14 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
       col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
       const std::uint32_t* partner = cs.partner.data() + q0;
       const std::uint32_t* owner = cs.owner.data() + s0 * L;
-      for (int half = 0; half < 2; ++half) {  // (x, a_r), then (v, a_t)
-        const int e = half ? VXJ : XJ, o = half ? VXI : XI;
-        gatherRecords(records + 4 * half, 2, partner, run.entries, col.entry(e),
-                      col.entry(e + 1), col.entry(e + 2), col.entry(e + 3));
-        gatherRecords(records + 4 * half, 2, owner, run.lanes, col.lane(o), col.lane(o + 1),
-                      col.lane(o + 2), col.lane(o + 3));
-      }
+      // (x, a_r) and (v, a_t) of the partners and of the owners
+      gatherRecordPairs(records, partner, run.entries, col.entry(XJ), col.entryStride());
+      gatherRecordPairs(records, owner, run.lanes, col.lane(XI), col.laneStride());
       springSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
                    cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
                    col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
                    col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
-                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.own_weight.data() + q0,
+                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ),
                    sl.strength.data() + q0, sl.rest.data() + q0, s.weight.data() + q0,
                    col.lane(FX), col.lane(FY), col.lane(FZ));
       for (std::size_t l = 0; l < run.used; ++l)
@@ -1294,7 +1291,7 @@ void directionSlices(std::size_t slices, const std::uint32_t* __restrict rows,
                      const float* __restrict yj, const float* __restrict zj,
                      const float* __restrict weight, const float* __restrict strength,
                      const float* __restrict rest, const float* __restrict cos_rest,
-                     const float* __restrict sin_rest, float* __restrict sum_root,
+                     float* __restrict sum_root,
                      float* __restrict sum_tip, float* __restrict active,
                      float* __restrict ox_out, float* __restrict oy_out,
                      float* __restrict oz_out) {
@@ -1322,7 +1319,7 @@ void directionSlices(std::size_t slices, const std::uint32_t* __restrict rows,
         const float px = ti_x - along * hx, py = ti_y - along * hy, pz = ti_z - along * hz;
         const float perp_len = std::sqrt(px * px + py * py + pz * pz);
         const float bent = perp_len > 1e-6f ? 1.0f : 0.0f;
-        const float sp = sin_rest[q] / (bent > 0.0f ? perp_len : 1.0f);
+        const float sp = restSine(cos_rest[q]) / (bent > 0.0f ? perp_len : 1.0f);
         const float sign = cos_rest[q] >= 0.0f ? 1.0f : -1.0f;
         const float tx = bent > 0.0f ? cos_rest[q] * hx + sp * px : sign * hx;
         const float ty = bent > 0.0f ? cos_rest[q] * hy + sp * py : sign * hy;
@@ -1381,7 +1378,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
                       cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
                       col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ), col.entry(YJ),
                       col.entry(ZJ), s.weight.data() + q0, sl.strength.data() + q0,
-                      sl.rest.data() + q0, sl.cos_rest.data() + q0, sl.sin_rest.data() + q0,
+                      sl.rest.data() + q0, sl.cos_rest.data() + q0,
                       col.lane(SR), col.lane(ST), col.lane(ACT), col.lane(OX), col.lane(OY),
                       col.lane(OZ));
       for (std::size_t l = 0; l < run.used; ++l) {
