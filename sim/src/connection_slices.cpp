@@ -81,9 +81,9 @@ void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, fl
   }
 }
 
-void gatherRecords(const float* rec, std::size_t stride, const std::uint32_t* idx,
-                   std::size_t count, float* o0, float* o1, float* o2, float* o3) {
-  const std::size_t step = 4 * stride;  // floats per index
+void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count, float* o0,
+                   float* o1, float* o2, float* o3) {
+  constexpr std::size_t step = 4;  // floats per index
 #if defined(__SSE2__)
   for (std::size_t k = 0; k < count; k += 4) {  // count is a multiple of 16
     __m128 c0 = _mm_loadu_ps(rec + step * idx[k]), c1 = _mm_loadu_ps(rec + step * idx[k + 1]),

@@ -68,11 +68,11 @@ ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window = k
 /// stored as xyz triples: ox/oy/oz[k] = a[idx[k]].
 void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, float* ox,
                  float* oy, float* oz);
-/// The same for records of 4 floats, `stride` records apart per index:
-/// o0..o3[k] = the 4 floats of rec[stride * idx[k]], one 16-byte load each
-/// (one cache line per partner for all four values).
-void gatherRecords(const float* rec, std::size_t stride, const std::uint32_t* idx,
-                   std::size_t count, float* o0, float* o1, float* o2, float* o3);
+/// The same for records of 4 floats: o0..o3[k] = the 4 floats at
+/// rec + 4 * idx[k], one 16-byte load each (one cache line per partner for
+/// all four values).
+void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count, float* o0,
+                   float* o1, float* o2, float* o3);
 /// Two adjacent records per index (8 floats at rec + 8 * idx[k]) into the
 /// 8 columns out + c * column_stride, c = 0..7: both records of a partner
 /// read from one 32-byte run, its index read once.

@@ -9,6 +9,21 @@
 
 namespace loosehair {
 
+/// W(r, h) of the cubic kernel below from 1/h and 1/(4 pi h^3), and dW/dr
+/// from 1/h and 1/(4 pi h^4): the expressions CubicKernel uses, as free
+/// functions of plain floats for the solver's vectorised pair loops (each
+/// caller gets the same bits as CubicKernel::W and dWdr).
+inline float cubicW(float r, float inv_h, float norm_w) {
+  const float q = r * inv_h;
+  const float a = std::max(2.0f - q, 0.0f), b = std::max(1.0f - q, 0.0f);
+  return norm_w * (a * a * a - 4.0f * (b * b * b));
+}
+inline float cubicDWdr(float r, float inv_h, float norm_g) {
+  const float q = r * inv_h;
+  const float a = std::max(2.0f - q, 0.0f), b = std::max(1.0f - q, 0.0f);
+  return -3.0f * norm_g * (a * a - 4.0f * (b * b));
+}
+
 class CubicKernel {
  public:
   explicit CubicKernel(float h)
@@ -27,18 +42,10 @@ class CubicKernel {
   /// 4 - 6q^2 + 3q^3 on [0,1)) so that it compiles to selects, not branches:
   /// the solver's pair loops call it millions of times a step with
   /// unpredictable q.
-  float W(float r) const {
-    const float q = r * inv_h_;
-    const float a = std::max(2.0f - q, 0.0f), b = std::max(1.0f - q, 0.0f);
-    return norm_w_ * (a * a * a - 4.0f * (b * b * b));
-  }
+  float W(float r) const { return cubicW(r, inv_h_, norm_w_); }
 
   /// dW/dr (r, h) = -(3/h) [(2-q)^2_+ - 4 (1-q)^2_+] norm_w.
-  float dWdr(float r) const {
-    const float q = r * inv_h_;
-    const float a = std::max(2.0f - q, 0.0f), b = std::max(1.0f - q, 0.0f);
-    return -3.0f * norm_g_ * (a * a - 4.0f * (b * b));
-  }
+  float dWdr(float r) const { return cubicDWdr(r, inv_h_, norm_g_); }
 
   /// grad_i W(|x_i - x_j|, h) for d = x_i - x_j at distance r = |d| > 0.
   glm::vec3 gradW(const glm::vec3& d, float r) const {

@@ -140,9 +140,7 @@ struct SpringKernel {
   explicit SpringKernel(const CubicKernel& k1) : inv_h(1.0f / k1.h()), norm_w(k1.W(0.0f) / 4.0f) {}
 };
 inline float springCoefficient(float strength, float r, float inv_h, float norm_w) {
-  const float s = r * inv_h;
-  const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
-  return strength * (norm_w * (a * a * a - 4.0f * (c * c * c)));
+  return strength * cubicW(r, inv_h, norm_w);
 }
 
 }  // namespace
@@ -393,9 +391,7 @@ LOOSEHAIR_PAIR_KERNEL
 void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
                       const float* __restrict mj, float* __restrict rho) {
   for (std::size_t q = 0; q < pairs; ++q) {
-    const float s = std::sqrt(r2[q]) * inv_h;
-    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
-    rho[q] = mj[q] * (norm_w * (a * a * a - 4.0f * (c * c * c)));  // m_j W(r, h2)
+    rho[q] = mj[q] * cubicW(std::sqrt(r2[q]), inv_h, norm_w);  // m_j W(r, h2)
   }
 }
 
@@ -682,10 +678,8 @@ void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p,
     const float r2 = dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q];
     const float r = std::sqrt(r2);
     const float inv_r = r > 0.0f ? 1.0f / r : 0.0f;
-    const float s = r * inv_h;
-    const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
-    const float w = norm_w * (a * a * a - 4.0f * (c * c * c));  // W(r, h2)
-    const float dw = -3.0f * norm_g * (a * a - 4.0f * (c * c));  // dW/dr
+    const float w = cubicW(r, inv_h, norm_w);     // W(r, h2)
+    const float dw = cubicDWdr(r, inv_h, norm_g);  // dW/dr
     // eq. 16: -m_i m_j (P_i/rho_i^2 + P_j/rho_j^2) grad_i W, grad_i W = -dW/dr x_ij / r
     const float pc = mm[q] * pp[q] * dw * inv_r;
     // eq. 17: collision direction t_i x t_j; for near-parallel hairs the
@@ -1071,13 +1065,8 @@ void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows,
         // slack connections and connections beyond the support stay free
         const float on = r2 > limit * limit ? (r2 < support2 ? 1.0f : 0.0f) : 0.0f;
         const float len = std::sqrt(r2);
-        const float s = len * inv_h;
-        const float a = std::max(2.0f - s, 0.0f), c = std::max(1.0f - s, 0.0f);
-        const float s0 = rest[q] * inv_h;
-        const float a0 = std::max(2.0f - s0, 0.0f), c0 = std::max(1.0f - s0, 0.0f);
-        const float inv_rest_w = 1.0f / (norm_w * (a0 * a0 * a0 - 4.0f * (c0 * c0 * c0)));
-        const float looseness =
-            std::min(1.0f, norm_w * (a * a * a - 4.0f * (c * c * c)) * inv_rest_w);
+        const float inv_rest_w = 1.0f / cubicW(rest[q], inv_h, norm_w);
+        const float looseness = std::min(1.0f, cubicW(len, inv_h, norm_w) * inv_rest_w);
         const float w_i = wi[o + l], share = w_i / (w_i + wj[q]);  // w: inverse mass
         const float coef = on > 0.0f ? looseness * (len - limit) * share / len : 0.0f;
         const bool valid = row < degree[o + l];  // not a padding entry
@@ -1138,9 +1127,9 @@ std::size_t Solver::limitStrain() {
         const std::size_t q0 = run.q0, s0 = run.s0;
         col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
         const std::uint32_t* owner = cs.owner.data() + s0 * L;
-        gatherRecords(rec_in, 1, cs.partner.data() + q0, run.entries, col.entry(XJ),
+        gatherRecords(rec_in, cs.partner.data() + q0, run.entries, col.entry(XJ),
                       col.entry(YJ), col.entry(ZJ), col.entry(WJ));
-        gatherRecords(rec_in, 1, owner, run.lanes, col.lane(XI), col.lane(YI), col.lane(ZI),
+        gatherRecords(rec_in, owner, run.lanes, col.lane(XI), col.lane(YI), col.lane(ZI),
                       col.lane(WI));
         strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI),
                      col.lane(YI), col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ),
