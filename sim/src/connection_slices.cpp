@@ -68,49 +68,74 @@ ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window) {
   return out;
 }
 
-void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, float* ox,
-                 float* oy, float* oz) {
+namespace {
+// Runs copy(k) for k = 0, step, ... < count, first prefetching (with
+// prefetch(k + kGatherAhead)) while entry k + kGatherAhead + step - 1 is
+// readable.
+template <class Prefetch, class Copy>
+inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step,
+                       Prefetch prefetch, Copy copy) {
+  const std::size_t ahead = readable > kGatherAhead ? readable - kGatherAhead : 0;
+  const std::size_t split = std::min(count, ahead) / step * step;
+  std::size_t k = 0;
+  for (; k < split; k += step) {
+    for (std::size_t a = 0; a < step; ++a) prefetch(k + kGatherAhead + a);
+    copy(k);
+  }
+  for (; k < count; k += step) copy(k);
+}
+}  // namespace
+
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count,
+                 std::size_t readable, float* ox, float* oy, float* oz) {
   // Scalar loads: on the AMD Zen CPU this was measured on, the AVX-512
   // gather instruction took 1.8 ns an entry against 0.9 for this loop
   // (100k particles, x not in the core's caches).
-  for (std::size_t k = 0; k < count; ++k) {
-    const float* p = a + 3 * static_cast<std::size_t>(idx[k]);
-    ox[k] = p[0];
-    oy[k] = p[1];
-    oz[k] = p[2];
-  }
+  gatherLoop(
+      count, readable, 1, [&](std::size_t k) { __builtin_prefetch(a + 3 * std::size_t{idx[k]}); },
+      [&](std::size_t k) {
+        const float* p = a + 3 * std::size_t{idx[k]};
+        ox[k] = p[0];
+        oy[k] = p[1];
+        oz[k] = p[2];
+      });
 }
 
-void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count, float* o0,
-                   float* o1, float* o2, float* o3) {
-  constexpr std::size_t step = 4;  // floats per index
+void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count,
+                   std::size_t readable, float* o0, float* o1, float* o2, float* o3) {
+  auto prefetch = [&](std::size_t k) { __builtin_prefetch(rec + 4 * std::size_t{idx[k]}); };
 #if defined(__SSE2__)
-  for (std::size_t k = 0; k < count; k += 4) {  // count is a multiple of 16
-    __m128 c0 = _mm_loadu_ps(rec + step * idx[k]), c1 = _mm_loadu_ps(rec + step * idx[k + 1]),
-           c2 = _mm_loadu_ps(rec + step * idx[k + 2]), c3 = _mm_loadu_ps(rec + step * idx[k + 3]);
+  // count is a multiple of 16
+  gatherLoop(count, readable, 4, prefetch, [&](std::size_t k) {
+    __m128 c0 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k]}),
+           c1 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k + 1]}),
+           c2 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k + 2]}),
+           c3 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k + 3]});
     _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
     _mm_storeu_ps(o0 + k, c0);
     _mm_storeu_ps(o1 + k, c1);
     _mm_storeu_ps(o2 + k, c2);
     _mm_storeu_ps(o3 + k, c3);
-  }
+  });
 #else
-  for (std::size_t k = 0; k < count; ++k) {
-    const float* p = rec + step * idx[k];
+  gatherLoop(count, readable, 1, prefetch, [&](std::size_t k) {
+    const float* p = rec + 4 * std::size_t{idx[k]};
     o0[k] = p[0];
     o1[k] = p[1];
     o2[k] = p[2];
     o3[k] = p[3];
-  }
+  });
 #endif
 }
 
-void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count, float* out,
-                       std::size_t column_stride) {
+void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count,
+                       std::size_t readable, float* out, std::size_t column_stride) {
   float* o[8];
   for (std::size_t c = 0; c < 8; ++c) o[c] = out + c * column_stride;
+  auto prefetch = [&](std::size_t k) { __builtin_prefetch(rec + 8 * std::size_t{idx[k]}); };
 #if defined(__SSE2__)
-  for (std::size_t k = 0; k < count; k += 4) {  // count is a multiple of 16
+  // count is a multiple of 16
+  gatherLoop(count, readable, 4, prefetch, [&](std::size_t k) {
     const float* p0 = rec + 8 * std::size_t{idx[k]};
     const float* p1 = rec + 8 * std::size_t{idx[k + 1]};
     const float* p2 = rec + 8 * std::size_t{idx[k + 2]};
@@ -129,12 +154,12 @@ void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t c
     _mm_storeu_ps(o[5] + k, b1);
     _mm_storeu_ps(o[6] + k, b2);
     _mm_storeu_ps(o[7] + k, b3);
-  }
+  });
 #else
-  for (std::size_t k = 0; k < count; ++k) {
+  gatherLoop(count, readable, 1, prefetch, [&](std::size_t k) {
     const float* p = rec + 8 * std::size_t{idx[k]};
     for (std::size_t c = 0; c < 8; ++c) o[c][k] = p[c];
-  }
+  });
 #endif
 }
 

@@ -64,19 +64,28 @@ inline constexpr std::size_t kSliceWindow = 256;
 /// (a multiple of 16).
 ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window = kSliceWindow);
 
+// The partners' records are scattered over arrays larger than a core's
+// caches once there are 100k particles, and which record comes next is in
+// the index column, where the hardware cannot see it. So the gathers can
+// prefetch the record kGatherAhead entries ahead while they copy one:
+// `readable` entries of idx may be read (0: no prefetching, for arrays that
+// stay cached, where it only costs), so that a pass whose next work item
+// continues the same column finds that item's first records cached too.
+inline constexpr std::size_t kGatherAhead = 256;
+
 /// The partners' values of whole rows (count a multiple of 16), for 3-vectors
 /// stored as xyz triples: ox/oy/oz[k] = a[idx[k]].
-void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, float* ox,
-                 float* oy, float* oz);
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count,
+                 std::size_t readable, float* ox, float* oy, float* oz);
 /// The same for records of 4 floats: o0..o3[k] = the 4 floats at
 /// rec + 4 * idx[k], one 16-byte load each (one cache line per partner for
 /// all four values).
-void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count, float* o0,
-                   float* o1, float* o2, float* o3);
+void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count,
+                   std::size_t readable, float* o0, float* o1, float* o2, float* o3);
 /// Two adjacent records per index (8 floats at rec + 8 * idx[k]) into the
 /// 8 columns out + c * column_stride, c = 0..7: both records of a partner
 /// read from one 32-byte run, its index read once.
-void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count, float* out,
-                       std::size_t column_stride);
+void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count,
+                       std::size_t readable, float* out, std::size_t column_stride);
 
 }  // namespace loosehair
