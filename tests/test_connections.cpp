@@ -49,7 +49,8 @@ Block hairBlock(std::uint64_t seed) {
       for (int j = -1; j < 20; ++j) {
         b.x.emplace_back(i * a + rng.uniform(-0.2, 0.2) * a, -j * a + rng.uniform(-0.2, 0.2) * a,
                          k * a + rng.uniform(-0.2, 0.2) * a);
-        b.t.push_back(glm::normalize(glm::vec3(rng.uniform(-0.1, 0.1), -1, rng.uniform(-0.1, 0.1))));
+        b.t.push_back(
+            glm::normalize(glm::vec3(rng.uniform(-0.1, 0.1), -1, rng.uniform(-0.1, 0.1))));
         b.s.push_back(j * a);
         b.root.push_back(j < 0 ? 1 : 0);
       }
@@ -223,7 +224,38 @@ TEST(ConnectionSlices, HoldEveryEntryOnceInListOrder) {
   for (std::size_t e = 0; e < value.size(); ++e) value[e] = static_cast<float>(e);
   const std::vector<float> arranged = s.arrange(value, -1.0f);
   for (std::size_t k = 0; k < arranged.size(); ++k)
-    EXPECT_EQ(arranged[k], s.entry[k] == ConnectionSlices::kPadding
-                               ? -1.0f
-                               : static_cast<float>(s.entry[k]));
+    EXPECT_EQ(arranged[k],
+              s.entry[k] == ConnectionSlices::kPadding ? -1.0f : static_cast<float>(s.entry[k]));
+}
+
+// The gathers copy every partner's record whether they prefetch ahead or
+// not, and read no index past `readable` (the index column is allocated
+// exactly that long, so an over-read shows under AddressSanitizer).
+TEST(ConnectionSlices, GathersCopyEveryRecordWithAnyLookAhead) {
+  Random rng(11);
+  const std::size_t n = 997, count = 16 * 40;
+  std::vector<float> rec(8 * n);
+  for (float& f : rec) f = static_cast<float>(rng.uniform());
+  for (const std::size_t readable :
+       {std::size_t{0}, count, count + 3, count + kGatherAhead - 1, count + kGatherAhead + 17}) {
+    std::vector<std::uint32_t> idx(std::max(readable, count));
+    for (auto& j : idx) j = static_cast<std::uint32_t>(rng.uniform() * n) % n;
+    std::vector<float> out(8 * count, -1.0f);
+    gatherRows3(rec.data(), idx.data(), count, readable, &out[0], &out[count], &out[2 * count]);
+    for (std::size_t k = 0; k < count; ++k)
+      for (std::size_t c = 0; c < 3; ++c)
+        ASSERT_EQ(out[c * count + k], rec[3 * idx[k] + c])
+            << "rows3 entry " << k << " readable " << readable;
+    gatherRecords(rec.data(), idx.data(), count, readable, &out[0], &out[count], &out[2 * count],
+                  &out[3 * count]);
+    for (std::size_t k = 0; k < count; ++k)
+      for (std::size_t c = 0; c < 4; ++c)
+        ASSERT_EQ(out[c * count + k], rec[4 * idx[k] + c])
+            << "records entry " << k << " readable " << readable;
+    gatherRecordPairs(rec.data(), idx.data(), count, readable, out.data(), count);
+    for (std::size_t k = 0; k < count; ++k)
+      for (std::size_t c = 0; c < 8; ++c)
+        ASSERT_EQ(out[c * count + k], rec[8 * idx[k] + c])
+            << "pairs entry " << k << " readable " << readable;
+  }
 }

@@ -73,8 +73,8 @@ namespace {
 // prefetch(k + kGatherAhead)) while entry k + kGatherAhead + step - 1 is
 // readable.
 template <class Prefetch, class Copy>
-inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step,
-                       Prefetch prefetch, Copy copy) {
+inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step, Prefetch prefetch,
+                       Copy copy) {
   const std::size_t ahead = readable > kGatherAhead ? readable - kGatherAhead : 0;
   const std::size_t split = std::min(count, ahead) / step * step;
   std::size_t k = 0;
@@ -86,8 +86,8 @@ inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step
 }
 }  // namespace
 
-void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count,
-                 std::size_t readable, float* ox, float* oy, float* oz) {
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, std::size_t readable,
+                 float* ox, float* oy, float* oz) {
   // Scalar loads: on the AMD Zen CPU this was measured on, the AVX-512
   // gather instruction took 1.8 ns an entry against 0.9 for this loop
   // (100k particles, x not in the core's caches).

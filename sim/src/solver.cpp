@@ -133,22 +133,22 @@ struct SliceRun {
   static Index count(const ConnectionSlices& cs) {
     return static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
   }
-  // The gathers' look-ahead from an array of partners' records of
-  // `record_bytes`: prefetching only pays where the array does not stay in
-  // a core's L2 (1-2 MB on current x86 CPUs) through the pass; at 10k
-  // particles it costs 5-8% of the strain and direction passes.
+  // The gathers' look-ahead (connection_slices.hpp) from an array of the
+  // partners' records of `record_bytes`: prefetching pays only where the
+  // array does not stay in a core's L2 (1-2 MB on current x86 CPUs) through
+  // the pass; at 10k particles it cost 5-8% of the strain and direction
+  // passes (README).
   std::size_t gatherAhead(std::size_t record_bytes) const {
     constexpr std::size_t kCachedRecordBytes = std::size_t{1} << 20;
     return record_bytes > kCachedRecordBytes ? readable : 0;
   }
   // Asks for the next work item's part of per-entry columns of 4-byte
   // values (given by their starts) to be brought into L2 while this item
-  // works: its entries follow this item's. Without it each item's first
-  // pass over a column waits for memory, the hardware's stream detection
-  // restarting at every item (12% of the connection passes at 200k
-  // particles, nothing at 10k; README).
+  // gathers and computes: its entries follow this item's, and the hardware
+  // would otherwise find each column's stream anew at every item.
   template <class... Column>
   void prefetchNext(const Column*... column) const {
+    static_assert(((sizeof(Column) == 4) && ...));
     const std::size_t next = std::min(readable - entries, entries);  // next item: about as long
     for (std::size_t b = 0; b < next * 4; b += 64)
       (__builtin_prefetch(reinterpret_cast<const char*>(column + q0 + entries) + b, 0, 2), ...);
