@@ -149,17 +149,19 @@ void NeighborGrid::sortHashed(std::span<const glm::vec3> x) {
     keys_.swap(keys_tmp_);
     order_.swap(order_tmp_);
   }
-  gatherSorted(x);
+  gatherSorted(x, 1);
 }
 
-void NeighborGrid::gatherSorted(std::span<const glm::vec3> x) {
+void NeighborGrid::gatherSorted(std::span<const glm::vec3> x, int threads) {
   const std::size_t n = x.size();
   sorted_x_.resize(n);
   // Coordinates also as padded columns for the 4-wide distance test; the
   // padding is never accepted (lanes past a range's end are masked).
   for (auto* col : {&sorted_cx_, &sorted_cy_, &sorted_cz_}) col->resize(n + 4, 0.0f);
   order_.resize(n + 4, 0);
-  for (std::size_t k = 0; k < n; ++k) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t kk = 0; kk < static_cast<std::int64_t>(n); ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
     const glm::vec3 p = x[order_[k]];
     sorted_x_[k] = p;
     sorted_cx_[k] = p.x;
@@ -263,24 +265,63 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
              origin_[a];
     keys_[i] = static_cast<std::uint64_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
   }
-  dense_start_.assign(cells + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++dense_start_[keys_[i] + 1];
-  occupied_cells_ = 0;
-  for (std::size_t c = 0; c < cells; ++c) {
-    occupied_cells_ += dense_start_[c + 1] > 0 ? 1 : 0;
-    dense_start_[c + 1] += dense_start_[c];
+  // Counting sort, stable: points of a cell stay in index order. The cells
+  // outnumber the points (up to 16 a point), so the passes over the cells
+  // are shared among the threads; the passes over the points stay serial
+  // (the stable scatter). Cell c's count goes to start[c + 2]; after the
+  // inclusive scan start[c + 1] is cell c's start, and the scatter advances
+  // it to cell c's end, which is cell c + 1's start: start[c] is then cell
+  // c's start for every c <= cells, with no separate fill array.
+  dense_start_.resize(cells + 2);
+  std::uint32_t* start = dense_start_.data();
+  const auto cell_count = static_cast<std::int64_t>(cells + 2);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::int64_t c = 0; c < cell_count; ++c) start[c] = 0;
+  for (std::size_t i = 0; i < n; ++i) ++start[keys_[i] + 2];
+  // Inclusive scan of the counts in blocks, one per thread: each block's
+  // total, then the blocks' offsets, then the block's prefix sums. Integer
+  // sums: the same starts for any thread count.
+  const int blocks = threads;
+  std::vector<std::uint32_t>& block_total = scan_blocks_;
+  block_total.assign(static_cast<std::size_t>(blocks) + 1, 0);
+  std::size_t occupied = 0;
+  auto block_range = [&](int b) {
+    return std::pair<std::size_t, std::size_t>{2 + (cells * static_cast<std::size_t>(b)) / blocks,
+                                               2 + (cells * static_cast<std::size_t>(b + 1)) / blocks};
+  };
+#pragma omp parallel num_threads(threads) reduction(+ : occupied)
+  {
+#pragma omp for schedule(static)
+    for (int b = 0; b < blocks; ++b) {
+      const auto [c0, c1] = block_range(b);
+      std::uint32_t sum = 0;
+      for (std::size_t c = c0; c < c1; ++c) {
+        occupied += start[c] > 0 ? 1 : 0;
+        sum += start[c];
+      }
+      block_total[static_cast<std::size_t>(b) + 1] = sum;
+    }
+#pragma omp single
+    for (int b = 0; b < blocks; ++b) block_total[b + 1] += block_total[b];
+#pragma omp for schedule(static)
+    for (int b = 0; b < blocks; ++b) {
+      const auto [c0, c1] = block_range(b);
+      std::uint32_t sum = block_total[static_cast<std::size_t>(b)];
+      for (std::size_t c = c0; c < c1; ++c) {
+        sum += start[c];
+        start[c] = sum;  // the end of cell c - 2, the start of cell c - 1
+      }
+    }
   }
-  // Counting sort, stable: points of a cell stay in index order.
+  occupied_cells_ = occupied;
   keys_tmp_.resize(n);
-  std::vector<std::uint32_t>& fill = order_tmp_;
-  fill.assign(dense_start_.begin(), dense_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t dst = fill[keys_[i]]++;
+    const std::uint32_t dst = start[keys_[i] + 1]++;
     order_[dst] = static_cast<std::uint32_t>(i);
     keys_tmp_[dst] = keys_[i];
   }
   keys_.swap(keys_tmp_);
-  gatherSorted(x);
+  gatherSorted(x, threads);
 }
 
 int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin,

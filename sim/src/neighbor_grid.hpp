@@ -74,7 +74,7 @@ class NeighborGrid {
   bool chooseDenseLayout(std::span<const glm::vec3> x, int threads);
   void sortDense(std::span<const glm::vec3> x, int threads);
   void sortHashed(std::span<const glm::vec3> x);
-  void gatherSorted(std::span<const glm::vec3> x);
+  void gatherSorted(std::span<const glm::vec3> x, int threads);
   void buildCellTable();
   /// Writes the neighbours of sorted point k among the given ranges to out
   /// (room for every candidate plus kRangeSlack per range) and returns their number.
@@ -94,7 +94,8 @@ class NeighborGrid {
   // dense layout: cell (ix, iy, iz) has index (iz * ny + iy) * nx + ix
   std::int64_t origin_[3] = {0, 0, 0};
   std::int64_t dims_[3] = {0, 0, 0};
-  std::vector<std::uint32_t> dense_start_;  // cells + 1 offsets into order_
+  std::vector<std::uint32_t> scan_blocks_;  // sortDense's per-thread block sums
+  std::vector<std::uint32_t> dense_start_;  // [0, cells]: offsets into order_ (+1 spare)
   // both layouts: the cell of each sorted point (dense index or Morton key)
   std::vector<std::uint64_t> keys_, keys_tmp_;
   std::vector<std::uint32_t> order_, order_tmp_;
