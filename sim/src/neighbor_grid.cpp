@@ -265,37 +265,39 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
              origin_[a];
     keys_[i] = static_cast<std::uint64_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
   }
-  // Counting sort, stable: points of a cell stay in index order. The cells
-  // outnumber the points (up to 16 a point), so the passes over the cells
-  // are shared among the threads; the passes over the points stay serial
-  // (the stable scatter). Cell c's count goes to start[c + 2]; after the
-  // inclusive scan start[c + 1] is cell c's start, and the scatter advances
-  // it to cell c's end, which is cell c + 1's start: start[c] is then cell
-  // c's start for every c <= cells, with no separate fill array.
+  // Counting sort, stable: points of a cell stay in index order. The work is
+  // split by cells, one block of cells a thread: each block zeroes, counts,
+  // scans and scatters its own cells (the cells outnumber the points, up to
+  // 16 a point), every thread reading all the keys in index order, so the
+  // order within a cell is the index order whatever the thread count. Cell
+  // c's count goes to start[c + 2]; after the inclusive scan start[c + 1] is
+  // cell c's start, and the scatter advances it to cell c's end, which is
+  // cell c + 1's start: start[c] is then cell c's start for every c <=
+  // cells, with no separate fill array. A block's scatter advances
+  // start[c0 + 1 .. c1], which no other block touches.
   dense_start_.resize(cells + 2);
+  keys_tmp_.resize(n);
   std::uint32_t* start = dense_start_.data();
-  const auto cell_count = static_cast<std::int64_t>(cells + 2);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::int64_t c = 0; c < cell_count; ++c) start[c] = 0;
-  for (std::size_t i = 0; i < n; ++i) ++start[keys_[i] + 2];
-  // Inclusive scan of the counts in blocks, one per thread: each block's
-  // total, then the blocks' offsets, then the block's prefix sums. Integer
-  // sums: the same starts for any thread count.
+  const std::uint64_t* key = keys_.data();
   const int blocks = threads;
   std::vector<std::uint32_t>& block_total = scan_blocks_;
   block_total.assign(static_cast<std::size_t>(blocks) + 1, 0);
-  std::size_t occupied = 0;
   auto block_range = [&](int b) {
-    return std::pair<std::size_t, std::size_t>{2 + (cells * static_cast<std::size_t>(b)) / blocks,
-                                               2 + (cells * static_cast<std::size_t>(b + 1)) / blocks};
+    return std::pair<std::uint64_t, std::uint64_t>{(cells * static_cast<std::uint64_t>(b)) / blocks,
+                                                   (cells * static_cast<std::uint64_t>(b + 1)) / blocks};
   };
+  std::size_t occupied = 0;
+  start[0] = start[1] = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : occupied)
   {
 #pragma omp for schedule(static)
     for (int b = 0; b < blocks; ++b) {
       const auto [c0, c1] = block_range(b);
+      std::fill(start + c0 + 2, start + c1 + 2, 0u);
+      for (std::size_t i = 0; i < n; ++i)
+        if (key[i] - c0 < c1 - c0) ++start[key[i] + 2];
       std::uint32_t sum = 0;
-      for (std::size_t c = c0; c < c1; ++c) {
+      for (std::uint64_t c = c0 + 2; c < c1 + 2; ++c) {
         occupied += start[c] > 0 ? 1 : 0;
         sum += start[c];
       }
@@ -307,19 +309,24 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
     for (int b = 0; b < blocks; ++b) {
       const auto [c0, c1] = block_range(b);
       std::uint32_t sum = block_total[static_cast<std::size_t>(b)];
-      for (std::size_t c = c0; c < c1; ++c) {
+      for (std::uint64_t c = c0 + 2; c < c1 + 2; ++c) {
         sum += start[c];
         start[c] = sum;  // the end of cell c - 2, the start of cell c - 1
       }
     }
+    // (the implicit barrier: every block's starts are in place)
+#pragma omp for schedule(static)
+    for (int b = 0; b < blocks; ++b) {
+      const auto [c0, c1] = block_range(b);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (key[i] - c0 >= c1 - c0) continue;
+        const std::uint32_t dst = start[key[i] + 1]++;
+        order_[dst] = static_cast<std::uint32_t>(i);
+        keys_tmp_[dst] = key[i];
+      }
+    }
   }
   occupied_cells_ = occupied;
-  keys_tmp_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t dst = start[keys_[i] + 1]++;
-    order_[dst] = static_cast<std::uint32_t>(i);
-    keys_tmp_[dst] = keys_[i];
-  }
   keys_.swap(keys_tmp_);
   gatherSorted(x, threads);
 }
