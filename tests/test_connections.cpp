@@ -1,6 +1,7 @@
 // SPEC §3.1: alignment, thresholds, pruning and the connectivity check.
 #include "connection_builder.hpp"
 #include "connection_slices.hpp"
+#include "pair_columns.hpp"
 #include "random.hpp"
 #include "test_support.hpp"
 
@@ -257,5 +258,26 @@ TEST(ConnectionSlices, GathersCopyEveryRecordWithAnyLookAhead) {
       for (std::size_t c = 0; c < 8; ++c)
         ASSERT_EQ(out[c * count + k], rec[8 * idx[k] + c])
             << "pairs entry " << k << " readable " << readable;
+  }
+}
+
+// The pair loops' scratch columns: room for every pair in every column,
+// 64-byte aligned rows, and an odd number of 64-byte lines from one column
+// to the next, so that a block's columns fall into different sets of the
+// first-level cache (with 1024 floats between them, all 17 hair-hair
+// columns shared one set and that pass ran 1.7x slower).
+TEST(PairColumns, ColumnsHoldEveryPairAndNeverAlignOnOneCacheSet) {
+  for (const std::size_t pairs : {std::size_t{1}, std::size_t{16}, std::size_t{1000},
+                                  std::size_t{1024}, std::size_t{2048}, std::size_t{4093}}) {
+    PairColumns col;
+    col.reserve(pairs, 17);
+    const std::size_t stride = col.stride();
+    EXPECT_GE(stride, pairs);
+    EXPECT_EQ(stride % 16, 0u) << pairs << " pairs";
+    EXPECT_EQ((stride / 16) % 2, 1u) << pairs << " pairs: stride " << stride;
+    EXPECT_EQ(col[1] - col[0], static_cast<std::ptrdiff_t>(stride));
+    // growing keeps the property
+    col.reserve(pairs + 100, 17);
+    EXPECT_EQ((col.stride() / 16) % 2, 1u);
   }
 }
