@@ -350,13 +350,11 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
         if (y < 0 || y >= ny) continue;
         // the row's cells x0..x1 are one contiguous range of points
         const std::int64_t row = (z * ny + y) * nx;
-        const std::uint32_t b = dense_start_[static_cast<std::size_t>(row + x0)];
-        const std::uint32_t e = dense_start_[static_cast<std::size_t>(row + x1 + 1)];
-        if (b < e) {
-          begin[nr] = b;
-          end[nr] = e;
-          ++nr;
-        }
+        // kept by advancing the count: in a thin shell of hair many rows
+        // are empty, and a branch on it is hard to predict
+        begin[nr] = dense_start_[static_cast<std::size_t>(row + x0)];
+        end[nr] = dense_start_[static_cast<std::size_t>(row + x1 + 1)];
+        nr += begin[nr] < end[nr] ? 1 : 0;
       }
     }
     return nr;
