@@ -101,29 +101,37 @@ void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, st
       });
 }
 
+#if defined(__SSE2__)
+namespace {
+// The 4 floats at each of p[0..3], transposed: o[c][k + lane] = p[lane][c].
+inline void transposeRecords(const float* const p[4], float* const o[4], std::size_t k) {
+  __m128 c0 = _mm_loadu_ps(p[0]), c1 = _mm_loadu_ps(p[1]), c2 = _mm_loadu_ps(p[2]),
+         c3 = _mm_loadu_ps(p[3]);
+  _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+  _mm_storeu_ps(o[0] + k, c0);
+  _mm_storeu_ps(o[1] + k, c1);
+  _mm_storeu_ps(o[2] + k, c2);
+  _mm_storeu_ps(o[3] + k, c3);
+}
+}  // namespace
+#endif
+
 void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count,
                    std::size_t readable, float* o0, float* o1, float* o2, float* o3) {
+  float* const o[4] = {o0, o1, o2, o3};
   auto prefetch = [&](std::size_t k) { __builtin_prefetch(rec + 4 * std::size_t{idx[k]}); };
 #if defined(__SSE2__)
   // count is a multiple of 16
   gatherLoop(count, readable, 4, prefetch, [&](std::size_t k) {
-    __m128 c0 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k]}),
-           c1 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k + 1]}),
-           c2 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k + 2]}),
-           c3 = _mm_loadu_ps(rec + 4 * std::size_t{idx[k + 3]});
-    _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
-    _mm_storeu_ps(o0 + k, c0);
-    _mm_storeu_ps(o1 + k, c1);
-    _mm_storeu_ps(o2 + k, c2);
-    _mm_storeu_ps(o3 + k, c3);
+    const float* const p[4] = {rec + 4 * std::size_t{idx[k]}, rec + 4 * std::size_t{idx[k + 1]},
+                               rec + 4 * std::size_t{idx[k + 2]},
+                               rec + 4 * std::size_t{idx[k + 3]}};
+    transposeRecords(p, o, k);
   });
 #else
   gatherLoop(count, readable, 1, prefetch, [&](std::size_t k) {
     const float* p = rec + 4 * std::size_t{idx[k]};
-    o0[k] = p[0];
-    o1[k] = p[1];
-    o2[k] = p[2];
-    o3[k] = p[3];
+    for (std::size_t c = 0; c < 4; ++c) o[c][k] = p[c];
   });
 #endif
 }
@@ -136,24 +144,12 @@ void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t c
 #if defined(__SSE2__)
   // count is a multiple of 16
   gatherLoop(count, readable, 4, prefetch, [&](std::size_t k) {
-    const float* p0 = rec + 8 * std::size_t{idx[k]};
-    const float* p1 = rec + 8 * std::size_t{idx[k + 1]};
-    const float* p2 = rec + 8 * std::size_t{idx[k + 2]};
-    const float* p3 = rec + 8 * std::size_t{idx[k + 3]};
-    __m128 a0 = _mm_loadu_ps(p0), a1 = _mm_loadu_ps(p1), a2 = _mm_loadu_ps(p2),
-           a3 = _mm_loadu_ps(p3);
-    __m128 b0 = _mm_loadu_ps(p0 + 4), b1 = _mm_loadu_ps(p1 + 4), b2 = _mm_loadu_ps(p2 + 4),
-           b3 = _mm_loadu_ps(p3 + 4);
-    _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
-    _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
-    _mm_storeu_ps(o[0] + k, a0);
-    _mm_storeu_ps(o[1] + k, a1);
-    _mm_storeu_ps(o[2] + k, a2);
-    _mm_storeu_ps(o[3] + k, a3);
-    _mm_storeu_ps(o[4] + k, b0);
-    _mm_storeu_ps(o[5] + k, b1);
-    _mm_storeu_ps(o[6] + k, b2);
-    _mm_storeu_ps(o[7] + k, b3);
+    const float* const first[4] = {rec + 8 * std::size_t{idx[k]}, rec + 8 * std::size_t{idx[k + 1]},
+                                   rec + 8 * std::size_t{idx[k + 2]},
+                                   rec + 8 * std::size_t{idx[k + 3]}};
+    const float* const second[4] = {first[0] + 4, first[1] + 4, first[2] + 4, first[3] + 4};
+    transposeRecords(first, o, k);
+    transposeRecords(second, o + 4, k);
   });
 #else
   gatherLoop(count, readable, 1, prefetch, [&](std::size_t k) {

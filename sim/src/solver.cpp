@@ -136,8 +136,8 @@ struct SliceRun {
   // The gathers' look-ahead (connection_slices.hpp) from an array of the
   // partners' records of `record_bytes`: prefetching pays only where the
   // array does not stay in a core's L2 (1-2 MB on current x86 CPUs) through
-  // the pass; at 10k particles it cost 5-8% of the strain and direction
-  // passes (README).
+  // the pass; at 10k particles it cost 3-11% of the strain and direction
+  // passes (three alternations).
   std::size_t gatherAhead(std::size_t record_bytes) const {
     constexpr std::size_t kCachedRecordBytes = std::size_t{1} << 20;
     return record_bytes > kCachedRecordBytes ? readable : 0;
