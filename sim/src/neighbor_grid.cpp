@@ -283,8 +283,9 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
   std::vector<std::uint32_t>& block_total = scan_blocks_;
   block_total.assign(static_cast<std::size_t>(blocks) + 1, 0);
   auto block_range = [&](int b) {
-    return std::pair<std::uint64_t, std::uint64_t>{(cells * static_cast<std::uint64_t>(b)) / blocks,
-                                                   (cells * static_cast<std::uint64_t>(b + 1)) / blocks};
+    return std::pair<std::uint64_t, std::uint64_t>{
+        (cells * static_cast<std::uint64_t>(b)) / blocks,
+        (cells * static_cast<std::uint64_t>(b + 1)) / blocks};
   };
   std::size_t occupied = 0;
   start[0] = start[1] = 0;
@@ -340,8 +341,9 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
     // sortDense), cheaper than dividing the index.
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a)
-      c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(sorted_x_[k][a]) * inv_cell_)) -
-             origin_[a];
+      c[a] =
+          static_cast<std::int64_t>(std::floor(static_cast<double>(sorted_x_[k][a]) * inv_cell_)) -
+          origin_[a];
     const std::int64_t cx = c[0], cy = c[1], cz = c[2];
     const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min(cx + 1, nx - 1);
     for (std::int64_t z = cz - 1; z <= cz + 1; ++z) {
@@ -406,14 +408,14 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
       const __m128 dx = _mm_sub_ps(_mm_loadu_ps(cx + q), xi);
       const __m128 dy = _mm_sub_ps(_mm_loadu_ps(cy + q), yi);
       const __m128 dz = _mm_sub_ps(_mm_loadu_ps(cz + q), zi);
-      const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
-                                   _mm_mul_ps(dz, dz));
+      const __m128 d2 =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
       const __m128i idx = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(q)), lane);
       // lanes inside the range (idx < qe, as signed: indices stay below 2^31)
       const __m128i inside = _mm_cmplt_epi32(idx, _mm_set1_epi32(static_cast<int>(qe)));
       const __m128i not_self = _mm_andnot_si128(_mm_cmpeq_epi32(idx, self), inside);
-      const int mask = _mm_movemask_ps(
-          _mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
+      const int mask =
+          _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
       out[found] = order ? order[q] : q;
       found += static_cast<std::size_t>(mask & 1);
       out[found] = order ? order[q + 1] : q + 1;
@@ -439,8 +441,7 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
   return found;
 }
 
-void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads,
-                         ListIndex index) {
+void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads, ListIndex index) {
   const std::size_t n = x.size();
   radius_ = radius;
   inv_cell_ = 1.0f / radius;
@@ -467,21 +468,24 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
-  // Chunks of sorted points, handed out dynamically (the work per point
-  // varies with the local density); each thread appends to its own buffer.
+  // Chunks of sorted points, one contiguous range of them a thread, each
+  // thread appending to its own buffer: the solver's density and hair-hair
+  // passes split the search order the same way, so a thread reads the lists
+  // it wrote, from its own caches (Solver, the note above kWindowChunks).
   // A point's list does not depend on which thread makes it.
-  constexpr std::size_t kChunk = 512;
   const std::int64_t chunks = static_cast<std::int64_t>((n + kChunk - 1) / kChunk);
+  chunk_pairs_end_.resize(static_cast<std::size_t>(chunks));
 #pragma omp parallel num_threads(threads)
   {
     std::vector<std::uint32_t>& buf = buffers_[omp_get_thread_num()];
     std::vector<std::int64_t> mine;
     std::size_t used = 0;
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
-#pragma omp for schedule(dynamic, 1) nowait
+#pragma omp for schedule(static) nowait
     for (std::int64_t chunk = 0; chunk < chunks; ++chunk) {
       mine.push_back(chunk);
-      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk, k1 = std::min(n, k0 + kChunk);
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
+                        k1 = std::min(n, k0 + kChunk);
       int nr = 0;
       std::size_t candidates = 0;
       for (std::size_t k = k0; k < k1; ++k) {
@@ -500,19 +504,42 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
         count_[k] = static_cast<std::uint32_t>(found);
         used += found;
       }
+      chunk_pairs_end_[static_cast<std::size_t>(chunk)] = used - offset_[k0];  // this chunk's
     }
     // The buffer no longer grows: turn offsets into pointers.
     for (const std::int64_t chunk : mine) {
-      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk, k1 = std::min(n, k0 + kChunk);
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
+                        k1 = std::min(n, k0 + kChunk);
       for (std::size_t k = k0; k < k1; ++k) begin_[k] = buf.data() + offset_[k];
     }
   }
+  // the chunks' pairs, summed up (a few hundred chunks at 200k points)
+  std::size_t total = 0;
+  for (std::size_t& c : chunk_pairs_end_) c = total += c;
+  pair_count_ = total;
 }
 
-std::size_t NeighborGrid::pairCount() const {
-  std::size_t total = 0;
-  for (auto c : count_) total += c;
-  return total;
+std::size_t NeighborGrid::pairCount() const { return pair_count_; }
+
+std::pair<std::size_t, std::size_t> NeighborGrid::pairBalancedPart(int part, int parts) const {
+  const std::size_t n = count_.size(), chunks = chunk_pairs_end_.size();
+  // part p starts at the first chunk with at least p/parts of the pairs before it
+  auto start = [&](int p) -> std::size_t {
+    if (p <= 0) return 0;
+    if (p >= parts) return n;
+    const std::size_t before = pair_count_ * static_cast<std::size_t>(p);  // times `parts`
+    std::size_t lo = 0, hi = chunks;  // first c in [0, chunks] with pairs(< c) * parts >= before
+    while (lo < hi) {
+      const std::size_t c = (lo + hi) / 2;
+      const std::size_t pairs_before = c == 0 ? 0 : chunk_pairs_end_[c - 1];
+      if (pairs_before * static_cast<std::size_t>(parts) >= before)
+        hi = c;
+      else
+        lo = c + 1;
+    }
+    return std::min(n, lo * kChunk);
+  };
+  return {start(part), start(part + 1)};
 }
 
 }  // namespace loosehair

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace loosehair {
@@ -56,6 +57,13 @@ class NeighborGrid {
   std::span<const std::uint32_t> searchOrder() const { return {order_.data(), count_.size()}; }
   /// Number of ordered pairs (each unordered pair counts twice).
   std::size_t pairCount() const;
+  /// Points of the search order are listed in chunks of kChunk.
+  static constexpr std::size_t kChunk = 512;
+  /// Part `part` of `parts` of the search order, for sharing a loop over its
+  /// lists among threads: positions [first, second), contiguous, at chunk
+  /// boundaries, with about the same number of pairs in every part. The
+  /// parts of 0..parts-1 cover every position once.
+  std::pair<std::size_t, std::size_t> pairBalancedPart(int part, int parts) const;
   /// Occupied cells of the last build.
   std::size_t cellCount() const { return occupied_cells_; }
   /// True if the last build used the dense layout.
@@ -112,7 +120,11 @@ class NeighborGrid {
   std::vector<const std::uint32_t*> begin_;
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> offset_;  // into the owning thread's buffer
-  std::vector<std::uint32_t> rank_;    // point i is at position rank_[i] (ListIndex::Point)
+  // per chunk c of kChunk positions: the pairs of chunks [0, c] (for
+  // pairBalancedPart), and the build's total
+  std::vector<std::size_t> chunk_pairs_end_;
+  std::size_t pair_count_ = 0;
+  std::vector<std::uint32_t> rank_;  // point i is at position rank_[i] (ListIndex::Point)
 };
 
 }  // namespace loosehair
