@@ -19,33 +19,6 @@
 namespace loosehair {
 namespace {
 
-// Chunks [first, second) of part `part` of `parts` of `chunks` chunks:
-// contiguous, with about equal pairs by `pairs_end` (the pairs of chunks
-// [0, c], `total` in all) where it covers as many chunks, else equal counts.
-std::pair<std::size_t, std::size_t> chunkPart(const std::vector<std::size_t>& pairs_end,
-                                              std::size_t total, std::size_t chunks, int part,
-                                              int parts) {
-  const bool by_pairs = pairs_end.size() == chunks && total > 0;
-  const auto k = static_cast<std::size_t>(parts);
-  // part p starts at the first chunk with at least p/parts of the work before it
-  auto start = [&](int p) -> std::size_t {
-    if (p <= 0) return 0;
-    if (p >= parts) return chunks;
-    if (!by_pairs) return chunks * static_cast<std::size_t>(p) / k;
-    const std::size_t before = total * static_cast<std::size_t>(p);  // times `parts`
-    std::size_t lo = 0, hi = chunks;  // first c with pairs(< c) * parts >= before
-    while (lo < hi) {
-      const std::size_t c = (lo + hi) / 2;
-      if ((c == 0 ? 0 : pairs_end[c - 1]) * k >= before)
-        hi = c;
-      else
-        lo = c + 1;
-    }
-    return lo;
-  };
-  return {start(part), start(part + 1)};
-}
-
 constexpr int kCoordBits = 21;
 constexpr std::int64_t kCoordBias = std::int64_t{1} << (kCoordBits - 1);
 constexpr std::int64_t kCoordMax = (std::int64_t{1} << kCoordBits) - 1;
@@ -496,25 +469,23 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   const float r2 = radius * radius;
 
   // Chunks of sorted points, one contiguous range of them a thread, each
-  // thread appending to its own buffer. The solver's density and hair-hair
-  // passes split the search order about the same way (pairBalancedPart), so
-  // a thread reads the lists it wrote, from its own caches (Solver, the note
-  // above kWindowChunks). This split balances the last build's pairs a chunk
-  // where it had as many chunks (they change little from one step to the
-  // next). A point's list does not depend on which thread makes it.
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  chunk_pairs_next_.assign(chunks, 0);
+  // thread appending to its own buffer: the solver's density and hair-hair
+  // passes split the search order the same way, so a thread reads the lists
+  // it wrote, from its own caches (Solver, the note above kWindowChunks).
+  // A point's list does not depend on which thread makes it.
+  const std::int64_t chunks = static_cast<std::int64_t>((n + kChunk - 1) / kChunk);
+  chunk_pairs_end_.resize(static_cast<std::size_t>(chunks));
 #pragma omp parallel num_threads(threads)
   {
     std::vector<std::uint32_t>& buf = buffers_[omp_get_thread_num()];
     std::vector<std::int64_t> mine;
     std::size_t used = 0;
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
-    const auto [c0, c1] = chunkPart(chunk_pairs_end_, pair_count_, chunks, omp_get_thread_num(),
-                                    omp_get_num_threads());
-    for (std::size_t chunk = c0; chunk < c1; ++chunk) {
+#pragma omp for schedule(static) nowait
+    for (std::int64_t chunk = 0; chunk < chunks; ++chunk) {
       mine.push_back(chunk);
-      const std::size_t k0 = chunk * kChunk, k1 = std::min(n, k0 + kChunk);
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
+                        k1 = std::min(n, k0 + kChunk);
       int nr = 0;
       std::size_t candidates = 0;
       for (std::size_t k = k0; k < k1; ++k) {
@@ -533,28 +504,42 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
         count_[k] = static_cast<std::uint32_t>(found);
         used += found;
       }
-      chunk_pairs_next_[chunk] = used - offset_[k0];  // this chunk's
+      chunk_pairs_end_[static_cast<std::size_t>(chunk)] = used - offset_[k0];  // this chunk's
     }
     // The buffer no longer grows: turn offsets into pointers.
-    for (const std::size_t chunk : mine) {
-      const std::size_t k0 = chunk * kChunk, k1 = std::min(n, k0 + kChunk);
+    for (const std::int64_t chunk : mine) {
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
+                        k1 = std::min(n, k0 + kChunk);
       for (std::size_t k = k0; k < k1; ++k) begin_[k] = buf.data() + offset_[k];
     }
   }
   // the chunks' pairs, summed up (a few hundred chunks at 200k points)
   std::size_t total = 0;
-  for (std::size_t& c : chunk_pairs_next_) c = total += c;
-  chunk_pairs_end_.swap(chunk_pairs_next_);
+  for (std::size_t& c : chunk_pairs_end_) c = total += c;
   pair_count_ = total;
 }
 
 std::size_t NeighborGrid::pairCount() const { return pair_count_; }
 
 std::pair<std::size_t, std::size_t> NeighborGrid::pairBalancedPart(int part, int parts) const {
-  const std::size_t n = count_.size();
-  const auto [c0, c1] =
-      chunkPart(chunk_pairs_end_, pair_count_, chunk_pairs_end_.size(), part, parts);
-  return {std::min(n, c0 * kChunk), std::min(n, c1 * kChunk)};
+  const std::size_t n = count_.size(), chunks = chunk_pairs_end_.size();
+  // part p starts at the first chunk with at least p/parts of the pairs before it
+  auto start = [&](int p) -> std::size_t {
+    if (p <= 0) return 0;
+    if (p >= parts) return n;
+    const std::size_t before = pair_count_ * static_cast<std::size_t>(p);  // times `parts`
+    std::size_t lo = 0, hi = chunks;  // first c in [0, chunks] with pairs(< c) * parts >= before
+    while (lo < hi) {
+      const std::size_t c = (lo + hi) / 2;
+      const std::size_t pairs_before = c == 0 ? 0 : chunk_pairs_end_[c - 1];
+      if (pairs_before * static_cast<std::size_t>(parts) >= before)
+        hi = c;
+      else
+        lo = c + 1;
+    }
+    return std::min(n, lo * kChunk);
+  };
+  return {start(part), start(part + 1)};
 }
 
 }  // namespace loosehair

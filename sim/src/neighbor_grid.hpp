@@ -121,9 +121,8 @@ class NeighborGrid {
   std::vector<std::uint32_t> count_;
   std::vector<std::uint32_t> offset_;  // into the owning thread's buffer
   // per chunk c of kChunk positions: the pairs of chunks [0, c] (for
-  // pairBalancedPart and the next build's split), the next build's while
-  // it runs, and the build's total
-  std::vector<std::size_t> chunk_pairs_end_, chunk_pairs_next_;
+  // pairBalancedPart), and the build's total
+  std::vector<std::size_t> chunk_pairs_end_;
   std::size_t pair_count_ = 0;
   std::vector<std::uint32_t> rank_;  // point i is at position rank_[i] (ListIndex::Point)
 };
