@@ -468,11 +468,12 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
-  // Chunks of sorted points, one contiguous range of them a thread, each
-  // thread appending to its own buffer: the solver's density and hair-hair
-  // passes split the search order the same way, so a thread reads the lists
-  // it wrote, from its own caches (Solver, the note above kWindowChunks).
-  // A point's list does not depend on which thread makes it.
+  // Chunks of sorted points, an equal contiguous range of them a thread,
+  // each thread appending to its own buffer: the solver's density and
+  // hair-hair passes split the search order about the same way (by pairs,
+  // pairBalancedPart), so a thread mostly reads the lists it wrote, from its
+  // own caches (Solver, the note above kWindowChunks). A point's list does
+  // not depend on which thread makes it.
   const std::int64_t chunks = static_cast<std::int64_t>((n + kChunk - 1) / kChunk);
   chunk_pairs_end_.resize(static_cast<std::size_t>(chunks));
 #pragma omp parallel num_threads(threads)

@@ -114,17 +114,24 @@ constexpr int kWindowChunks =
 static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWindow);
 
 // How the work is shared among threads. Every pass gives each thread one
-// contiguous range (OpenMP schedule(static)): the per-particle loops and the
-// connection passes a range of particle indices, density and hair-hair a
-// range of the neighbour search's order, which holds about the same part of
-// the hair (both orders follow space). So a thread works on the same
-// particles in every pass and step, and finds their data still in its own
-// caches; with dynamic schedules the next pass mostly gave them to the other
-// thread. On the 2-core test machine, whose cores do not share a last-level
-// cache, two threads at 200k particles took 33.9-37.9 ms a step with dynamic
-// schedules and 30.9-33.9 ms with these (identical steps, lowest of 10, five
-// alternations). The results do not depend on the split: every work item
-// writes its own particles' sums, each added in a fixed order.
+// contiguous range: the per-particle loops and the connection passes a range
+// of particle indices (OpenMP schedule(static)), the neighbour search an
+// equal range of the search order, density and hair-hair about the same
+// range with about equal pairs (NeighborGrid::pairBalancedPart). The two
+// orders hold about the same part of the hair (both follow space). So a
+// thread works on the same particles in every pass and step, and finds
+// their data still in its own caches; with dynamic schedules the next pass
+// gave about half of them to the other thread. On the 2-core test machine
+// the cores do not seem to share a last-level cache: 16 MB written by one
+// thread is read back by it at 56-66 GB/s and by the other at 38 GB/s.
+// There two threads at 200k particles took 33.9-35.6 ms a step with dynamic
+// schedules and 30.1-33.6 with these (identical steps, lowest of 3, the
+// lower 7 of 10 alternations); on the head-shake scene at 100k both take
+// 23-24 ms. (Splitting the neighbour search by the last build's pairs too
+// made it slower, 7.3-7.9 against 6.7-7.1 ms: its work goes more with the
+// points than with the pairs.) The results do not depend on the split:
+// every work item writes its own particles' sums, each added in a fixed
+// order.
 
 // One work item of a connection pass: slices [s0, s1) of the layout, their
 // entries from q0 on, their lanes from s0 * 16 on (`used` of them hold a
