@@ -180,6 +180,18 @@ struct SliceRun {
   }
 };
 
+// Runs body(run) for each work item of the calling thread's windows: a
+// contiguous range of whole windows, the same in every pass and step (the
+// note on work sharing above). Called by every thread of a parallel region.
+template <class Body>
+void forOwnWorkItems(const ConnectionSlices& cs, Body&& body) {
+  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
+#pragma omp for schedule(static)
+  for (Index w = 0; w < windows; ++w)
+    for (Index cc = w * kWindowChunks; cc < std::min(chunks, (w + 1) * kWindowChunks); ++cc)
+      body(SliceRun(cs, cc));
+}
+
 // k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
 // for every pass that needs k_ij, so that each recomputes the same bits.
 struct SpringKernel {
@@ -663,7 +675,6 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
   const float* fr = s.factor_root.data();
   const float* ft = s.factor_tip.data();
   const std::uint8_t* root = particles_.is_root.data();
-  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
   // the first 8 columns of each: the two records' 4 + 4 floats (gatherRecordPairs)
   enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
   enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, kLaneColumns };
@@ -681,29 +692,26 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
       rec[2 * i + 1] = glm::vec4(v[i], r ? kRootFactor : ft[i]);
     }
     SliceColumns& col = threadSliceColumns();
-#pragma omp for schedule(static)
-    for (Index w = 0; w < windows; ++w)
-      for (Index cc = w * kWindowChunks; cc < std::min(chunks, (w + 1) * kWindowChunks); ++cc) {
-        const SliceRun run(cs, cc);
-        const std::size_t q0 = run.q0, s0 = run.s0;
-        col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
-        const std::uint32_t* partner = cs.partner.data() + q0;
-        const std::uint32_t* owner = cs.owner.data() + s0 * L;
-        run.prefetchNext(cs.partner.data(), sl.strength.data(), sl.rest.data(), s.weight.data());
-        // (x, a_r) and (v, a_t) of the partners and of the owners
-        gatherRecordPairs(records, partner, run.entries, run.gatherAhead(n * 2 * sizeof(glm::vec4)),
-                          col.entry(XJ), col.entryStride());
-        gatherRecordPairs(records, owner, run.lanes, 0, col.lane(XI), col.laneStride());
-        springSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
-                     cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
-                     col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
-                     col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
-                     col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.strength.data() + q0,
-                     sl.rest.data() + q0, s.weight.data() + q0, col.lane(FX), col.lane(FY),
-                     col.lane(FZ));
-        for (std::size_t l = 0; l < run.used; ++l)
-          force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
-      }
+    forOwnWorkItems(cs, [&](const SliceRun& run) {
+      const std::size_t q0 = run.q0, s0 = run.s0;
+      col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
+      const std::uint32_t* partner = cs.partner.data() + q0;
+      const std::uint32_t* owner = cs.owner.data() + s0 * L;
+      run.prefetchNext(cs.partner.data(), sl.strength.data(), sl.rest.data(), s.weight.data());
+      // (x, a_r) and (v, a_t) of the partners and of the owners
+      gatherRecordPairs(records, partner, run.entries, run.gatherAhead(n * 2 * sizeof(glm::vec4)),
+                        col.entry(XJ), col.entryStride());
+      gatherRecordPairs(records, owner, run.lanes, 0, col.lane(XI), col.laneStride());
+      springSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
+                   cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
+                   col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
+                   col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
+                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.strength.data() + q0,
+                   sl.rest.data() + q0, s.weight.data() + q0, col.lane(FX), col.lane(FY),
+                   col.lane(FZ));
+      for (std::size_t l = 0; l < run.used; ++l)
+        force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
+    });
   }
 }
 
@@ -1147,7 +1155,6 @@ std::size_t Solver::limitStrain() {
                           1.0f + params_.max_strain};
   const Sliced& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
-  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
   enum { XJ, YJ, ZJ, WJ, kEntryColumns };
   enum { XI, YI, ZI, WI, SX, SY, SZ, ACT, kLaneColumns };
   // The partners' (x, w) records, w the inverse mass, made for the first
@@ -1170,34 +1177,31 @@ std::size_t Solver::limitStrain() {
 #pragma omp parallel num_threads(threads_) reduction(+ : count)
     {
       SliceColumns& col = threadSliceColumns();
-#pragma omp for schedule(static)
-      for (Index w = 0; w < windows; ++w)
-        for (Index cc = w * kWindowChunks; cc < std::min(chunks, (w + 1) * kWindowChunks); ++cc) {
-          const SliceRun run(cs, cc);
-          const std::size_t q0 = run.q0, s0 = run.s0;
-          col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
-          const std::uint32_t* owner = cs.owner.data() + s0 * L;
-          run.prefetchNext(cs.partner.data(), sl.rest.data());
-          gatherRecords(rec_in, cs.partner.data() + q0, run.entries,
-                        run.gatherAhead(n * sizeof(glm::vec4)), col.entry(XJ), col.entry(YJ),
-                        col.entry(ZJ), col.entry(WJ));
-          gatherRecords(rec_in, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI),
-                        col.lane(WI));
-          strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI),
-                       col.lane(YI), col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ),
-                       col.entry(ZJ), col.entry(WJ), sl.rest.data() + q0, col.lane(SX),
-                       col.lane(SY), col.lane(SZ), col.lane(ACT));
-          for (std::size_t l = 0; l < run.used; ++l) {
-            const std::uint32_t i = owner[l];
-            out[i] = x[i];
-            const float active = col.lane(ACT)[l];
-            if (!root[i] && active > 0.0f) {
-              out[i] = x[i] + glm::vec3(col.lane(SX)[l], col.lane(SY)[l], col.lane(SZ)[l]) / active;
-              ++count;
-            }
-            rec_out[i] = glm::vec4(out[i], inv_mass[i]);
+      forOwnWorkItems(cs, [&](const SliceRun& run) {
+        const std::size_t q0 = run.q0, s0 = run.s0;
+        col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
+        const std::uint32_t* owner = cs.owner.data() + s0 * L;
+        run.prefetchNext(cs.partner.data(), sl.rest.data());
+        gatherRecords(rec_in, cs.partner.data() + q0, run.entries,
+                      run.gatherAhead(n * sizeof(glm::vec4)), col.entry(XJ), col.entry(YJ),
+                      col.entry(ZJ), col.entry(WJ));
+        gatherRecords(rec_in, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI),
+                      col.lane(WI));
+        strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI),
+                     col.lane(YI), col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ),
+                     col.entry(ZJ), col.entry(WJ), sl.rest.data() + q0, col.lane(SX), col.lane(SY),
+                     col.lane(SZ), col.lane(ACT));
+        for (std::size_t l = 0; l < run.used; ++l) {
+          const std::uint32_t i = owner[l];
+          out[i] = x[i];
+          const float active = col.lane(ACT)[l];
+          if (!root[i] && active > 0.0f) {
+            out[i] = x[i] + glm::vec3(col.lane(SX)[l], col.lane(SY)[l], col.lane(SZ)[l]) / active;
+            ++count;
           }
+          rec_out[i] = glm::vec4(out[i], inv_mass[i]);
         }
+      });
     }
     particles_.position.swap(limited_position_);
     if (it == 0) limited = count;
@@ -1397,47 +1401,43 @@ std::size_t Solver::updateDirections(Scratch& s) {
   const Sliced& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
   const SpringKernel terms{CubicKernel(params_.h1)};
-  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
   enum { XJ, YJ, ZJ, kEntryColumns };
   enum { XI, YI, ZI, TX, TY, TZ, SR, ST, ACT, OX, OY, OZ, kLaneColumns };
   std::size_t broken = 0, active = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : broken, active)
   {
     SliceColumns& col = threadSliceColumns();
-#pragma omp for schedule(static)
-    for (Index w = 0; w < windows; ++w)
-      for (Index cc = w * kWindowChunks; cc < std::min(chunks, (w + 1) * kWindowChunks); ++cc) {
-        const SliceRun run(cs, cc);
-        const std::size_t q0 = run.q0, s0 = run.s0;
-        col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
-        run.prefetchNext(cs.partner.data(), s.weight.data(), sl.strength.data(), sl.rest.data(),
-                         sl.cos_rest.data());
-        gatherRows3(&x[0].x, cs.partner.data() + q0, run.entries,
-                    run.gatherAhead(particles_.size() * sizeof(glm::vec3)), col.entry(XJ),
-                    col.entry(YJ), col.entry(ZJ));
-        const std::uint32_t* owner = cs.owner.data() + s0 * L;
-        gatherRows3(&x[0].x, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI));
-        gatherRows3(&dir[0].x, owner, run.lanes, 0, col.lane(TX), col.lane(TY), col.lane(TZ));
-        directionSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
-                        cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
-                        col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ), col.entry(YJ),
-                        col.entry(ZJ), s.weight.data() + q0, sl.strength.data() + q0,
-                        sl.rest.data() + q0, sl.cos_rest.data() + q0, col.lane(SR), col.lane(ST),
-                        col.lane(ACT), col.lane(OX), col.lane(OY), col.lane(OZ));
-        for (std::size_t l = 0; l < run.used; ++l) {
-          const std::uint32_t i = owner[l];
-          s.sum_root[i] = col.lane(SR)[l];
-          s.sum_tip[i] = col.lane(ST)[l];
-          active += static_cast<std::size_t>(col.lane(ACT)[l]);
-          const glm::vec3 sum(col.lane(OX)[l], col.lane(OY)[l], col.lane(OZ)[l]);
-          const float len = std::sqrt(glm::dot(sum, sum));
-          if (!root[i] && len > 0.0f) dir[i] = sum * (1.0f / len);
-          // Never go on silently with a broken state.
-          const glm::vec3 pa = x[i], pb = v[i], pd = dir[i];
-          const float probe = pa.x + pa.y + pa.z + pb.x + pb.y + pb.z + pd.x + pd.y + pd.z;
-          broken += std::isfinite(probe) ? 0 : 1;
-        }
+    forOwnWorkItems(cs, [&](const SliceRun& run) {
+      const std::size_t q0 = run.q0, s0 = run.s0;
+      col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
+      run.prefetchNext(cs.partner.data(), s.weight.data(), sl.strength.data(), sl.rest.data(),
+                       sl.cos_rest.data());
+      gatherRows3(&x[0].x, cs.partner.data() + q0, run.entries,
+                  run.gatherAhead(particles_.size() * sizeof(glm::vec3)), col.entry(XJ),
+                  col.entry(YJ), col.entry(ZJ));
+      const std::uint32_t* owner = cs.owner.data() + s0 * L;
+      gatherRows3(&x[0].x, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI));
+      gatherRows3(&dir[0].x, owner, run.lanes, 0, col.lane(TX), col.lane(TY), col.lane(TZ));
+      directionSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
+                      cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
+                      col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ), col.entry(YJ),
+                      col.entry(ZJ), s.weight.data() + q0, sl.strength.data() + q0,
+                      sl.rest.data() + q0, sl.cos_rest.data() + q0, col.lane(SR), col.lane(ST),
+                      col.lane(ACT), col.lane(OX), col.lane(OY), col.lane(OZ));
+      for (std::size_t l = 0; l < run.used; ++l) {
+        const std::uint32_t i = owner[l];
+        s.sum_root[i] = col.lane(SR)[l];
+        s.sum_tip[i] = col.lane(ST)[l];
+        active += static_cast<std::size_t>(col.lane(ACT)[l]);
+        const glm::vec3 sum(col.lane(OX)[l], col.lane(OY)[l], col.lane(OZ)[l]);
+        const float len = std::sqrt(glm::dot(sum, sum));
+        if (!root[i] && len > 0.0f) dir[i] = sum * (1.0f / len);
+        // Never go on silently with a broken state.
+        const glm::vec3 pa = x[i], pb = v[i], pd = dir[i];
+        const float probe = pa.x + pa.y + pa.z + pb.x + pb.y + pb.z + pd.x + pd.y + pd.z;
+        broken += std::isfinite(probe) ? 0 : 1;
       }
+    });
   }
   s.sums_current = true;
   s.active_entries = active;
