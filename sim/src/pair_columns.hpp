@@ -10,9 +10,11 @@
 // Element-wise IEEE arithmetic (no contraction, no fast-math) gives the same
 // bits vectorised or not, and the sums keep the list order, so the result
 // does not depend on the vector width or the thread count (SPEC §5
-// Determinism). Nor on which thread takes which block: the loops hand out
-// blocks dynamically, because the work per block varies (hair bunches) and
-// equal halves left one thread idle.
+// Determinism). Nor on which thread takes which block: each thread takes one
+// contiguous range of blocks with about equal pairs
+// (NeighborGrid::pairBalancedPart), the same part of the hair in every step
+// (solver.cpp, the note on work sharing); the work per block varies where the
+// hair bunches, and equal numbers of blocks once left one thread idle.
 #pragma once
 
 #include <algorithm>
