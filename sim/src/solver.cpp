@@ -125,7 +125,7 @@ static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWi
 // the cores do not seem to share a last-level cache: 16 MB written by one
 // thread is read back by it at 56-66 GB/s and by the other at 38 GB/s.
 // There two threads at 200k particles took 33.9-35.6 ms a step with dynamic
-// schedules and 30.1-33.6 with these (identical steps, lowest of 3, the
+// schedules and 30.1-34.3 with these (identical steps, lowest of 3, the
 // lower 7 of 10 alternations); on the head-shake scene at 100k both take
 // 23-24 ms. (Splitting the neighbour search by the last build's pairs too
 // made it slower, 7.3-7.9 against 6.7-7.1 ms: its work goes more with the
@@ -419,8 +419,8 @@ void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w
 
 // The calling thread's part of the search order in the density and
 // hair-hair passes: contiguous (the note above kWindowChunks), with about
-// as many pairs as the other threads' parts. It is the neighbour search's
-// split, at chunk boundaries, so blocks of kPairBlock positions stay whole.
+// as many pairs as the other threads' parts. It is cut at the neighbour
+// search's chunk boundaries, so blocks of kPairBlock positions stay whole.
 static_assert(NeighborGrid::kChunk % kPairBlock == 0);
 std::pair<std::size_t, std::size_t> pairLoopPart(const NeighborGrid& grid) {
   return grid.pairBalancedPart(omp_get_thread_num(), omp_get_num_threads());
