@@ -169,46 +169,54 @@ TEST(NeighborGrid, RebuildAfterMotion) {
 }
 
 // The solver shares its pair loops among threads by pairBalancedPart: the
-// parts must cover the search order once, in order, at chunk boundaries,
-// with about equal pairs even where the point density differs a lot.
+// parts must cover the search order once, in order, starting at multiples of
+// kPartGrain, with about equal pairs even where the point density differs a
+// lot, and also when there are only a few chunks of points.
 TEST(NeighborGrid, PairBalancedPartsCoverTheSearchOrderWithEqualPairs) {
-  Random rng(11);
-  std::vector<glm::vec3> x;
-  // a dense slab at low z (first in the search order) above a sparse block
-  for (int k = 0; k < 12000; ++k)
-    x.emplace_back(rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 0.05));
-  for (int k = 0; k < 12000; ++k)
-    x.emplace_back(rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0.5, 1.5));
-  NeighborGrid g;
-  g.build(x, 0.03f, 2, NeighborGrid::ListIndex::SearchOrder);
-  const std::size_t n = x.size(), total = g.pairCount();
-  std::size_t max_chunk_pairs = 0;
-  for (std::size_t c = 0; c * NeighborGrid::kChunk < n; ++c) {
-    std::size_t pairs = 0;
-    for (std::size_t k = c * NeighborGrid::kChunk; k < std::min(n, (c + 1) * NeighborGrid::kChunk);
-         ++k)
-      pairs += g.list(k).size();
-    max_chunk_pairs = std::max(max_chunk_pairs, pairs);
-  }
-  ASSERT_GT(total, 0u);
-  for (int parts : {1, 2, 3, 5}) {
-    std::size_t next = 0;
-    for (int p = 0; p < parts; ++p) {
-      const auto [first, second] = g.pairBalancedPart(p, parts);
-      EXPECT_EQ(first, next) << "part " << p << " of " << parts;
-      EXPECT_LE(first, second);
-      EXPECT_TRUE(second == n || second % NeighborGrid::kChunk == 0) << second;
+  for (const auto& [dense, sparse] : {std::pair{12000, 12000}, std::pair{700, 1300}}) {
+    SCOPED_TRACE(dense + sparse);
+    Random rng(11);
+    std::vector<glm::vec3> x;
+    // a dense slab at low z (first in the search order) above a sparse block
+    const float side = dense > 5000 ? 1.0f : 0.3f;
+    for (int k = 0; k < dense; ++k)
+      x.emplace_back(rng.uniform(0, side), rng.uniform(0, side), rng.uniform(0, 0.05));
+    for (int k = 0; k < sparse; ++k)
+      x.emplace_back(rng.uniform(0, side), rng.uniform(0, side), rng.uniform(0.5, 1.5));
+    NeighborGrid g;
+    g.build(x, 0.03f, 2, NeighborGrid::ListIndex::SearchOrder);
+    const std::size_t n = x.size(), total = g.pairCount();
+    constexpr std::size_t grain = NeighborGrid::kPartGrain;
+    std::size_t max_grain_pairs = 0;
+    for (std::size_t c = 0; c * grain < n; ++c) {
       std::size_t pairs = 0;
-      for (std::size_t k = first; k < second; ++k) pairs += g.list(k).size();
-      const double share = static_cast<double>(total) / parts;
-      EXPECT_NEAR(static_cast<double>(pairs), share, static_cast<double>(max_chunk_pairs))
-          << "part " << p << " of " << parts;
-      next = second;
+      for (std::size_t k = c * grain; k < std::min(n, (c + 1) * grain); ++k)
+        pairs += g.list(k).size();
+      max_grain_pairs = std::max(max_grain_pairs, pairs);
     }
-    EXPECT_EQ(next, n) << parts << " parts";
+    ASSERT_GT(total, 0u);
+    ASSERT_LT(max_grain_pairs * 10, total);  // the split can be near equal
+    for (int parts : {1, 2, 3, 5}) {
+      std::size_t next = 0;
+      for (int p = 0; p < parts; ++p) {
+        const auto [first, second] = g.pairBalancedPart(p, parts);
+        EXPECT_EQ(first, next) << "part " << p << " of " << parts;
+        EXPECT_LE(first, second);
+        EXPECT_TRUE(second == n || second % grain == 0) << second;
+        std::size_t pairs = 0;
+        for (std::size_t k = first; k < second; ++k) pairs += g.list(k).size();
+        const double share = static_cast<double>(total) / parts;
+        // each end within half a grain's pairs of its ideal place
+        EXPECT_NEAR(static_cast<double>(pairs), share, static_cast<double>(max_grain_pairs))
+            << "part " << p << " of " << parts;
+        next = second;
+      }
+      EXPECT_EQ(next, n) << parts << " parts";
+    }
+    // An equal split by points would not do: the dense half holds most pairs.
+    std::size_t first_half = 0;
+    for (std::size_t k = 0; k < n / 2; ++k)
+      first_half += g.list(k).size();  // the dense points and more
+    EXPECT_GT(first_half, 2 * (total - first_half));
   }
-  // An equal split by points would not do: the dense half holds most pairs.
-  std::size_t first_half = 0;
-  for (std::size_t k = 0; k < n / 2; ++k) first_half += g.list(k).size();
-  EXPECT_GT(first_half, 2 * (total - first_half));
 }

@@ -59,10 +59,14 @@ class NeighborGrid {
   std::size_t pairCount() const;
   /// Points of the search order are listed in chunks of kChunk.
   static constexpr std::size_t kChunk = 512;
+  /// Parts of the search order start at multiples of kPartGrain (a divisor
+  /// of kChunk).
+  static constexpr std::size_t kPartGrain = 64;
+  static_assert(kChunk % kPartGrain == 0);
   /// Part `part` of `parts` of the search order, for sharing a loop over its
-  /// lists among threads: positions [first, second), contiguous, at chunk
-  /// boundaries, with about the same number of pairs in every part. The
-  /// parts of 0..parts-1 cover every position once.
+  /// lists among threads: positions [first, second), contiguous, starting
+  /// at multiples of kPartGrain, each with as near its share of the pairs
+  /// as such starts allow. The parts of 0..parts-1 cover every position once.
   std::pair<std::size_t, std::size_t> pairBalancedPart(int part, int parts) const;
   /// Occupied cells of the last build.
   std::size_t cellCount() const { return occupied_cells_; }

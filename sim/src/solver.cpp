@@ -114,10 +114,12 @@ constexpr int kWindowChunks =
 static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWindow);
 
 // How the work is shared among threads. Every pass gives each thread one
-// contiguous range: the per-particle loops and the connection passes a range
-// of particle indices (OpenMP schedule(static)), the neighbour search an
-// equal range of the search order, density and hair-hair about the same
-// range with about equal pairs (NeighborGrid::pairBalancedPart). The two
+// contiguous range: the per-particle loops an equal range of particle
+// indices (OpenMP schedule(static)), the connection passes about the same
+// range cut at whole windows with about equal work (workItemPart), the
+// neighbour search an equal range of the search order, density and
+// hair-hair about the same range with about equal pairs
+// (NeighborGrid::pairBalancedPart). The two
 // orders hold about the same part of the hair (both follow space). So a
 // thread works on the same particles in every pass and step, and finds
 // their data still in its own caches; with dynamic schedules the next pass
@@ -180,16 +182,53 @@ struct SliceRun {
   }
 };
 
-// Runs body(run) for each work item of the calling thread's windows: a
-// contiguous range of whole windows, the same in every pass and step (the
-// note on work sharing above). Called by every thread of a parallel region.
+// The work items [first, second) of part `part` of `parts`: contiguous,
+// starting at whole sorting windows, with about equal work. The work of a
+// slice is counted as its entries plus kLaneWork a lane (the owner's gather
+// and its results); each part starts at the window boundary nearest its
+// share, the lower one on a tie. (Equal numbers of windows are not equal
+// work: on the bundled mesh-head scenes, 6k particles in 24 windows, they
+// gave one thread 53.9% of the entries and lanes; this split 50.5%.)
+constexpr std::size_t kLaneWork = 2;
+std::pair<Index, Index> workItemPart(const ConnectionSlices& cs, int part, int parts) {
+  constexpr std::size_t L = ConnectionSlices::kLanes;
+  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
+  const auto boundary = [&](Index w) {  // the first work item of window w
+    return std::min(chunks, w * kWindowChunks);
+  };
+  const auto work = [&](Index w) {  // the work of windows [0, w)
+    const std::size_t s =
+        std::min(cs.sliceCount(), static_cast<std::size_t>(boundary(w)) * kSliceChunk);
+    return (std::size_t{cs.row_begin.empty() ? 0u : cs.row_begin[s]} + kLaneWork * s) * L;
+  };
+  const auto start = [&](int p) -> Index {
+    if (p <= 0) return 0;
+    if (p >= parts) return chunks;
+    const auto scale = static_cast<std::size_t>(parts);
+    const std::size_t target = work(windows) * static_cast<std::size_t>(p);  // times `parts`
+    Index lo = 0, hi = windows;  // the last window w with work(w) * parts <= target
+    while (hi - lo > 1) {
+      const Index w = (lo + hi) / 2;
+      if (work(w) * scale <= target)
+        lo = w;
+      else
+        hi = w;
+    }
+    const std::size_t below = target - work(lo) * scale;
+    const bool next_nearer = lo < windows && work(lo + 1) * scale - target < below;
+    return boundary(next_nearer ? lo + 1 : lo);
+  };
+  return {start(part), start(part + 1)};
+}
+
+// Runs body(run) for each work item of the calling thread's part
+// (workItemPart): the same in every pass and step (the note on work sharing
+// above). Called by every thread of a parallel region; ends with a barrier.
 template <class Body>
 void forOwnWorkItems(const ConnectionSlices& cs, Body&& body) {
-  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
-#pragma omp for schedule(static)
-  for (Index w = 0; w < windows; ++w)
-    for (Index cc = w * kWindowChunks; cc < std::min(chunks, (w + 1) * kWindowChunks); ++cc)
-      body(SliceRun(cs, cc));
+  const auto [first, second] = workItemPart(cs, omp_get_thread_num(), omp_get_num_threads());
+  for (Index cc = first; cc < second; ++cc) body(SliceRun(cs, cc));
+#pragma omp barrier
 }
 
 // k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
@@ -419,9 +458,9 @@ void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w
 
 // The calling thread's part of the search order in the density and
 // hair-hair passes: contiguous (the note above kWindowChunks), with about
-// as many pairs as the other threads' parts. It is cut at the neighbour
-// search's chunk boundaries, so blocks of kPairBlock positions stay whole.
-static_assert(NeighborGrid::kChunk % kPairBlock == 0);
+// as many pairs as the other threads' parts. It starts at a multiple of
+// kPartGrain, so the blocks of kPairBlock positions are those of one thread.
+static_assert(NeighborGrid::kPartGrain % kPairBlock == 0);
 std::pair<std::size_t, std::size_t> pairLoopPart(const NeighborGrid& grid) {
   return grid.pairBalancedPart(omp_get_thread_num(), omp_get_num_threads());
 }
