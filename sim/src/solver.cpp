@@ -1278,7 +1278,16 @@ void Solver::applyTethers() {
 // velocity from the corrected positions (no added normal speed, so nothing
 // is thrown off the body).
 // Several bodies (head, torso, obstacles) may meet in a crease, where
-// leaving one can mean entering another: a few rounds settle it.
+// leaving one can mean entering another: a few rounds settle it. The first
+// round asks the bodies about every particle of a block; a later round only
+// about the particles whose answer can differ from what asking all of them
+// would give: a particle that has not moved gets the same answer from the
+// same bodies, so the rounds with obstacles ask those pushed in the round
+// before, and the last round, without obstacles, asks every particle pushed
+// so far (its surface velocity is the one that counts). The particles never
+// pushed are outside the bodies with obstacles, so outside those without.
+// On the mesh-head scenes the later rounds asked all 256 particles of any
+// block with one particle inside.
 void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
                                 const std::vector<BodyFrame>& solid_frames,
                                 const HeadKinematics& head) {
@@ -1290,27 +1299,50 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   const bool has_obstacles = solid_frames.size() != frames.size();
   const bool absorb = absorb_corrections_;
   absorb_corrections_ = false;
+  static_assert(kBodyBlock <= 65536);
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
-    const std::size_t e = std::min(n, b + kBodyBlock);
+    const std::size_t len = std::min(n, b + kBodyBlock) - b;
     glm::vec3 surface[kBodyBlock];
     bool pushed[kBodyBlock] = {};
     glm::vec3 push_normal[kBodyBlock];
+    std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
+    glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
+    float q_phi[kBodyBlock];
+    std::size_t asked = len;
+    for (std::size_t o = 0; o < len; ++o) ask[o] = static_cast<std::uint16_t>(o);
     for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
-      queryBodies(round < rounds ? frames : solid_frames, head, &x[b], e - b, &body_phi_[b],
-                  &body_normal_[b], surface);
-      bool any = false;
-      for (std::size_t i = b; i < e; ++i) {
+      if (round == 0) {
+        queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface);
+      } else {
+        for (std::size_t k = 0; k < asked; ++k) q[k] = x[b + ask[k]];
+        queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
+                    q_surface);
+        for (std::size_t k = 0; k < asked; ++k) {
+          body_phi_[b + ask[k]] = q_phi[k];
+          body_normal_[b + ask[k]] = q_normal[k];
+          surface[ask[k]] = q_surface[k];
+        }
+      }
+      std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
+      for (std::size_t k = 0; k < asked; ++k) {
+        const std::size_t o = ask[k], i = b + o;
         if (root[i] || !(body_phi_[i] < 0.0f)) continue;
         x[i] -= body_phi_[i] * body_normal_[i];
-        if (!pushed[i - b]) push_normal[i - b] = body_normal_[i];
-        pushed[i - b] = true;
-        any = true;
+        if (!pushed[o]) push_normal[o] = body_normal_[i];
+        pushed[o] = true;
+        ask[moved++] = static_cast<std::uint16_t>(o);
       }
-      if (!any) break;
+      if (moved == 0) break;
+      asked = moved;
+      if (round + 1 == rounds && has_obstacles) {  // next: the round without obstacles
+        asked = 0;
+        for (std::size_t o = 0; o < len; ++o)
+          if (pushed[o]) ask[asked++] = static_cast<std::uint16_t>(o);
+      }
     }
-    for (std::size_t i = b; i < e; ++i) {
+    for (std::size_t i = b; i < b + len; ++i) {
       if (root[i]) continue;
       glm::vec3 vi = v[i];
       if (x[i] != integrated_position_[i] && !absorb) vi += (x[i] - integrated_position_[i]) / dt;
