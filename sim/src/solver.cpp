@@ -20,6 +20,7 @@
 #endif
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -1088,6 +1089,10 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   const auto& m = particles_.mass;
   const auto& root = particles_.is_root;
   const float thickness = params_.contact_thickness, mu = params_.body_friction;
+  // the strain limit's first records, (x, 1/m), made here in the same pass
+  strain_records_[0].resize(n);
+  glm::vec4* strain_record = strain_records_[0].data();
+  const float* inv_mass = inverse_mass_.data();
   std::size_t contacts = 0;
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : contacts)
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
@@ -1096,7 +1101,10 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
     glm::vec3 surface[kBodyBlock];
     queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
     for (std::size_t i = b; i < e; ++i) {
-      if (root[i]) continue;
+      if (root[i]) {
+        strain_record[i] = glm::vec4(x[i], inv_mass[i]);
+        continue;
+      }
       glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
       if (body_phi_[i] < thickness) {
         // The response acts on the velocity relative to the body's surface.
@@ -1115,6 +1123,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
       v[i] = vi;
       x[i] += dt * vi;
       integrated_position_[i] = x[i];
+      strain_record[i] = glm::vec4(x[i], inv_mass[i]);
     }
   }
   return contacts;
@@ -1197,16 +1206,12 @@ std::size_t Solver::limitStrain() {
   enum { XJ, YJ, ZJ, WJ, kEntryColumns };
   enum { XI, YI, ZI, WI, SX, SY, SZ, ACT, kLaneColumns };
   // The partners' (x, w) records, w the inverse mass, made for the first
-  // iteration and by each iteration for the next.
+  // iteration by integrate (from the positions it leaves, in its pass) and
+  // by each iteration for the next.
   const std::size_t n = particles_.size();
   const float* inv_mass = inverse_mass_.data();
-  for (auto& r : strain_records_) r.resize(n);
-  {
-    const glm::vec3* x = particles_.position.data();
-    glm::vec4* rec = strain_records_[0].data();
-#pragma omp parallel for num_threads(threads_) schedule(static)
-    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) rec[ii] = glm::vec4(x[ii], inv_mass[ii]);
-  }
+  assert(strain_records_[0].size() == n);
+  strain_records_[1].resize(n);
   for (int it = 0; it < params_.strain_limit_iterations; ++it) {
     const glm::vec3* x = particles_.position.data();
     glm::vec3* out = limited_position_.data();
@@ -1254,29 +1259,27 @@ std::size_t Solver::limitStrain() {
 // allows, |x_i - r_i| <= (1 + slack) s_i. This is the no-stretch promise
 // itself, enforced per particle in O(N) without adding shear stiffness, so
 // the springs can be soft enough for the hair to bend and swing.
-void Solver::applyTethers() {
-  const std::size_t n = particles_.size();
+// Applied to particles [b, e) (by projectOutOfBodies, block by block, just
+// before their bodies are asked: one pass over the particles for both).
+void Solver::applyTethers(std::size_t b, std::size_t e) {
+  if (!params_.tether) return;
   auto& x = particles_.position;
   const auto& root = particles_.is_root;
-  if (params_.tether) {
-    const auto& rp = particles_.root_point;
-    const auto& sarc = particles_.arc_length;
-    const float scale = 1.0f + params_.tether_slack;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      if (root[i]) continue;
-      const glm::vec3 d = x[i] - rp[i];
-      const float dist = glm::length(d);
-      const float reach = scale * sarc[i];
-      if (dist > reach) x[i] = rp[i] + (reach / dist) * d;
-    }
+  const auto& rp = particles_.root_point;
+  const auto& sarc = particles_.arc_length;
+  const float scale = 1.0f + params_.tether_slack;
+  for (std::size_t i = b; i < e; ++i) {
+    if (root[i]) continue;
+    const glm::vec3 d = x[i] - rp[i];
+    const float dist = glm::length(d);
+    const float reach = scale * sarc[i];
+    if (dist > reach) x[i] = rp[i] + (reach / dist) * d;
   }
 }
 
-// Project what is still inside the body to its surface and take the new
-// velocity from the corrected positions (no added normal speed, so nothing
-// is thrown off the body).
+// The tethers, then: project what is still inside the body to its surface
+// and take the new velocity from the corrected positions (no added normal
+// speed, so nothing is thrown off the body).
 // Several bodies (head, torso, obstacles) may meet in a crease, where
 // leaving one can mean entering another: a few rounds settle it. The first
 // round asks the bodies about every particle of a block; a later round only
@@ -1304,6 +1307,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
     const std::size_t len = std::min(n, b + kBodyBlock) - b;
+    applyTethers(b, b + len);
     glm::vec3 surface[kBodyBlock];
     bool pushed[kBodyBlock] = {};
     glm::vec3 push_normal[kBodyBlock];
@@ -1557,12 +1561,11 @@ void Solver::step() {
 
   // Corrections: strain limit, tethers, and no particle left inside a body.
   const std::size_t limited = limitStrain();
-  applyTethers();
   HeadKinematics head_end;
   placeBodies(t_end, frames, head_end);
   std::vector<BodyFrame> solid_frames;  // without obstacles: the last round
   placeBodies(t_end, solid_frames, head_end, false);
-  projectOutOfBodies(dt, frames, solid_frames, head_end);
+  projectOutOfBodies(dt, frames, solid_frames, head_end);  // and the tethers
   lap(st.strain_limit);
 
   if (air_) {
