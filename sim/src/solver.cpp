@@ -57,6 +57,7 @@ struct Solver::Scratch {
   std::vector<float> k;            // k_ij at the current positions: for the queries only
   /// What the spring pass reads of a partner, two 16-byte records per
   /// particle: (x, a_r) and (v, a_t); one cache line instead of three.
+  /// Made by computeSpringFactors, with the factors.
   std::vector<glm::vec4> spring_records;
   std::size_t clamped = 0;         // side factors held at the clamp
   std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
@@ -595,6 +596,10 @@ void Solver::computeSpringFactors(Scratch& s) const {
   const bool measure = !s.sums_current;  // else the direction pass measured (and counted)
   const bool keep_k = !s.k.empty();
   const SpringKernel sk(k1);
+  const auto& v = particles_.velocity;
+  const auto& root = particles_.is_root;
+  s.spring_records.resize(2 * x.size());
+  glm::vec4* rec = s.spring_records.data();
 #pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped, active)
   for (Index ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -630,6 +635,11 @@ void Solver::computeSpringFactors(Scratch& s) const {
     };
     s.factor_root[i] = factor(s.sum_root[i], rest_factor_root_[i]);
     s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip_[i]);
+    // the spring pass's records of i (accumulateSpringForces), a root's
+    // factors replaced by the marker
+    const bool r = root[i] != 0;
+    rec[2 * i] = glm::vec4(x[i], r ? kRootFactor : s.factor_root[i]);
+    rec[2 * i + 1] = glm::vec4(v[i], r ? kRootFactor : s.factor_tip[i]);
   }
   s.clamped = clamped;
   if (measure) s.active_entries = active;
@@ -705,32 +715,19 @@ void springSlices(
 
 void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const {
   constexpr std::size_t L = ConnectionSlices::kLanes;
-  const glm::vec3* x = particles_.position.data();
-  const glm::vec3* v = particles_.velocity.data();
   const Sliced& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
   const CubicKernel k1(params_.h1);
   const SpringKernel sk(k1);
   const SpringTerms terms{sk.inv_h, sk.norm_w, params_.spring_damping};
-  const float* fr = s.factor_root.data();
-  const float* ft = s.factor_tip.data();
-  const std::uint8_t* root = particles_.is_root.data();
   // the first 8 columns of each: the two records' 4 + 4 floats (gatherRecordPairs)
   enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
   enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, kLaneColumns };
   const std::size_t n = particles_.size();
-  s.spring_records.resize(2 * n);
-  glm::vec4* rec = s.spring_records.data();
-  const float* records = &rec[0].x;
+  assert(s.spring_records.size() == 2 * n);  // made by computeSpringFactors
+  const float* records = &s.spring_records[0].x;
 #pragma omp parallel num_threads(threads_)
   {
-#pragma omp for schedule(static)
-    for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      const bool r = root[i] != 0;
-      rec[2 * i] = glm::vec4(x[i], r ? kRootFactor : fr[i]);
-      rec[2 * i + 1] = glm::vec4(v[i], r ? kRootFactor : ft[i]);
-    }
     SliceColumns& col = threadSliceColumns();
     forOwnWorkItems(cs, [&](const SliceRun& run) {
       const std::size_t q0 = run.q0, s0 = run.s0;
