@@ -427,6 +427,54 @@ TEST(Sdf, BundledHeadInsideAndOutside) {
   EXPECT_GT(n.y, 0.95f);
 }
 
+// The solver's contact queries skip the exact distance far from the surface
+// (signedDistanceBelow): below the limit the answer must be the exact one,
+// bit for bit, and above it never below the limit; on a fresh bake and on
+// one read back from the cache.
+TEST(Sdf, BelowTheLimitTheQueryIsExactAndAboveItABound) {
+  const fs::path d = tempDir() / "cache-below";
+  fs::remove_all(d);
+  SdfBakeOptions opt;
+  opt.voxel_size = 0.003f;
+  opt.cache_dir = d.string();
+  const TriangleMesh s = sphereMesh(0.1f, 4);
+  for (int pass = 0; pass < 2; ++pass) {
+    bool cached = false;
+    const auto body = GridSdfBody::bake(s, opt, &cached);
+    EXPECT_EQ(cached, pass == 1);
+    // points from the centre to well outside the grid's box
+    std::vector<glm::vec3> p;
+    std::uint64_t state = 12345;
+    auto uniform = [&state](float lo, float hi) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return lo + (hi - lo) * static_cast<float>(state >> 40) / static_cast<float>(1 << 24);
+    };
+    for (int k = 0; k < 100000; ++k)
+      p.emplace_back(uniform(-0.3f, 0.3f), uniform(-0.3f, 0.3f), uniform(-0.3f, 0.3f));
+    std::vector<float> exact(p.size()), below(p.size());
+    std::vector<glm::vec3> exact_n(p.size()), below_n(p.size());
+    body->signedDistance(p.data(), p.size(), exact.data(), exact_n.data());
+    for (float limit : {-0.01f, 0.0f, 0.002f, 0.02f, 0.1f}) {
+      body->signedDistanceBelow(p.data(), p.size(), limit, below.data(), below_n.data());
+      std::size_t skipped = 0;
+      for (std::size_t k = 0; k < p.size(); ++k) {
+        if (exact[k] < limit) {
+          ASSERT_EQ(below[k], exact[k]) << "limit " << limit << ", point " << k;
+          ASSERT_EQ(below_n[k], exact_n[k]) << "limit " << limit << ", point " << k;
+        } else {
+          ASSERT_GE(below[k], limit) << "limit " << limit << ", point " << k;
+        }
+        skipped += below[k] != exact[k] ? 1 : 0;
+      }
+      // and it does skip far from the surface (most of this box)
+      if (limit <= 0.02f) {
+        EXPECT_GT(skipped, p.size() / 2) << "limit " << limit;
+      }
+    }
+  }
+  fs::remove_all(d.parent_path());
+}
+
 TEST(Sdf, CachedBakeIsReusedAndIdentical) {
   const fs::path d = tempDir() / "cache";
   fs::remove_all(d);

@@ -100,6 +100,7 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
       if (in.read(reinterpret_cast<char*>(body->values_.data()),
                   static_cast<std::streamsize>(body->values_.size() * sizeof(float)))) {
         if (from_cache) *from_cache = true;
+        body->computeBricks();
         return body;
       }
     }
@@ -128,6 +129,7 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
     for (int j = 0; j < dims.y; ++j)
       for (int i = 0; i < dims.x; ++i)
         body->values_[idx++] = acc.getValue(openvdb::Coord(base.x + i, base.y + j, base.z + k));
+  body->computeBricks();
 
   if (!cache_file.empty()) {
     std::error_code ec;
@@ -152,37 +154,109 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
   return body;
 }
 
-void GridSdfBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                                 glm::vec3* normal) const {
+void GridSdfBody::computeBricks() {
+  // Cells 0 .. dims - 2 along each axis; brick b holds cells [b kBrick,
+  // (b + 1) kBrick), whose corners are the voxels [b kBrick, (b + 1) kBrick].
+  const glm::ivec3 cells = dims_ - 1;
+  bricks_ = (cells + (kBrick - 1)) / kBrick;
+  brick_min_.assign(static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) *
+                        static_cast<std::size_t>(bricks_.z),
+                    INFINITY);
+  for (int k = 0; k < dims_.z; ++k)
+    for (int j = 0; j < dims_.y; ++j)
+      for (int i = 0; i < dims_.x; ++i) {
+        const float value = at(i, j, k);
+        // a corner voxel belongs to the bricks on both sides of a boundary
+        for (int bz = std::max(0, (k - 1) / kBrick); bz <= std::min(bricks_.z - 1, k / kBrick);
+             ++bz)
+          for (int by = std::max(0, (j - 1) / kBrick); by <= std::min(bricks_.y - 1, j / kBrick);
+               ++by)
+            for (int bx = std::max(0, (i - 1) / kBrick); bx <= std::min(bricks_.x - 1, i / kBrick);
+                 ++bx) {
+              float& m =
+                  brick_min_[(static_cast<std::size_t>(bz) * static_cast<std::size_t>(bricks_.y) +
+                              static_cast<std::size_t>(by)) *
+                                 static_cast<std::size_t>(bricks_.x) +
+                             static_cast<std::size_t>(bx)];
+              m = std::min(m, value);
+            }
+      }
+}
+
+void GridSdfBody::locate(const glm::vec3& p, glm::ivec3& c, glm::vec3& pc, glm::vec3& f) const {
   const glm::vec3 top = lower_ + voxel_ * glm::vec3(dims_ - 1);
   const float inv = 1.0f / voxel_;
+  pc = glm::clamp(p, lower_, top);
+  const glm::vec3 q = (pc - lower_) * inv;
+  c = glm::min(glm::ivec3(q), dims_ - 2);
+  c = glm::max(c, glm::ivec3(0));
+  f = q - glm::vec3(c);
+}
+
+void GridSdfBody::sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc,
+                         const glm::vec3& f, float& phi, glm::vec3& normal) const {
+  const float c000 = at(c.x, c.y, c.z), c100 = at(c.x + 1, c.y, c.z);
+  const float c010 = at(c.x, c.y + 1, c.z), c110 = at(c.x + 1, c.y + 1, c.z);
+  const float c001 = at(c.x, c.y, c.z + 1), c101 = at(c.x + 1, c.y, c.z + 1);
+  const float c011 = at(c.x, c.y + 1, c.z + 1), c111 = at(c.x + 1, c.y + 1, c.z + 1);
+  const float gx = f.x, hx = 1.0f - f.x, gy = f.y, hy = 1.0f - f.y, gz = f.z, hz = 1.0f - f.z;
+  const float value = hz * (hy * (hx * c000 + gx * c100) + gy * (hx * c010 + gx * c110)) +
+                      gz * (hy * (hx * c001 + gx * c101) + gy * (hx * c011 + gx * c111));
+  glm::vec3 grad;
+  grad.x = hz * (hy * (c100 - c000) + gy * (c110 - c010)) +
+           gz * (hy * (c101 - c001) + gy * (c111 - c011));
+  grad.y = hz * (hx * (c010 - c000) + gx * (c110 - c100)) +
+           gz * (hx * (c011 - c001) + gx * (c111 - c101));
+  grad.z = hy * (hx * (c001 - c000) + gx * (c101 - c100)) +
+           gy * (hx * (c011 - c010) + gx * (c111 - c110));
+  const glm::vec3 out = p - pc;
+  const float out_len = glm::length(out);
+  if (out_len > 0.0f) {
+    phi = value + out_len;
+    normal = out / out_len;
+    return;
+  }
+  phi = value;
+  const float gl = glm::length(grad);
+  normal = gl > 0.0f ? grad / gl : glm::vec3(0.0f, 1.0f, 0.0f);
+}
+
+void GridSdfBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                                 glm::vec3* normal) const {
   for (std::size_t k = 0; k < n; ++k) {
-    const glm::vec3 pc = glm::clamp(p[k], lower_, top);
-    const glm::vec3 q = (pc - lower_) * inv;
-    glm::ivec3 c = glm::min(glm::ivec3(q), dims_ - 2);
-    c = glm::max(c, glm::ivec3(0));
-    const glm::vec3 f = q - glm::vec3(c);
-    const float c000 = at(c.x, c.y, c.z), c100 = at(c.x + 1, c.y, c.z);
-    const float c010 = at(c.x, c.y + 1, c.z), c110 = at(c.x + 1, c.y + 1, c.z);
-    const float c001 = at(c.x, c.y, c.z + 1), c101 = at(c.x + 1, c.y, c.z + 1);
-    const float c011 = at(c.x, c.y + 1, c.z + 1), c111 = at(c.x + 1, c.y + 1, c.z + 1);
-    const float gx = f.x, hx = 1.0f - f.x, gy = f.y, hy = 1.0f - f.y, gz = f.z, hz = 1.0f - f.z;
-    const float value = hz * (hy * (hx * c000 + gx * c100) + gy * (hx * c010 + gx * c110)) +
-                        gz * (hy * (hx * c001 + gx * c101) + gy * (hx * c011 + gx * c111));
-    glm::vec3 grad;
-    grad.x = hz * (hy * (c100 - c000) + gy * (c110 - c010)) + gz * (hy * (c101 - c001) + gy * (c111 - c011));
-    grad.y = hz * (hx * (c010 - c000) + gx * (c110 - c100)) + gz * (hx * (c011 - c001) + gx * (c111 - c101));
-    grad.z = hy * (hx * (c001 - c000) + gx * (c101 - c100)) + gy * (hx * (c011 - c010) + gx * (c111 - c110));
-    const glm::vec3 out = p[k] - pc;
-    const float out_len = glm::length(out);
-    if (out_len > 0.0f) {
-      phi[k] = value + out_len;
-      normal[k] = out / out_len;
-      continue;
+    glm::ivec3 c;
+    glm::vec3 pc, f;
+    locate(p[k], c, pc, f);
+    sample(p[k], c, pc, f, phi[k], normal[k]);
+  }
+}
+
+void GridSdfBody::signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                      glm::vec3* normal) const {
+  // The interpolant in a cell is a convex combination of its corners, so it
+  // is at least the lowest corner of the brick less rounding (a few ulp; the
+  // factor leaves a thousandfold room), and outside the box phi only adds
+  // the distance to it. For non-finite points the exact query decides.
+  constexpr float kRounding = 1.0f - 1e-5f;
+  for (std::size_t k = 0; k < n; ++k) {
+    glm::ivec3 c;
+    glm::vec3 pc, f;
+    locate(p[k], c, pc, f);
+    if (std::isfinite(p[k].x + p[k].y + p[k].z)) {
+      const glm::ivec3 b = c / kBrick;
+      const float lowest =
+          brick_min_[(static_cast<std::size_t>(b.z) * static_cast<std::size_t>(bricks_.y) +
+                      static_cast<std::size_t>(b.y)) *
+                         static_cast<std::size_t>(bricks_.x) +
+                     static_cast<std::size_t>(b.x)];
+      const float bound = lowest * kRounding;
+      if (lowest > 0.0f && bound >= limit) {
+        phi[k] = bound;
+        normal[k] = glm::vec3(0.0f, 1.0f, 0.0f);
+        continue;
+      }
     }
-    phi[k] = value;
-    const float gl = glm::length(grad);
-    normal[k] = gl > 0.0f ? grad / gl : glm::vec3(0.0f, 1.0f, 0.0f);
+    sample(p[k], c, pc, f, phi[k], normal[k]);
   }
 }
 

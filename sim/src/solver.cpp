@@ -964,8 +964,10 @@ void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematic
 
 void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                         glm::vec3* surface_velocity) const {
-  head_->signedDistance(x, n, phi, normal);
+                         glm::vec3* surface_velocity, float limit) const {
+  // Where every body answers phi >= limit, the nearest may be any of them:
+  // the callers only look at the normal and the surface velocity below it.
+  head_->signedDistanceBelow(x, n, limit, phi, normal);
   if (surface_velocity)
     for (std::size_t k = 0; k < n; ++k) surface_velocity[k] = glm::vec3(0.0f);
   if (frames.empty()) return;
@@ -977,7 +979,7 @@ void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinemat
     const std::size_t len = std::min(kBodyBlock, n - b);
     for (const BodyFrame& f : frames) {
       for (std::size_t k = 0; k < len; ++k) q[k] = f.m * x[b + k] + f.d;
-      f.body->signedDistance(q, len, pb, nb);
+      f.body->signedDistanceBelow(q, len, limit, pb, nb);
       for (std::size_t k = 0; k < len; ++k) {
         if (!(pb[k] < phi[b + k])) continue;
         phi[b + k] = pb[k];
@@ -1096,7 +1098,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
     const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
     const std::size_t e = std::min(n, b + kBodyBlock);
     glm::vec3 surface[kBodyBlock];
-    queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface);
+    queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, thickness);
     for (std::size_t i = b; i < e; ++i) {
       if (root[i]) {
         strain_record[i] = glm::vec4(x[i], inv_mass[i]);
@@ -1315,11 +1317,11 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
     for (std::size_t o = 0; o < len; ++o) ask[o] = static_cast<std::uint16_t>(o);
     for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
       if (round == 0) {
-        queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface);
+        queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f);
       } else {
         for (std::size_t k = 0; k < asked; ++k) q[k] = x[b + ask[k]];
         queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
-                    q_surface);
+                    q_surface, 0.0f);
         for (std::size_t k = 0; k < asked; ++k) {
           body_phi_[b + ask[k]] = q_phi[k];
           body_normal_[b + ask[k]] = q_normal[k];

@@ -20,6 +20,15 @@ class Body {
   /// nearest surface point (gradient of phi).
   virtual void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                               glm::vec3* normal) const = 0;
+  /// The same where phi[k] < limit; elsewhere phi[k] is some value >= limit
+  /// (a lower bound of the distance) and normal[k] is unspecified. For the
+  /// solver's contact tests, which only look closer than a limit: a body may
+  /// skip the exact query far from its surface. By default it does not.
+  virtual void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                   glm::vec3* normal) const {
+    (void)limit;
+    signedDistance(p, n, phi, normal);
+  }
 };
 
 /// An analytic sphere.
@@ -91,6 +100,10 @@ class GridSdfBody final : public Body {
                                            bool* from_cache = nullptr);
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
+  /// Skips the exact query where the lowest grid value around the point's
+  /// cell (kept per brick of kBrick^3 cells) already proves phi >= limit.
+  void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                           glm::vec3* normal) const override;
   float voxelSize() const { return voxel_; }
   glm::vec3 lower() const { return lower_; }
   glm::ivec3 dims() const { return dims_; }
@@ -100,6 +113,14 @@ class GridSdfBody final : public Body {
 
  private:
   GridSdfBody() = default;
+  static constexpr int kBrick = 8;
+  /// The cell of p (clamped to the grid), the point clamped to the grid's
+  /// box, and the cell's offset in voxels.
+  void locate(const glm::vec3& p, glm::ivec3& cell, glm::vec3& clamped, glm::vec3& f) const;
+  /// The exact query of p, given locate's results.
+  void sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc, const glm::vec3& f,
+              float& phi, glm::vec3& normal) const;
+  void computeBricks();  // brick_min_ from values_
   float at(int i, int j, int k) const {
     return values_[(static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_.y) +
                     static_cast<std::size_t>(j)) *
@@ -110,6 +131,9 @@ class GridSdfBody final : public Body {
   float voxel_ = 0.0f;
   glm::ivec3 dims_{0};
   std::vector<float> values_;
+  // per brick of kBrick^3 cells: the lowest value at any of its cells' corners
+  glm::ivec3 bricks_{0};
+  std::vector<float> brick_min_;
 };
 
 }  // namespace loosehair
