@@ -1,6 +1,7 @@
 // Meshes (SPEC §5, §6.1): every supported format loads the same surface,
 // axis and scale options place it, bad meshes are rejected with the named
 // problem, and signed-distance grids have the right sign and distance.
+#include "random.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
@@ -444,13 +445,9 @@ TEST(Sdf, BelowTheLimitTheQueryIsExactAndAboveItABound) {
     EXPECT_EQ(cached, pass == 1);
     // points from the centre to well outside the grid's box
     std::vector<glm::vec3> p;
-    std::uint64_t state = 12345;
-    auto uniform = [&state](float lo, float hi) {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return lo + (hi - lo) * static_cast<float>(state >> 40) / static_cast<float>(1 << 24);
-    };
+    Random rng(12345);
     for (int k = 0; k < 100000; ++k)
-      p.emplace_back(uniform(-0.3f, 0.3f), uniform(-0.3f, 0.3f), uniform(-0.3f, 0.3f));
+      p.emplace_back(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
     std::vector<float> exact(p.size()), below(p.size());
     std::vector<glm::vec3> exact_n(p.size()), below_n(p.size());
     body->signedDistance(p.data(), p.size(), exact.data(), exact_n.data());

@@ -115,12 +115,15 @@ class GridSdfBody final : public Body {
   GridSdfBody() = default;
   static constexpr int kBrick = 8;
   /// The cell of p (clamped to the grid), the point clamped to the grid's
-  /// box, and the cell's offset in voxels.
-  void locate(const glm::vec3& p, glm::ivec3& cell, glm::vec3& clamped, glm::vec3& f) const;
+  /// box (whose upper corner is `top`), and the cell's offset in voxels
+  /// (`inv`: 1 / voxel size).
+  void locate(const glm::vec3& p, const glm::vec3& top, float inv, glm::ivec3& cell,
+              glm::vec3& clamped, glm::vec3& f) const;
   /// The exact query of p, given locate's results.
   void sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc, const glm::vec3& f,
               float& phi, glm::vec3& normal) const;
   void computeBricks();  // brick_min_ from values_
+  std::size_t brickIndex(const glm::ivec3& brick) const;
   float at(int i, int j, int k) const {
     return values_[(static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_.y) +
                     static_cast<std::size_t>(j)) *

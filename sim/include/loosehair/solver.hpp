@@ -35,8 +35,8 @@ class AirSystem;
 /// everything after integration that corrects positions: the strain limit,
 /// the tethers and the projection out of the body.
 struct StageTimes {
-  double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0, integrate = 0,
-         strain_limit = 0, directions = 0;
+  double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0,
+         integrate = 0, strain_limit = 0, directions = 0;
   /// The wind's air particles: neighbours, density, forces, integration,
   /// body contact, emission and removal (0 without wind).
   double air = 0;
@@ -48,8 +48,8 @@ struct StageTimes {
 };
 
 struct StepStats {
-  StageTimes last;  // the most recent step
-  StageTimes sum;   // all steps so far
+  StageTimes last;      // the most recent step
+  StageTimes sum;       // all steps so far
   std::uint64_t steps = 0;
   std::size_t neighbor_pairs = 0;      // ordered pairs within 2*h2, last step
   std::size_t active_connections = 0;  // pairs closer than 2*h1 at the end of the last step
@@ -68,9 +68,9 @@ struct InitReport {
   /// Non-root particles that cannot reach a root through root-side
   /// connections (SPEC §3.1): they hang on nothing. Should be 0.
   std::size_t unanchored = 0;
-  float median_density = 0;         // kg/m^3, initial
-  float rest_density = 0;           // rho0 (kg/m^3)
-  double stable_time_step = 0;      // s, initial estimate
+  float median_density = 0;       // kg/m^3, initial
+  float rest_density = 0;         // rho0 (kg/m^3)
+  double stable_time_step = 0;    // s, initial estimate
   float collision_coefficient = 0;  // d_c of eq. 17 derived from collision_rate (kg m^3/s)
   float friction_coefficient = 0;   // d_fr of eq. 18
 };
@@ -113,8 +113,8 @@ class Solver {
   /// squeezes hair against the head or torso the head and torso win: the
   /// last projection of a step keeps particles out of them only.
   void addWorldBody(std::shared_ptr<const Body> body,
-                    HeadTrajectory motion = HeadTrajectory::still(), double begin = -INFINITY,
-                    double end = INFINITY, bool obstacle = false);
+                    HeadTrajectory motion = HeadTrajectory::still(),
+                    double begin = -INFINITY, double end = INFINITY, bool obstacle = false);
   std::size_t worldBodyCount() const { return world_bodies_.size(); }
 
   /// Turns on wind (SPEC §5): fills the air box at the current time.
@@ -132,8 +132,8 @@ class Solver {
   /// Signed distance (m) from each head-frame point to the union of the
   /// head and the world bodies active at time t (obstacles too if asked);
   /// negative inside.
-  void bodyDistance(std::span<const glm::vec3> head_frame_points, double t, std::vector<float>& phi,
-                    bool include_obstacles = false) const;
+  void bodyDistance(std::span<const glm::vec3> head_frame_points, double t,
+                    std::vector<float>& phi, bool include_obstacles = false) const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay
@@ -238,7 +238,7 @@ class Solver {
   bool absorb_corrections_ = false;  // the step after setKinematicState
 
   // derived at initialisation
-  std::vector<float> cross_section_;                       // A_i
+  std::vector<float> cross_section_;  // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
 
@@ -246,7 +246,7 @@ class Solver {
   std::unique_ptr<NeighborGrid> grid_;
   std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
   std::vector<glm::vec3> force_, integrated_position_, limited_position_;
-  std::vector<float> inverse_mass_;           // 0 for a root
+  std::vector<float> inverse_mass_;  // 0 for a root
   std::vector<glm::vec4> strain_records_[2];  // (x, 1/m) in and out of a strain iteration
   std::vector<float> body_phi_;
   std::vector<glm::vec3> body_normal_;
