@@ -9,6 +9,7 @@
 // non-zero exit code (2 for bad usage, 1 for anything else).
 #include "headless_gl.hpp"
 #include "png.hpp"
+#include "process.hpp"
 #include "scene_bodies.hpp"
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
@@ -16,9 +17,12 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cctype>
 #include <cinttypes>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -28,33 +32,90 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: loosehair simulate SCENE [--frames N] [--threads T] [--dump DIR] [--seed S]\n"
-    "       loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
-    "                              [--video FILE.mp4] [--threads T] [--seed S] [--color C]\n"
-    "                              [--no-shadows] [--debug VIEW] [--yaw D] [--pitch D]\n"
-    "                              [--distance M] [--fov D] [--light X,Y,Z]\n"
+constexpr const char* kSimulateUsage =
+    "usage: loosehair simulate SCENE [--frames N] [--threads T] [--seed S]\n"
+    "                            [--dump DIR [--overwrite]]\n"
+    "                            [--save-state FILE [--save-every N]] [--resume FILE]\n"
     "\n"
-    "  simulate   run SCENE (a JSON scene file) headless and print the state hash\n"
-    "    --frames N   number of frames (default: the scene's \"frames\")\n"
-    "    --threads T  worker threads (default: all cores); results do not depend on it\n"
-    "    --dump DIR   write DIR/frame_00001.ply ... (binary PLY, world coordinates)\n"
-    "    --seed S     random seed of the hair sampling (default: the scene's \"seed\")\n"
-    "  render     simulate SCENE and draw every frame to DIR/frame_00001.png ... with\n"
-    "             software OpenGL (OSMesa: no display, no GPU)\n"
+    "  Runs SCENE (a JSON scene file) headless and prints the state hash.\n"
+    "    --frames N       number of frames (default: the scene's \"frames\"); with\n"
+    "                     --resume, the frames to run after the snapshot's\n"
+    "    --threads T      exactly T worker threads (default: all cores, or one while\n"
+    "                     other programs keep them busy); results do not depend on it\n"
+    "    --dump DIR       write DIR/frame_00001.ply ... (binary PLY, world coordinates)\n"
+    "    --overwrite      let --dump (or render's --out) replace the frames of an\n"
+    "                     earlier run in DIR (they are removed first)\n"
+    "    --seed S         random seed of the hair sampling (default: the scene's \"seed\")\n"
+    "    --save-state F   write a snapshot of the whole state to F at the end (and\n"
+    "                     every N frames with --save-every N); --resume F goes on\n"
+    "                     from it, bit-identically\n";
+
+constexpr const char* kRenderUsage =
+    "usage: loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
+    "                              [--overwrite] [--video FILE.mp4] [--threads T] [--seed S]\n"
+    "                              [--color C] [--no-shadows] [--debug VIEW] [--yaw D]\n"
+    "                              [--pitch D] [--distance M] [--fov D] [--light X,Y,Z]\n"
+    "\n"
+    "  Simulates SCENE and draws every frame to DIR/frame_00001.png ... with\n"
+    "  software OpenGL (OSMesa: no display, no GPU).\n"
     "    --size WxH       image size (default 640x480)\n"
     "    --camera PRESET  front, side, back or three-quarter (default)\n"
-    "    --out DIR        where the PNGs go (default render-out)\n"
+    "    --out DIR        where the PNGs go (default render-out); must be empty or new\n"
+    "                     unless --overwrite is given\n"
     "    --video FILE     also encode the frames to FILE (H.264 MP4) with ffmpeg\n"
     "    --color C        hair colour: black, brown (default), blonde or red\n"
     "    --no-shadows     no self-shadowing (opacity shadow maps)\n"
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
     "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
-    "    --light X,Y,Z    direction towards the (parallel) light\n";
+    "    --light X,Y,Z    direction towards the (parallel) light\n"
+    "    --frames, --threads, --seed   as for simulate\n";
+
+constexpr const char* kUsage =
+    "usage: loosehair simulate SCENE [options]   run a scene headless, print its state hash\n"
+    "       loosehair render SCENE [options]     simulate and draw frames (PNG, MP4)\n"
+    "       loosehair COMMAND --help             the options of a command\n"
+    "       loosehair --version\n";
 
 struct UsageError {
   std::string message;
+  const char* usage = kUsage;
 };
+
+// Makes `dir` ready for a run's frames: created if missing. A directory that
+// already holds files is refused unless `overwrite`, and then the frames of
+// the earlier run (frame_NNNNN.*, air_NNNNN.ply, and temporary files of an
+// interrupted write) are removed first, so old and new frames never mix.
+void prepareOutputDirectory(const std::string& dir, bool overwrite, const char* flag) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw std::runtime_error(dir + ": " + flag + " needs a directory, and this is a file");
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(dir + ": cannot create the directory: " + ec.message());
+  std::vector<fs::path> entries;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) entries.push_back(entry.path());
+  if (ec) throw std::runtime_error(dir + ": cannot list the directory: " + ec.message());
+  if (entries.empty()) return;
+  if (!overwrite)
+    throw std::runtime_error(dir + ": the directory is not empty (" + std::to_string(entries.size()) +
+                             " entries, e.g. " + entries.front().filename().string() + "); choose an "
+                             "empty one or give --overwrite to replace the frames of the earlier run");
+  auto isFrame = [](const std::string& name) {
+    for (const char* prefix : {"frame_", "air_"}) {
+      const std::size_t p = std::strlen(prefix);
+      if (name.rfind(prefix, 0) != 0 || name.size() < p + 5) continue;
+      bool digits = true;
+      for (std::size_t k = p; k < p + 5; ++k) digits = digits && std::isdigit(static_cast<unsigned char>(name[k]));
+      if (digits && name[p + 5] == '.') return true;
+    }
+    return false;
+  };
+  for (const fs::path& path : entries) {
+    if (!isFrame(path.filename().string()) || !fs::is_regular_file(path, ec)) continue;
+    if (!fs::remove(path, ec) || ec)
+      throw std::runtime_error(path.string() + ": cannot remove the earlier run's frame: " + ec.message());
+  }
+}
 
 long long parseInteger(const std::string& flag, const std::string& value, long long lo,
                        long long hi) {
@@ -71,7 +132,9 @@ struct Options {
   std::string scene;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
-  std::string dump_dir;
+  std::string dump_dir, save_state, resume;
+  int save_every = 0;
+  bool overwrite = false;
 };
 
 Options parseSimulate(const std::vector<std::string>& args) {
@@ -79,7 +142,7 @@ Options parseSimulate(const std::vector<std::string>& args) {
   for (std::size_t k = 0; k < args.size(); ++k) {
     const std::string& a = args[k];
     auto value = [&]() -> const std::string& {
-      if (k + 1 >= args.size()) throw UsageError{a + " needs a value"};
+      if (k + 1 >= args.size()) throw UsageError{a + " needs a value", kSimulateUsage};
       return args[++k];
     };
     if (a == "--frames")
@@ -90,14 +153,24 @@ Options parseSimulate(const std::vector<std::string>& args) {
       o.seed = static_cast<std::uint64_t>(parseInteger(a, value(), 0, INT64_MAX));
     else if (a == "--dump")
       o.dump_dir = value();
+    else if (a == "--overwrite")
+      o.overwrite = true;
+    else if (a == "--save-state")
+      o.save_state = value();
+    else if (a == "--save-every")
+      o.save_every = static_cast<int>(parseInteger(a, value(), 1, 10000000));
+    else if (a == "--resume")
+      o.resume = value();
     else if (!a.empty() && a[0] == '-')
-      throw UsageError{"unknown option " + a};
+      throw UsageError{"unknown option " + a, kSimulateUsage};
     else if (o.scene.empty())
       o.scene = a;
     else
-      throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'"};
+      throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'", kSimulateUsage};
   }
-  if (o.scene.empty()) throw UsageError{"simulate needs a scene file"};
+  if (o.scene.empty()) throw UsageError{"simulate needs a scene file", kSimulateUsage};
+  if (o.save_every > 0 && o.save_state.empty())
+    throw UsageError{"--save-every needs --save-state FILE", kSimulateUsage};
   return o;
 }
 
@@ -116,15 +189,11 @@ int simulate(const Options& o) {
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
   const int frames = o.frames.value_or(scene.frames);
-  if (!o.dump_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.dump_dir, ec);
-    if (ec) throw std::runtime_error(o.dump_dir + ": cannot create the dump directory: " + ec.message());
-  }
 
   const auto t_init = std::chrono::steady_clock::now();
   BuildReport build;
   Solver solver = buildSolver(scene, &build);
+  if (!o.dump_dir.empty()) prepareOutputDirectory(o.dump_dir, o.overwrite, "--dump");
   const double init_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
   const InitReport& r = solver.initReport();
@@ -221,6 +290,7 @@ double parseReal(const std::string& flag, const std::string& value, double lo, d
 struct RenderOptions {
   std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter";
+  bool overwrite = false;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
   int width = 640, height = 480;
@@ -240,6 +310,7 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       else if (a == "--threads") o.threads = static_cast<int>(parseInteger(a, value(), 1, 1024));
       else if (a == "--seed") o.seed = static_cast<std::uint64_t>(parseInteger(a, value(), 0, INT64_MAX));
       else if (a == "--out") o.out_dir = value();
+      else if (a == "--overwrite") o.overwrite = true;
       else if (a == "--video") o.video = value();
       else if (a == "--camera") {
         o.camera = value();
@@ -265,18 +336,60 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
         if (x == std::string::npos) throw UsageError{"--size needs WxH, got '" + v + "'"};
         o.width = static_cast<int>(parseInteger("--size width", v.substr(0, x), 16, 8192));
         o.height = static_cast<int>(parseInteger("--size height", v.substr(x + 1), 16, 8192));
-      } else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a};
+      } else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a, kRenderUsage};
       else if (o.scene.empty()) o.scene = a;
-      else throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'"};
+      else throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'", kRenderUsage};
     } catch (const loosehair::render::RenderError& e) {
-      throw UsageError{a + ": " + e.what()};
+      throw UsageError{a + ": " + e.what(), kRenderUsage};
     }
   }
-  if (o.scene.empty()) throw UsageError{"render needs a scene file"};
+  if (o.scene.empty()) throw UsageError{"render needs a scene file", kRenderUsage};
   return o;
 }
 
-bool haveFfmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+// ffmpeg's image-sequence pattern for DIR/frame_%05d.png: a '%' of the
+// directory's name is doubled so that ffmpeg reads it literally.
+std::string framePattern(const std::string& dir) {
+  std::string escaped;
+  for (char c : dir) {
+    escaped += c;
+    if (c == '%') escaped += '%';
+  }
+  return (std::filesystem::path(escaped) / "frame_%05d.png").string();
+}
+
+// Encodes the frames into `video` (H.264 MP4, the index at the front so it
+// plays while it downloads): ffmpeg is started without a shell, writes a
+// temporary file beside `video`, and only a complete encoding is renamed to
+// `video`. Any failure is an error and leaves no partial file.
+void encodeVideo(const std::string& ffmpeg, const std::string& frames_dir, const std::string& video,
+                 double frame_rate) {
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.9g", frame_rate);
+  const std::string tmp = video + ".tmp-" + std::to_string(::getpid()) + ".mp4";
+  const std::vector<std::string> argv = {
+      ffmpeg, "-nostdin", "-y", "-loglevel", "error", "-framerate", rate,
+      "-i", framePattern(frames_dir), "-c:v", "libx264", "-pix_fmt", "yuv420p",
+      "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-movflags", "+faststart", "-f", "mp4", tmp};
+  const loosehair::app::ProgramResult run = loosehair::app::runProgram(argv);
+  // ffmpeg exits 0 when writing the file's end fails (a full disk, say), but
+  // says so: at "-loglevel error" anything it writes is an error.
+  std::error_code ec;
+  const bool written = std::filesystem::file_size(tmp, ec) > 0 && !ec;
+  if (run.status != 0 || !run.error_output.empty() || !written) {
+    std::filesystem::remove(tmp, ec);
+    std::string why = run.error_output.substr(0, 2000);
+    while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
+    throw std::runtime_error(video + ": ffmpeg could not encode the video (exit status " +
+                             std::to_string(run.status) + (why.empty() ? "" : ": " + why) +
+                             "); no video was written");
+  }
+  std::filesystem::rename(tmp, video, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw std::runtime_error(video + ": cannot rename the finished video: " + ec.message());
+  }
+}
 
 int renderScene(const RenderOptions& o) {
   using namespace loosehair;
@@ -284,14 +397,23 @@ int renderScene(const RenderOptions& o) {
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
   const int frames = o.frames.value_or(scene.frames);
-  if (!o.video.empty() && !haveFfmpeg())
-    throw std::runtime_error("--video needs ffmpeg, which is not installed (scripts/install-deps.sh installs it)");
-  std::error_code ec;
-  std::filesystem::create_directories(o.out_dir, ec);
-  if (ec) throw std::runtime_error(o.out_dir + ": cannot create the output directory: " + ec.message());
+  std::string ffmpeg;
+  if (!o.video.empty()) {
+    const std::filesystem::path parent = std::filesystem::absolute(o.video).parent_path();
+    std::error_code ec;
+    std::filesystem::create_directories(parent, ec);
+    if (ec || !std::filesystem::is_directory(parent))
+      throw std::runtime_error(o.video + ": --video: cannot create the directory " + parent.string() +
+                               (ec ? ": " + ec.message() : ""));
+    const auto found = loosehair::app::findProgram("ffmpeg");
+    if (!found)
+      throw std::runtime_error("--video needs ffmpeg, which is not installed (scripts/install-deps.sh installs it)");
+    ffmpeg = *found;
+  }
 
   BuildReport build;
   Solver solver = buildSolver(scene, &build);
+  prepareOutputDirectory(o.out_dir, o.overwrite, "--out");
   app::HeadlessGL gl(o.width, o.height);
   render::Renderer renderer;
   const app::DrawableBodies bodies = app::drawableBodies(scene);
@@ -332,10 +454,7 @@ int renderScene(const RenderOptions& o) {
               1e3 * sum.light_pass / frames, 1e3 * sum.camera_pass / frames);
   std::printf("frames: %s/frame_00001.png ... frame_%05d.png\n", o.out_dir.c_str(), frames);
   if (!o.video.empty()) {
-    const std::string cmd = "ffmpeg -y -loglevel error -framerate " + std::to_string(scene.frame_rate) + " -i '" +
-                            (std::filesystem::path(o.out_dir) / "frame_%05d.png").string() +
-                            "' -c:v libx264 -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '" + o.video + "'";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("ffmpeg could not encode " + o.video);
+    encodeVideo(ffmpeg, o.out_dir, o.video, scene.frame_rate);
     std::printf("video: %s\n", o.video.c_str());
   }
   return 0;
@@ -350,13 +469,27 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, args.empty() ? stderr : stdout);
       return args.empty() ? 2 : 0;
     }
-    if (args[0] == "simulate")
-      return simulate(parseSimulate(std::vector<std::string>(args.begin() + 1, args.end())));
-    if (args[0] == "render")
-      return renderScene(parseRender(std::vector<std::string>(args.begin() + 1, args.end())));
+    if (args[0] == "--version" || args[0] == "version") {
+      std::printf("loosehair %s\n", LOOSEHAIR_VERSION);
+      return 0;
+    }
+    const std::vector<std::string> rest(args.begin() + 1, args.end());
+    const bool help = std::find(rest.begin(), rest.end(), std::string("--help")) != rest.end() ||
+                      std::find(rest.begin(), rest.end(), std::string("-h")) != rest.end();
+    if (args[0] == "simulate") {
+      if (help) return std::fputs(kSimulateUsage, stdout) < 0 ? 1 : 0;
+      return simulate(parseSimulate(rest));
+    }
+    if (args[0] == "render") {
+      if (help) return std::fputs(kRenderUsage, stdout) < 0 ? 1 : 0;
+      return renderScene(parseRender(rest));
+    }
     throw UsageError{"unknown command '" + args[0] + "'"};
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "loosehair: %s\n\n%s", e.message.c_str(), kUsage);
+    const char* usage = e.usage;
+    if (usage == kUsage && !args.empty())
+      usage = args[0] == "simulate" ? kSimulateUsage : args[0] == "render" ? kRenderUsage : kUsage;
+    std::fprintf(stderr, "loosehair: %s\n\n%s", e.message.c_str(), usage);
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "loosehair: error: %s\n", e.what());

@@ -13,6 +13,7 @@
 //   --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 #include "loosehair/loosehair.hpp"
 #include "neighbor_grid.hpp"
+#include "parallel.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -100,16 +101,15 @@ void BM_MemoryRead(benchmark::State& state) {
   const auto n = static_cast<std::int64_t>(a.size());
   const int threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
-    float total = 0.0f;
-#pragma omp parallel num_threads(threads) reduction(+ : total)
-    {
+    float totals[2] = {};
+    parallel::run(threads, [&] {
       float acc[16] = {};  // 16 independent sums: the loop vectorises without reassociation
-#pragma omp for schedule(static)
-      for (std::int64_t i = 0; i < n; i += 16)
-        for (int l = 0; l < 16; ++l) acc[l] += a[static_cast<std::size_t>(i + l)];
-      for (float v : acc) total += v;
-    }
-    benchmark::DoNotOptimize(total);
+      const auto [first, last] = parallel::share(static_cast<std::size_t>(n / 16));
+      for (std::size_t g = first; g < last; ++g)
+        for (std::size_t l = 0; l < 16; ++l) acc[l] += a[16 * g + l];
+      for (float v : acc) totals[parallel::threadIndex()] += v;
+    });
+    benchmark::DoNotOptimize(totals);
   }
   state.SetBytesProcessed(state.iterations() * n * static_cast<std::int64_t>(sizeof(float)));
 }
@@ -121,9 +121,7 @@ void BM_MemoryCopy(benchmark::State& state) {
   const auto n = static_cast<std::int64_t>(a.size());
   const int threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (std::int64_t i = 0; i < n; ++i)
-      b[static_cast<std::size_t>(i)] = a[static_cast<std::size_t>(i)];
+    parallel::forEach(threads, static_cast<std::size_t>(n), [&](std::size_t i) { b[i] = a[i]; });
     benchmark::ClobberMemory();
   }
   // bytes read plus bytes written

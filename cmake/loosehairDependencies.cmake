@@ -3,7 +3,6 @@
 # All of them come from Debian packages (scripts/install-deps.sh).
 include(CMakeFindDependencyMacro)
 find_dependency(glm)
-find_dependency(OpenMP COMPONENTS CXX)
 find_dependency(Threads)
 find_dependency(OpenMesh)   # OBJ, PLY, OFF, STL meshes
 find_dependency(TinyGLTF)   # glTF and GLB meshes

@@ -20,7 +20,7 @@ echo "== baseline code paths: no SSE intrinsics, no multiversioned kernels =="
 cmake -S . -B build/baseline -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-U__SSE2__ \
   -DLOOSEHAIR_MULTIVERSION=OFF -DLOOSEHAIR_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build/baseline -j"$jobs" --target loosehair_sim_tests
-OMP_WAIT_POLICY=PASSIVE build/baseline/tests/loosehair_sim_tests \
+build/baseline/tests/loosehair_sim_tests \
   --gtest_filter='Golden.*:Determinism*:NeighborGrid.*'
 echo "== full test suite (release) =="
 ctest --test-dir build/release --output-on-failure -j"$jobs"

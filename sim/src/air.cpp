@@ -1,9 +1,9 @@
 #include "air.hpp"
 
 #include "kernel.hpp"
+#include "parallel.hpp"
 
 #include <glm/geometric.hpp>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -251,12 +251,9 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   auto& buffers = buffers_;
   buffers.resize(static_cast<std::size_t>(nt));
   hair_start_.assign(nh + 1, 0);
-#pragma omp parallel num_threads(nt)
-  {
-    const int t = omp_get_thread_num();
-    const std::size_t chunk = (nh + static_cast<std::size_t>(nt) - 1) / static_cast<std::size_t>(nt);
-    const std::size_t b = std::min(nh, chunk * static_cast<std::size_t>(t)), e = std::min(nh, b + chunk);
-    auto& out = buffers[static_cast<std::size_t>(t)];
+  parallel::run(nt, [&] {
+    const auto [b, e] = parallel::share(nh);
+    auto& out = buffers[static_cast<std::size_t>(parallel::threadIndex())];
     out.clear();
     glm::ivec3 cached(INT32_MIN);
     std::uint32_t rb[27], re[27];
@@ -290,7 +287,7 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
         }
       hair_start_[i + 1] = count;
     }
-  }
+  });
   for (std::size_t i = 0; i < nh; ++i) hair_start_[i + 1] += hair_start_[i];
   hair_list_.clear();
   hair_list_.reserve(hair_start_[nh]);
@@ -321,9 +318,7 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   const glm::vec3 half = 0.5f * p_.box_size;
   const glm::mat3 rot(pose_.rotation);
   const glm::vec3 centre(pose_.center);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
-    const auto a = static_cast<std::size_t>(aa);
+  parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     float rho = mass_ * k.W(0.0f);
     for (std::uint32_t b : grid_.neighbors(a)) rho += mass_ * k.W(glm::length(x_[a] - x_[b]));
     const glm::vec3 q = rot * x_[a] + centre - p_.box_center;
@@ -334,7 +329,7 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
     // Weakly compressible; thinned air pulls (so a wake fills), but never
     // harder than a vacuum would.
     pressure_[a] = std::max(-c2 * rest_density_, c2 * (rho - rest_density_));
-  }
+  });
 }
 
 void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
@@ -351,9 +346,7 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
   pair_w_.resize(hair_list_.size());
   hair_limiter_.resize(nh);
   air_limiter_.resize(na);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index ii = 0; ii < static_cast<Index>(nh); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
+  parallel::forEach(threads, static_cast<std::size_t>(nh), [&](std::size_t i) {
     float sum = 0;
     for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) {
       const float w = k.W(glm::length(hair_x[i] - x_[hair_list_[q]]));
@@ -362,10 +355,8 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
     }
     const float rate = k_over_rho * sum;
     hair_limiter_[i] = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
-  }
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
-    const auto a = static_cast<std::size_t>(aa);
+  });
+  parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     float sum = 0;
     for (std::uint32_t q = air_start_[a]; q < air_start_[a + 1]; ++q) {
       const std::uint32_t i = air_list_[q];
@@ -373,27 +364,24 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
     }
     const float rate = k_over_rho * sum;
     air_limiter_[a] = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
-  }
+  });
   // The pair force on hair i from air a (hair-list entry q); the air gets
   // exactly its negative, from the same expression.
   auto drag = [&](std::size_t i, std::size_t a, std::uint32_t q) {
     const float c = k_over_rho * hair_m[i] * mass_ * std::min(hair_limiter_[i], air_limiter_[a]);
     return (c * pair_w_[q]) * (v_[a] - hair_v[i]);
   };
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index ii = 0; ii < static_cast<Index>(nh); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    if (hair_root[i]) continue;  // roots are held by the head
+  parallel::forEach(threads, static_cast<std::size_t>(nh), [&](std::size_t i) {
+    if (hair_root[i]) return;  // roots are held by the head
     glm::vec3 f(0.0f);
-    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) f += drag(i, hair_list_[q], q);
+    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q)
+      f += drag(i, hair_list_[q], q);
     hair_force[i] += f;
-  }
+  });
   force_.resize(na);
   drag_on_air_.resize(na);
   const float mu = p_.viscosity_rate;
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
-    const auto a = static_cast<std::size_t>(aa);
+  parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     glm::vec3 f(0.0f);
     const float pa = pressure_[a] / (density_[a] * density_[a]);
     for (std::uint32_t b : grid_.neighbors(a)) {
@@ -411,7 +399,7 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
     }
     drag_on_air_[a] = g;
     force_[a] = f + g;
-  }
+  });
 }
 
 void AirSystem::integrate(double t, float dt, const HeadKinematics& head, int threads) {
@@ -427,9 +415,7 @@ void AirSystem::integrate(double t, float dt, const HeadKinematics& head, int th
   const float inflow_end = -0.5f * p_.box_size.x + 2.0f * h_;
   const glm::vec3 wind_head = glm::vec3(rt * glm::dvec3(speedAt(t) * e_wind_)) - frame_vel;
   const float inv_m = 1.0f / mass_;
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index aa = 0; aa < static_cast<Index>(na); ++aa) {
-    const auto a = static_cast<std::size_t>(aa);
+  parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     const glm::vec3 r = x_[a], u = v_[a];
     const float along = glm::dot(rot * r + centre - p_.box_center, e_wind_);
     if (along < inflow_end) {
@@ -440,7 +426,7 @@ void AirSystem::integrate(double t, float dt, const HeadKinematics& head, int th
       v_[a] = u + dt * (inv_m * force_[a] - inertial);
     }
     x_[a] = r + dt * v_[a];
-  }
+  });
 }
 
 void AirSystem::emitAndRemove(double t, float dt, const HeadKinematics& head, const WorldDistance& bodies) {

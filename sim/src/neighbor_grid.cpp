@@ -1,6 +1,6 @@
 #include "neighbor_grid.hpp"
 
-#include <omp.h>
+#include "parallel.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -10,11 +10,11 @@
 #define LOOSEHAIR_HAVE_AVX512_PATH 1
 #endif
 
-#include <atomic>
-
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <mutex>
 
 namespace loosehair {
 namespace {
@@ -159,15 +159,13 @@ void NeighborGrid::gatherSorted(std::span<const glm::vec3> x, int threads) {
   // padding is never accepted (lanes past a range's end are masked).
   for (auto* col : {&sorted_cx_, &sorted_cy_, &sorted_cz_}) col->resize(n + 4, 0.0f);
   order_.resize(n + 4, 0);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::int64_t kk = 0; kk < static_cast<std::int64_t>(n); ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
+  parallel::forEach(threads, n, [&](std::size_t k) {
     const glm::vec3 p = x[order_[k]];
     sorted_x_[k] = p;
     sorted_cx_[k] = p.x;
     sorted_cy_[k] = p.y;
     sorted_cz_[k] = p.z;
-  }
+  });
 }
 
 void NeighborGrid::buildCellTable() {
@@ -212,28 +210,26 @@ bool NeighborGrid::chooseDenseLayout(std::span<const glm::vec3> x, int threads) 
   // the bounds bound the cells.
   float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   bool finite = true;
-#pragma omp parallel num_threads(threads)
-  {
+  std::mutex merge;
+  parallel::run(threads, [&] {
     float tlo[3] = {INFINITY, INFINITY, INFINITY}, thi[3] = {-INFINITY, -INFINITY, -INFINITY};
     bool tfinite = true;
-#pragma omp for schedule(static) nowait
-    for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
-      const glm::vec3 p = x[static_cast<std::size_t>(ii)];
+    const auto [first, last] = parallel::share(n);
+    for (std::size_t i = first; i < last; ++i) {
+      const glm::vec3 p = x[i];
       tfinite = tfinite && std::isfinite(p.x + p.y + p.z);
       for (int a = 0; a < 3; ++a) {
         tlo[a] = std::min(tlo[a], p[a]);
         thi[a] = std::max(thi[a], p[a]);
       }
     }
-#pragma omp critical
-    {
-      finite = finite && tfinite;
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], tlo[a]);
-        hi[a] = std::max(hi[a], thi[a]);
-      }
+    const std::lock_guard<std::mutex> lock(merge);
+    finite = finite && tfinite;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], tlo[a]);
+      hi[a] = std::max(hi[a], thi[a]);
     }
-  }
+  });
   if (!finite) return false;
   constexpr double kLimit = 1e15;  // keeps the cell coordinates in int64
   // At most 16 cells a point (64 bytes of offsets): memory stays O(N)
@@ -256,15 +252,13 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
   const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
   keys_.resize(n);
   order_.resize(n);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
+  parallel::forEach(threads, n, [&](std::size_t i) {
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a)
       c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(x[i][a]) * inv_cell_)) -
              origin_[a];
     keys_[i] = static_cast<std::uint64_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
-  }
+  });
   // Counting sort, stable: points of a cell stay in index order. The work is
   // split by cells, one block of cells a thread: each block zeroes, counts,
   // scans and scatters its own cells (the cells outnumber the points, up to
@@ -287,27 +281,30 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
         (cells * static_cast<std::uint64_t>(b)) / blocks,
         (cells * static_cast<std::uint64_t>(b + 1)) / blocks};
   };
-  std::size_t occupied = 0;
+  std::atomic<std::size_t> occupied{0};
   start[0] = start[1] = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : occupied)
-  {
-#pragma omp for schedule(static)
-    for (int b = 0; b < blocks; ++b) {
+  parallel::run(threads, [&] {
+    // block b goes to thread b (a team smaller than `threads` takes several)
+    const int first = parallel::threadIndex(), step = parallel::threadCount();
+    for (int b = first; b < blocks; b += step) {
       const auto [c0, c1] = block_range(b);
       std::fill(start + c0 + 2, start + c1 + 2, 0u);
       for (std::size_t i = 0; i < n; ++i)
         if (key[i] - c0 < c1 - c0) ++start[key[i] + 2];
       std::uint32_t sum = 0;
+      std::size_t filled = 0;
       for (std::uint64_t c = c0 + 2; c < c1 + 2; ++c) {
-        occupied += start[c] > 0 ? 1 : 0;
+        filled += start[c] > 0 ? 1 : 0;
         sum += start[c];
       }
       block_total[static_cast<std::size_t>(b) + 1] = sum;
+      occupied += filled;
     }
-#pragma omp single
-    for (int b = 0; b < blocks; ++b) block_total[b + 1] += block_total[b];
-#pragma omp for schedule(static)
-    for (int b = 0; b < blocks; ++b) {
+    parallel::barrier();
+    if (first == 0)
+      for (int k = 0; k < blocks; ++k) block_total[k + 1] += block_total[k];
+    parallel::barrier();
+    for (int b = first; b < blocks; b += step) {
       const auto [c0, c1] = block_range(b);
       std::uint32_t sum = block_total[static_cast<std::size_t>(b)];
       for (std::uint64_t c = c0 + 2; c < c1 + 2; ++c) {
@@ -315,9 +312,8 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
         start[c] = sum;  // the end of cell c - 2, the start of cell c - 1
       }
     }
-    // (the implicit barrier: every block's starts are in place)
-#pragma omp for schedule(static)
-    for (int b = 0; b < blocks; ++b) {
+    parallel::barrier();  // every block's starts are in place
+    for (int b = first; b < blocks; b += step) {
       const auto [c0, c1] = block_range(b);
       for (std::size_t i = 0; i < n; ++i) {
         if (key[i] - c0 >= c1 - c0) continue;
@@ -326,8 +322,8 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
         keys_tmp_[dst] = key[i];
       }
     }
-  }
-  occupied_cells_ = occupied;
+  });
+  occupied_cells_ = occupied.load();
   keys_.swap(keys_tmp_);
   gatherSorted(x, threads);
 }
@@ -476,15 +472,13 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   // not depend on which thread makes it.
   const std::int64_t chunks = static_cast<std::int64_t>((n + kChunk - 1) / kChunk);
   chunk_pairs_end_.resize(static_cast<std::size_t>(chunks));
-#pragma omp parallel num_threads(threads)
-  {
-    std::vector<std::uint32_t>& buf = buffers_[omp_get_thread_num()];
-    std::vector<std::int64_t> mine;
+  parallel::run(threads, [&] {
+    std::vector<std::uint32_t>& buf = buffers_[static_cast<std::size_t>(parallel::threadIndex())];
     std::size_t used = 0;
     std::array<std::uint32_t, 27> range_begin{}, range_end{};
-#pragma omp for schedule(static) nowait
-    for (std::int64_t chunk = 0; chunk < chunks; ++chunk) {
-      mine.push_back(chunk);
+    const auto [first, last] = parallel::share(static_cast<std::size_t>(chunks));
+    for (std::size_t c = first; c < last; ++c) {
+      const auto chunk = static_cast<std::int64_t>(c);
       const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
                         k1 = std::min(n, k0 + kChunk);
       int nr = 0;
@@ -508,12 +502,9 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
       chunk_pairs_end_[static_cast<std::size_t>(chunk)] = used - offset_[k0];  // this chunk's
     }
     // The buffer no longer grows: turn offsets into pointers.
-    for (const std::int64_t chunk : mine) {
-      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
-                        k1 = std::min(n, k0 + kChunk);
-      for (std::size_t k = k0; k < k1; ++k) begin_[k] = buf.data() + offset_[k];
-    }
-  }
+    for (std::size_t k = first * kChunk, k1 = std::min(n, last * kChunk); k < k1; ++k)
+      begin_[k] = buf.data() + offset_[k];
+  });
   // the chunks' pairs, summed up (a few hundred chunks at 200k points)
   std::size_t total = 0;
   for (std::size_t& c : chunk_pairs_end_) c = total += c;

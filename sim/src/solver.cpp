@@ -10,16 +10,18 @@
 #include "air.hpp"
 #include "neighbor_grid.hpp"
 #include "pair_columns.hpp"
+#include "parallel.hpp"
+#include "thread_choice.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
-#include <omp.h>
 
 #if defined(__SSE2__)
 #include <xmmintrin.h>
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <chrono>
 #include <cmath>
@@ -228,9 +230,9 @@ std::pair<Index, Index> workItemPart(const ConnectionSlices& cs, int part, int p
 // above). Called by every thread of a parallel region; ends with a barrier.
 template <class Body>
 void forOwnWorkItems(const ConnectionSlices& cs, Body&& body) {
-  const auto [first, second] = workItemPart(cs, omp_get_thread_num(), omp_get_num_threads());
+  const auto [first, second] = workItemPart(cs, parallel::threadIndex(), parallel::threadCount());
   for (Index cc = first; cc < second; ++cc) body(SliceRun(cs, cc));
-#pragma omp barrier
+  parallel::barrier();
 }
 
 // k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
@@ -263,7 +265,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   if (!head_) throw std::invalid_argument("the solver needs a head body");
   if (!std::isfinite(start_time)) throw std::invalid_argument("start time is not finite");
   particles_.check();
-  threads_ = params_.threads > 0 ? params_.threads : std::max(1, omp_get_max_threads());
+  setThreadCount(params_.threads);
 
   const std::size_t n = particles_.size();
   ConnectionOptions copt;
@@ -404,9 +406,11 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
 }
 
 void Solver::setThreadCount(int threads) {
-  if (threads < 1 || threads > 1024)
-    throw std::invalid_argument("thread count " + std::to_string(threads) + " is not in [1, 1024]");
-  threads_ = threads;
+  if (threads < 0 || threads > 1024)
+    throw std::invalid_argument("thread count " + std::to_string(threads) + " is not in [0, 1024]");
+  max_threads_ = threads > 0 ? threads : parallel::availableThreads();
+  thread_choice_ = threads > 0 ? nullptr : std::make_unique<ThreadChoice>(max_threads_);
+  threads_ = max_threads_;
 }
 
 Solver::~Solver() = default;
@@ -464,7 +468,7 @@ void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w
 // kPartGrain, so the blocks of kPairBlock positions are those of one thread.
 static_assert(NeighborGrid::kPartGrain % kPairBlock == 0);
 std::pair<std::size_t, std::size_t> pairLoopPart(const NeighborGrid& grid) {
-  return grid.pairBalancedPart(omp_get_thread_num(), omp_get_num_threads());
+  return grid.pairBalancedPart(parallel::threadIndex(), parallel::threadCount());
 }
 
 #if defined(__SSE2__)
@@ -520,11 +524,10 @@ void Solver::computeDensity() {
   records.resize(n);
   const glm::vec4* xm = records.data();
   enum { R2, MJ, RHO, kColumns };
-#pragma omp parallel num_threads(threads_)
-  {
+  parallel::run(threads_, [&] {
     const auto [k0, k1] = pairLoopPart(grid);
     fillRecords(records, x, m, ord, k0, k1);
-#pragma omp barrier
+    parallel::barrier();
     PairColumns& col = threadColumns();
     for (std::size_t b = k0; b < k1; b += kPairBlock) {
       const std::size_t e = std::min(k1, b + kPairBlock);
@@ -570,7 +573,7 @@ void Solver::computeDensity() {
         pressure_term_[i] = pressure_[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
       }
     }
-  }
+  });
 }
 
 // ---- stage 3a: loose spring coefficients, eqs. 7, 10-14 ---------------------
@@ -600,47 +603,57 @@ void Solver::computeSpringFactors(Scratch& s) const {
   const auto& root = particles_.is_root;
   s.spring_records.resize(2 * x.size());
   glm::vec4* rec = s.spring_records.data();
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : clamped, active)
-  for (Index ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    if (measure) {
-      // k_ij and |x_ij| of every entry, and the two sides' sums of l_ij k_ij
-      const glm::vec3 xi = x[i];
-      float sums[2] = {0.0f, 0.0f};
-      const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
-      for (int side = 0; side < 2; ++side) {
-        float sum = 0.0f;
-        for (std::uint32_t e = bounds[side]; e < bounds[side + 1]; ++e) {
-          const glm::vec3 d = x[c.partner[e]] - xi;
-          const float r = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-          const float k = springCoefficient(c.strength[e], r, sk.inv_h, sk.norm_w);
-          if (keep_k) s.k[e] = k;
-          active += k > 0.0f ? 1 : 0;
-          sum += c.rest_length[e] * k;
+  std::atomic<std::size_t> clamped_sum{0};
+  std::atomic<std::size_t> active_sum{0};
+  parallel::run(threads_, [&] {
+    std::size_t clamped_part = 0;
+    std::size_t active_part = 0;
+    const auto [first, last] = parallel::share(static_cast<std::size_t>(n));
+    for (std::size_t i = first; i < last; ++i) {
+      if (measure) {
+        // k_ij and |x_ij| of every entry, and the two sides' sums of l_ij k_ij
+        const glm::vec3 xi = x[i];
+        float sums[2] = {0.0f, 0.0f};
+        const std::uint32_t bounds[3] = {c.begin(i), c.tipBegin(i), c.end(i)};
+        for (int side = 0; side < 2; ++side) {
+          float sum = 0.0f;
+          for (std::uint32_t e = bounds[side]; e < bounds[side + 1]; ++e) {
+            const glm::vec3 d = x[c.partner[e]] - xi;
+            const float r = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+            const float k = springCoefficient(c.strength[e], r, sk.inv_h, sk.norm_w);
+            if (keep_k) s.k[e] = k;
+            active_part += k > 0.0f ? 1 : 0;
+            sum += c.rest_length[e] * k;
+          }
+          sums[side] = sum;
         }
-        sums[side] = sum;
+        s.sum_root[i] = sums[0];
+        s.sum_tip[i] = sums[1];
       }
-      s.sum_root[i] = sums[0];
-      s.sum_tip[i] = sums[1];
+      const double ea = young * cross_section_[i];
+      auto factor = [&](float sum, float rest) {
+        if (!(sum > 0.0f)) return 0.0f;
+        const float a = static_cast<float>(ea / sum), limit = clamp * rest;
+        if (a > limit) {
+          ++clamped_part;
+          return limit;
+        }
+        return a;
+      };
+      s.factor_root[i] = factor(s.sum_root[i], rest_factor_root_[i]);
+      s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip_[i]);
+      // the spring pass's records of i (accumulateSpringForces), a root's
+      // factors replaced by the marker
+      const bool r = root[i] != 0;
+      rec[2 * i] = glm::vec4(x[i], r ? kRootFactor : s.factor_root[i]);
+      rec[2 * i + 1] = glm::vec4(v[i], r ? kRootFactor : s.factor_tip[i]);
     }
-    const double ea = young * cross_section_[i];
-    auto factor = [&](float sum, float rest) {
-      if (!(sum > 0.0f)) return 0.0f;
-      const float a = static_cast<float>(ea / sum), limit = clamp * rest;
-      if (a > limit) {
-        ++clamped;
-        return limit;
-      }
-      return a;
-    };
-    s.factor_root[i] = factor(s.sum_root[i], rest_factor_root_[i]);
-    s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip_[i]);
-    // the spring pass's records of i (accumulateSpringForces), a root's
-    // factors replaced by the marker
-    const bool r = root[i] != 0;
-    rec[2 * i] = glm::vec4(x[i], r ? kRootFactor : s.factor_root[i]);
-    rec[2 * i + 1] = glm::vec4(v[i], r ? kRootFactor : s.factor_tip[i]);
-  }
+    clamped_sum += clamped_part;
+    active_sum += active_part;
+  });
+  clamped = clamped_sum.load();
+  active = active_sum.load();
+
   s.clamped = clamped;
   if (measure) s.active_entries = active;
   s.sums_current = false;  // the step moves the particles
@@ -726,8 +739,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
   const std::size_t n = particles_.size();
   assert(s.spring_records.size() == 2 * n);  // made by computeSpringFactors
   const float* records = &s.spring_records[0].x;
-#pragma omp parallel num_threads(threads_)
-  {
+  parallel::run(threads_, [&] {
     SliceColumns& col = threadSliceColumns();
     forOwnWorkItems(cs, [&](const SliceRun& run) {
       const std::size_t q0 = run.q0, s0 = run.s0;
@@ -749,7 +761,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
       for (std::size_t l = 0; l < run.used; ++l)
         force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
     });
-  }
+  });
 }
 
 namespace {
@@ -836,13 +848,12 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
   rec.vp.resize(n);
   rec.tt.resize(n);
   const glm::vec4 *xm = rec.xm.data(), *vp = rec.vp.data(), *tt = rec.tt.data();
-#pragma omp parallel num_threads(threads_)
-  {
+  parallel::run(threads_, [&] {
     const auto [k0, k1] = pairLoopPart(grid);
     if (!xm_ready) fillRecords(rec.xm, x, m, ord, k0, k1);
     fillRecords(rec.vp, v, pterm, ord, k0, k1);
     fillRecords(rec.tt, t, nullptr, ord, k0, k1);
-#pragma omp barrier
+    parallel::barrier();
     PairColumns& col = threadColumns();
     for (std::size_t b = k0; b < k1; b += kPairBlock) {
       const std::size_t e = std::min(k1, b + kPairBlock);
@@ -918,7 +929,7 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
         force[ord[p]] += f;
       }
     }
-  }
+  });
 }
 
 // ---- bodies (SPEC §5) ---------------------------------------------------------
@@ -1066,16 +1077,14 @@ void Solver::addExternalForces() {
   const glm::vec3 frame_vel(rt * head.velocity);        // R^T c'
   const glm::vec3 omega(head.angular_velocity), alpha(head.angular_acceleration);
   const float drag = params_.air_drag;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index ii = 0; ii < static_cast<Index>(n); ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    if (root[i]) continue;
+  parallel::forEach(threads_, static_cast<std::size_t>(n), [&](std::size_t i) {
+    if (root[i]) return;
     const glm::vec3 r = x[i], u = v[i];
     const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
                                glm::cross(omega, glm::cross(omega, r));
     const glm::vec3 world_velocity = u + glm::cross(omega, r) + frame_vel;
     force_[i] += m[i] * (gravity - inertial - drag * world_velocity);
-  }
+  });
 }
 
 // ---- integrate: symplectic Euler with the inelastic, frictional body contact
@@ -1093,38 +1102,46 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   glm::vec4* strain_record = strain_records_[0].data();
   const float* inv_mass = inverse_mass_.data();
   std::size_t contacts = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : contacts)
-  for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
-    const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
-    const std::size_t e = std::min(n, b + kBodyBlock);
-    glm::vec3 surface[kBodyBlock];
-    queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, thickness);
-    for (std::size_t i = b; i < e; ++i) {
-      if (root[i]) {
-        strain_record[i] = glm::vec4(x[i], inv_mass[i]);
-        continue;
-      }
-      glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
-      if (body_phi_[i] < thickness) {
-        // The response acts on the velocity relative to the body's surface.
-        const glm::vec3 us = surface[i - b];
-        const glm::vec3 nrm = body_normal_[i];
-        const glm::vec3 vr = vi - us;
-        const float vn = glm::dot(vr, nrm);
-        if (vn < 0.0f) {
-          ++contacts;
-          glm::vec3 vt = vr - vn * nrm;  // inelastic: normal approach removed
-          const float vt_len = glm::length(vt);
-          const float slip = vt_len - mu * (-vn);  // Coulomb: |dv_t| <= mu |dv_n|
-          vi = us + (slip > 0.0f ? vt * (slip / vt_len) : glm::vec3(0.0f));
+  std::atomic<std::size_t> contacts_sum{0};
+  parallel::run(threads_, [&] {
+    std::size_t contacts_part = 0;
+    const auto [first, last] =
+        parallel::share(static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock));
+    for (std::size_t bb = first; bb < last; ++bb) {
+      const std::size_t b = bb * kBodyBlock;
+      const std::size_t e = std::min(n, b + kBodyBlock);
+      glm::vec3 surface[kBodyBlock];
+      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, thickness);
+      for (std::size_t i = b; i < e; ++i) {
+        if (root[i]) {
+          strain_record[i] = glm::vec4(x[i], inv_mass[i]);
+          continue;
         }
+        glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
+        if (body_phi_[i] < thickness) {
+          // The response acts on the velocity relative to the body's surface.
+          const glm::vec3 us = surface[i - b];
+          const glm::vec3 nrm = body_normal_[i];
+          const glm::vec3 vr = vi - us;
+          const float vn = glm::dot(vr, nrm);
+          if (vn < 0.0f) {
+            ++contacts_part;
+            glm::vec3 vt = vr - vn * nrm;  // inelastic: normal approach removed
+            const float vt_len = glm::length(vt);
+            const float slip = vt_len - mu * (-vn);  // Coulomb: |dv_t| <= mu |dv_n|
+            vi = us + (slip > 0.0f ? vt * (slip / vt_len) : glm::vec3(0.0f));
+          }
+        }
+        v[i] = vi;
+        x[i] += dt * vi;
+        integrated_position_[i] = x[i];
+        strain_record[i] = glm::vec4(x[i], inv_mass[i]);
       }
-      v[i] = vi;
-      x[i] += dt * vi;
-      integrated_position_[i] = x[i];
-      strain_record[i] = glm::vec4(x[i], inv_mass[i]);
     }
-  }
+    contacts_sum += contacts_part;
+  });
+  contacts = contacts_sum.load();
+
   return contacts;
 }
 
@@ -1217,8 +1234,9 @@ std::size_t Solver::limitStrain() {
     const float* rec_in = &strain_records_[it & 1][0].x;
     glm::vec4* rec_out = strain_records_[(it + 1) & 1].data();
     std::size_t count = 0;
-#pragma omp parallel num_threads(threads_) reduction(+ : count)
-    {
+    std::atomic<std::size_t> count_sum{0};
+    parallel::run(threads_, [&] {
+      std::size_t count_part = 0;
       SliceColumns& col = threadSliceColumns();
       forOwnWorkItems(cs, [&](const SliceRun& run) {
         const std::size_t q0 = run.q0, s0 = run.s0;
@@ -1240,12 +1258,14 @@ std::size_t Solver::limitStrain() {
           const float active = col.lane(ACT)[l];
           if (!root[i] && active > 0.0f) {
             out[i] = x[i] + glm::vec3(col.lane(SX)[l], col.lane(SY)[l], col.lane(SZ)[l]) / active;
-            ++count;
+            ++count_part;
           }
           rec_out[i] = glm::vec4(out[i], inv_mass[i]);
         }
       });
-    }
+      count_sum += count_part;
+    });
+    count = count_sum.load();
     particles_.position.swap(limited_position_);
     if (it == 0) limited = count;
     if (count == 0) break;
@@ -1302,61 +1322,62 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   const bool absorb = absorb_corrections_;
   absorb_corrections_ = false;
   static_assert(kBodyBlock <= 65536);
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index bb = 0; bb < static_cast<Index>((n + kBodyBlock - 1) / kBodyBlock); ++bb) {
-    const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
-    const std::size_t len = std::min(n, b + kBodyBlock) - b;
-    applyTethers(b, b + len);
-    glm::vec3 surface[kBodyBlock];
-    bool pushed[kBodyBlock] = {};
-    glm::vec3 push_normal[kBodyBlock];
-    std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
-    glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
-    float q_phi[kBodyBlock];
-    std::size_t asked = len;
-    for (std::size_t o = 0; o < len; ++o) ask[o] = static_cast<std::uint16_t>(o);
-    for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
-      if (round == 0) {
-        queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f);
-      } else {
-        for (std::size_t k = 0; k < asked; ++k) q[k] = x[b + ask[k]];
-        queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
-                    q_surface, 0.0f);
-        for (std::size_t k = 0; k < asked; ++k) {
-          body_phi_[b + ask[k]] = q_phi[k];
-          body_normal_[b + ask[k]] = q_normal[k];
-          surface[ask[k]] = q_surface[k];
+  parallel::forEach(
+      threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
+        const std::size_t b = bb * kBodyBlock;
+        const std::size_t len = std::min(n, b + kBodyBlock) - b;
+        applyTethers(b, b + len);
+        glm::vec3 surface[kBodyBlock];
+        bool pushed[kBodyBlock] = {};
+        glm::vec3 push_normal[kBodyBlock];
+        std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
+        glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
+        float q_phi[kBodyBlock];
+        std::size_t asked = len;
+        for (std::size_t o = 0; o < len; ++o) ask[o] = static_cast<std::uint16_t>(o);
+        for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
+          if (round == 0) {
+            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f);
+          } else {
+            for (std::size_t k = 0; k < asked; ++k) q[k] = x[b + ask[k]];
+            queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
+                        q_surface, 0.0f);
+            for (std::size_t k = 0; k < asked; ++k) {
+              body_phi_[b + ask[k]] = q_phi[k];
+              body_normal_[b + ask[k]] = q_normal[k];
+              surface[ask[k]] = q_surface[k];
+            }
+          }
+          std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
+          for (std::size_t k = 0; k < asked; ++k) {
+            const std::size_t o = ask[k], i = b + o;
+            if (root[i] || !(body_phi_[i] < 0.0f)) continue;
+            x[i] -= body_phi_[i] * body_normal_[i];
+            if (!pushed[o]) push_normal[o] = body_normal_[i];
+            pushed[o] = true;
+            ask[moved++] = static_cast<std::uint16_t>(o);
+          }
+          if (moved == 0) break;
+          asked = moved;
+          if (round + 1 == rounds && has_obstacles) {  // next: the round without obstacles
+            asked = 0;
+            for (std::size_t o = 0; o < len; ++o)
+              if (pushed[o]) ask[asked++] = static_cast<std::uint16_t>(o);
+          }
         }
-      }
-      std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
-      for (std::size_t k = 0; k < asked; ++k) {
-        const std::size_t o = ask[k], i = b + o;
-        if (root[i] || !(body_phi_[i] < 0.0f)) continue;
-        x[i] -= body_phi_[i] * body_normal_[i];
-        if (!pushed[o]) push_normal[o] = body_normal_[i];
-        pushed[o] = true;
-        ask[moved++] = static_cast<std::uint16_t>(o);
-      }
-      if (moved == 0) break;
-      asked = moved;
-      if (round + 1 == rounds && has_obstacles) {  // next: the round without obstacles
-        asked = 0;
-        for (std::size_t o = 0; o < len; ++o)
-          if (pushed[o]) ask[asked++] = static_cast<std::uint16_t>(o);
-      }
-    }
-    for (std::size_t i = b; i < b + len; ++i) {
-      if (root[i]) continue;
-      glm::vec3 vi = v[i];
-      if (x[i] != integrated_position_[i] && !absorb) vi += (x[i] - integrated_position_[i]) / dt;
-      if (pushed[i - b]) {
-        const glm::vec3 nrm = push_normal[i - b];
-        const float vn = glm::dot(vi - surface[i - b], nrm);
-        if (vn > 0.0f) vi -= vn * nrm;  // the push-out is not a velocity
-      }
-      v[i] = vi;
-    }
-  }
+        for (std::size_t i = b; i < b + len; ++i) {
+          if (root[i]) continue;
+          glm::vec3 vi = v[i];
+          if (x[i] != integrated_position_[i] && !absorb)
+            vi += (x[i] - integrated_position_[i]) / dt;
+          if (pushed[i - b]) {
+            const glm::vec3 nrm = push_normal[i - b];
+            const float vn = glm::dot(vi - surface[i - b], nrm);
+            if (vn > 0.0f) vi -= vn * nrm;  // the push-out is not a velocity
+          }
+          v[i] = vi;
+        }
+      });
 }
 
 // ---- wind: move the air, keep it out of the bodies (free slip), emit upwind
@@ -1367,21 +1388,21 @@ void Solver::moveAir(float dt, const std::vector<BodyFrame>& frames,
   auto& ax = air_->positions();
   auto& av = air_->velocities();
   const std::size_t na = ax.size();
-#pragma omp parallel for num_threads(threads_) schedule(static)
-  for (Index bb = 0; bb < static_cast<Index>((na + kBodyBlock - 1) / kBodyBlock); ++bb) {
-    const std::size_t b = static_cast<std::size_t>(bb) * kBodyBlock;
-    const std::size_t e = std::min(na, b + kBodyBlock);
-    float phi[kBodyBlock];
-    glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
-    queryBodies(frames, head_end, &ax[b], e - b, phi, nrm, surface);
-    for (std::size_t a = b; a < e; ++a) {
-      const std::size_t k = a - b;
-      if (!(phi[k] < 0.0f)) continue;
-      ax[a] -= phi[k] * nrm[k];
-      const float vn = glm::dot(av[a] - surface[k], nrm[k]);
-      if (vn < 0.0f) av[a] -= vn * nrm[k];
-    }
-  }
+  parallel::forEach(threads_, static_cast<std::size_t>((na + kBodyBlock - 1) / kBodyBlock),
+                    [&](std::size_t bb) {
+                      const std::size_t b = bb * kBodyBlock;
+                      const std::size_t e = std::min(na, b + kBodyBlock);
+                      float phi[kBodyBlock];
+                      glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
+                      queryBodies(frames, head_end, &ax[b], e - b, phi, nrm, surface);
+                      for (std::size_t a = b; a < e; ++a) {
+                        const std::size_t k = a - b;
+                        if (!(phi[k] < 0.0f)) continue;
+                        ax[a] -= phi[k] * nrm[k];
+                        const float vn = glm::dot(av[a] - surface[k], nrm[k]);
+                        if (vn < 0.0f) av[a] -= vn * nrm[k];
+                      }
+                    });
   air_->emitAndRemove(time_ + params_.time_step, dt, head_end,
                       [&](const glm::vec3* w, std::size_t count, float* phi) {
                         worldBodyDistance(frames, head_end, w, count, phi);
@@ -1478,8 +1499,11 @@ std::size_t Solver::updateDirections(Scratch& s) {
   enum { XJ, YJ, ZJ, kEntryColumns };
   enum { XI, YI, ZI, TX, TY, TZ, SR, ST, ACT, OX, OY, OZ, kLaneColumns };
   std::size_t broken = 0, active = 0;
-#pragma omp parallel num_threads(threads_) reduction(+ : broken, active)
-  {
+  std::atomic<std::size_t> broken_sum{0};
+  std::atomic<std::size_t> active_sum{0};
+  parallel::run(threads_, [&] {
+    std::size_t broken_part = 0;
+    std::size_t active_part = 0;
     SliceColumns& col = threadSliceColumns();
     forOwnWorkItems(cs, [&](const SliceRun& run) {
       const std::size_t q0 = run.q0, s0 = run.s0;
@@ -1502,17 +1526,21 @@ std::size_t Solver::updateDirections(Scratch& s) {
         const std::uint32_t i = owner[l];
         s.sum_root[i] = col.lane(SR)[l];
         s.sum_tip[i] = col.lane(ST)[l];
-        active += static_cast<std::size_t>(col.lane(ACT)[l]);
+        active_part += static_cast<std::size_t>(col.lane(ACT)[l]);
         const glm::vec3 sum(col.lane(OX)[l], col.lane(OY)[l], col.lane(OZ)[l]);
         const float len = std::sqrt(glm::dot(sum, sum));
         if (!root[i] && len > 0.0f) dir[i] = sum * (1.0f / len);
         // Never go on silently with a broken state.
         const glm::vec3 pa = x[i], pb = v[i], pd = dir[i];
         const float probe = pa.x + pa.y + pa.z + pb.x + pb.y + pb.z + pd.x + pd.y + pd.z;
-        broken += std::isfinite(probe) ? 0 : 1;
+        broken_part += std::isfinite(probe) ? 0 : 1;
       }
     });
-  }
+    broken_sum += broken_part;
+    active_sum += active_part;
+  });
+  broken = broken_sum.load();
+  active = active_sum.load();
   s.sums_current = true;
   s.active_entries = active;
   return broken;
@@ -1520,6 +1548,9 @@ std::size_t Solver::updateDirections(Scratch& s) {
 
 // ---- the step ---------------------------------------------------------------
 void Solver::step() {
+  threads_ = thread_choice_ ? thread_choice_->next() : max_threads_;
+  last_step_threads_ = threads_;
+  const auto step_start = Clock::now();
   const float dt = static_cast<float>(params_.time_step);
   const double t_end = time_ + params_.time_step;
   Scratch& s = *scratch_;
@@ -1600,6 +1631,8 @@ void Solver::step() {
   stats_.active_connections = s.active_entries / 2;
   stats_.air_particles = air_ ? air_->size() : 0;
   stats_.hair_air_pairs = air_ ? air_->hairAirPairs() : 0;
+  if (thread_choice_) thread_choice_->record(seconds(step_start, Clock::now()));
+  threads_ = max_threads_;
 }
 
 // ---- queries -----------------------------------------------------------------

@@ -30,6 +30,7 @@ namespace loosehair {
 
 class NeighborGrid;
 class AirSystem;
+class ThreadChoice;
 
 /// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
 /// everything after integration that corrects positions: the strain limit,
@@ -156,8 +157,15 @@ class Solver {
   const InitReport& initReport() const { return report_; }
   const HeadTrajectory& trajectory() const { return trajectory_; }
   const Body& headBody() const { return *head_; }
-  int threadCount() const { return threads_; }
-  /// Worker threads from now on (>= 1). Results do not depend on it.
+  /// The most threads a step runs on. Unless a count was set ("threads"
+  /// > 0 or setThreadCount), a step runs on this many or on one, whichever
+  /// the solver measures to be faster on the machine as it is (one while
+  /// other processes keep every core busy); otherwise on exactly this many.
+  int threadCount() const { return max_threads_; }
+  /// The number of threads the last step ran on.
+  int lastStepThreads() const { return last_step_threads_; }
+  /// Exactly `threads` worker threads from now on (>= 1), or 0: the
+  /// solver's choice, as above. Results do not depend on it.
   void setThreadCount(int threads);
   /// SPH density of the last step (kg/m^3), or the initial one.
   std::span<const float> density() const { return density_; }
@@ -233,7 +241,10 @@ class Solver {
   ConnectionSet connections_;
   std::shared_ptr<const Body> head_;
   HeadTrajectory trajectory_;
-  int threads_ = 1;
+  int threads_ = 1;      // the team size of the passes running now
+  int max_threads_ = 1;  // threadCount()
+  int last_step_threads_ = 1;
+  std::unique_ptr<ThreadChoice> thread_choice_;  // null: exactly max_threads_
   double time_ = 0.0;
   bool absorb_corrections_ = false;  // the step after setKinematicState
 
