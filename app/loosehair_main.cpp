@@ -188,7 +188,6 @@ int simulate(const Options& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
-  const int frames = o.frames.value_or(scene.frames);
 
   const auto t_init = std::chrono::steady_clock::now();
   BuildReport build;
@@ -223,9 +222,23 @@ int simulate(const Options& o) {
                  "may blow up (use \"substeps\": \"auto\" or more substeps)\n",
                  build.time_step * 1e3, r.stable_time_step * 1e3);
 
+  // Frames already run (a resumed snapshot's): the dump's numbering and the
+  // scene's frame count go on from there.
+  int done = 0;
+  if (!o.resume.empty()) {
+    loadSnapshot(solver, o.resume);
+    done = static_cast<int>(solver.stepCount() / static_cast<std::uint64_t>(build.substeps));
+    std::printf("resumed from %s: t = %.4f s, %d frames done\n", o.resume.c_str(), solver.time(), done);
+  }
+  const int to_run = o.frames ? *o.frames : std::max(0, scene.frames - done);
+  auto save = [&] {
+    saveSnapshot(solver, o.save_state);
+  };
+
   const bool tty = isatty(fileno(stderr)) != 0;
   const auto t0 = std::chrono::steady_clock::now();
-  for (int f = 1; f <= frames; ++f) {
+  for (int k = 1; k <= to_run; ++k) {
+    const int f = done + k;
     solver.advance(build.substeps);
     if (!o.dump_dir.empty()) {
       char name[32];
@@ -236,11 +249,17 @@ int simulate(const Options& o) {
         writeAirPly((std::filesystem::path(o.dump_dir) / name).string(), solver);
       }
     }
+    if (o.save_every > 0 && k % o.save_every == 0 && k < to_run) save();
     if (tty) {
       const double elapsed =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      drawProgress(f, frames, elapsed);
+      drawProgress(k, to_run, elapsed);
     }
+  }
+  if (!o.save_state.empty()) {
+    save();
+    std::printf("state saved: %s (t = %.4f s, %d frames)\n", o.save_state.c_str(), solver.time(),
+                done + to_run);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -248,7 +267,7 @@ int simulate(const Options& o) {
   const double steps = static_cast<double>(st.steps);
   const StageTimes& s = st.sum;
   std::printf("simulated %.3f s in %" PRIu64 " steps, %.2f s wall (%.1f frames/s)\n", solver.time(),
-              st.steps, wall, frames / wall);
+              st.steps, wall, wall > 0 ? to_run / wall : 0.0);
   std::printf("stage timings, ms per step (mean):\n");
   const struct {
     const char* name;

@@ -69,6 +69,27 @@ class AirSystem {
   std::size_t emitted() const { return emitted_; }
   std::size_t removed() const { return removed_; }
 
+  /// What a step carries to the next (snapshots).
+  struct State {
+    std::vector<glm::vec3> x, v;
+    std::vector<float> density;
+    double advance = 0;
+    std::uint64_t layer_counter = 0;
+    std::uint64_t emitted = 0, removed = 0;
+  };
+  State state() const {
+    return {x_, v_, density_, advance_, layer_counter_, emitted_, removed_};
+  }
+  void restore(State s) {
+    x_ = std::move(s.x);
+    v_ = std::move(s.v);
+    density_ = std::move(s.density);
+    advance_ = s.advance;
+    layer_counter_ = s.layer_counter;
+    emitted_ = static_cast<std::size_t>(s.emitted);
+    removed_ = static_cast<std::size_t>(s.removed);
+  }
+
  private:
   void emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies,
                  float speed);

@@ -1,12 +1,10 @@
 #include "loosehair/ply_writer.hpp"
 
+#include "loosehair/file_io.hpp"
 #include "loosehair/solver.hpp"
 
 #include <bit>
-#include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <stdexcept>
 #include <vector>
 
 namespace loosehair {
@@ -18,21 +16,8 @@ namespace {
 
 void writeWhole(const std::string& path, const std::string& header,
                 const std::vector<unsigned char>& body) {
-  const std::string tmp = path + ".tmp";
-  std::FILE* file = std::fopen(tmp.c_str(), "wb");
-  if (!file) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
-  const bool ok = std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
-                  std::fwrite(body.data(), 1, body.size(), file) == body.size();
-  const bool closed = std::fclose(file) == 0;
-  if (!ok || !closed) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": write failed: " + std::strerror(errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the finished file: " + std::strerror(err));
-  }
+  writeFileAtomically(path, {header, std::string_view(reinterpret_cast<const char*>(body.data()),
+                                                      body.size())});
 }
 
 }  // namespace

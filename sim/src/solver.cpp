@@ -11,6 +11,7 @@
 #include "neighbor_grid.hpp"
 #include "pair_columns.hpp"
 #include "parallel.hpp"
+#include "solver_scratch.hpp"
 #include "thread_choice.hpp"
 
 #include <glm/geometric.hpp>
@@ -50,23 +51,6 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
 // traffic, not their arithmetic, bounds the step. |x_ij| and k_ij are
 // recomputed where they are needed, from the same expressions, so they have
 // the same bits in every pass.
-struct Solver::Scratch {
-  std::vector<float> sum_root;     // sum over Nr(i) of l_ij k_ij (eqs. 12-13)
-  std::vector<float> sum_tip;      // sum over Nt(i)
-  std::vector<float> factor_root;  // a_r,i, eq. 12
-  std::vector<float> factor_tip;   // a_t,i, eq. 13
-  std::vector<float> weight;       // alpha_ij k_ij of this step (by the spring pass), sliced
-  std::vector<float> k;            // k_ij at the current positions: for the queries only
-  /// What the spring pass reads of a partner, two 16-byte records per
-  /// particle: (x, a_r) and (v, a_t); one cache line instead of three.
-  /// Made by computeSpringFactors, with the factors.
-  std::vector<glm::vec4> spring_records;
-  std::size_t clamped = 0;         // side factors held at the clamp
-  std::size_t active_entries = 0;  // entries with k > 0 (each pair twice)
-  /// The sums belong to the current positions: the direction pass of a step
-  /// computes them for the next one.
-  bool sums_current = false;
-};
 
 // The connections in the solver's slice layout (connection_slices.hpp) with
 // the per-entry constants of the connection passes.
@@ -1548,6 +1532,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
 
 // ---- the step ---------------------------------------------------------------
 void Solver::step() {
+  if (!fingerprint_taken_) (void)sceneFingerprint();
   threads_ = thread_choice_ ? thread_choice_->next() : max_threads_;
   last_step_threads_ = threads_;
   const auto step_start = Clock::now();

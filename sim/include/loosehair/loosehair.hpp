@@ -9,11 +9,13 @@
 
 #include "loosehair/body.hpp"
 #include "loosehair/connections.hpp"
+#include "loosehair/file_io.hpp"
 #include "loosehair/head_motion.hpp"
 #include "loosehair/mesh.hpp"
 #include "loosehair/params.hpp"
 #include "loosehair/particles.hpp"
 #include "loosehair/ply_writer.hpp"
 #include "loosehair/scene.hpp"
+#include "loosehair/snapshot.hpp"
 #include "loosehair/solver.hpp"
 #include "loosehair/wind.hpp"

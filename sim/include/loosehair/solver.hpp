@@ -175,6 +175,11 @@ class Solver {
   /// 64-bit hash of the bits of every position, velocity and direction, in
   /// particle order. Equal states give equal hashes on any thread count.
   std::uint64_t stateHash() const;
+  /// A hash of the state the solver started from (particles, connections,
+  /// air) and of its physical parameters: equal for solvers built from the
+  /// same scene and seed, whatever the thread count. Snapshots carry it
+  /// (snapshot.hpp). Taken before the first step, kept after it.
+  std::uint64_t sceneFingerprint() const;
 
   /// Largest stable step for the current state, 2/sqrt(max_i sum_j alpha_ij k_ij / m_i) (s).
   double stableTimeStep() const;
@@ -246,6 +251,9 @@ class Solver {
   int last_step_threads_ = 1;
   std::unique_ptr<ThreadChoice> thread_choice_;  // null: exactly max_threads_
   double time_ = 0.0;
+  mutable std::uint64_t fingerprint_ = 0;  // sceneFingerprint(), once taken
+  mutable bool fingerprint_taken_ = false;
+  friend struct SnapshotAccess;  // snapshot.cpp
   bool absorb_corrections_ = false;  // the step after setKinematicState
 
   // derived at initialisation

@@ -1,0 +1,311 @@
+#include "loosehair/snapshot.hpp"
+
+#include "loosehair/file_io.hpp"
+#include "loosehair/solver.hpp"
+
+#include "air.hpp"
+#include "solver_scratch.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+namespace loosehair {
+
+static_assert(std::endian::native == std::endian::little,
+              "snapshots are written little-endian, as this machine stores numbers");
+
+namespace {
+
+constexpr char kMagic[16] = {'l', 'o', 'o', 's', 'e', 'h', 'a', 'i',
+                             'r', '-', 's', 't', 'a', 't', 'e', '\n'};
+constexpr std::size_t kHeaderBytes = 16 + 4 + 4 + 8 + 8;
+
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL) {
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+  }
+  template <class T>
+  void array(const std::vector<T>& values) {
+    put<std::uint64_t>(values.size());
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  }
+  std::string out;
+};
+
+// Reads the payload with every length checked against what is left.
+class Reader {
+ public:
+  Reader(std::string_view bytes, const std::string& name) : bytes_(bytes), name_(name) {}
+  template <class T>
+  T get(const char* what) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    need(sizeof(T), what);
+    T value;
+    std::memcpy(&value, bytes_.data() + at_, sizeof value);
+    at_ += sizeof value;
+    return value;
+  }
+  template <class T>
+  std::vector<T> array(const char* what, std::uint64_t expected_count = UINT64_MAX) {
+    const auto count = get<std::uint64_t>(what);
+    if (expected_count != UINT64_MAX && count != expected_count)
+      fail(std::string(what) + ": " + std::to_string(count) + " values where the scene has " +
+           std::to_string(expected_count));
+    if (count > (bytes_.size() - at_) / sizeof(T)) need(SIZE_MAX, what);
+    std::vector<T> values(static_cast<std::size_t>(count));
+    std::memcpy(values.data(), bytes_.data() + at_, values.size() * sizeof(T));
+    at_ += values.size() * sizeof(T);
+    return values;
+  }
+  void end() {
+    if (at_ != bytes_.size()) fail("has " + std::to_string(bytes_.size() - at_) + " bytes after its state");
+  }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw SnapshotError(name_ + ": not a usable snapshot: " + why);
+  }
+
+ private:
+  void need(std::size_t bytes, const char* what) const {
+    if (bytes > bytes_.size() - at_) fail(std::string("ends inside ") + what);
+  }
+  std::string_view bytes_;
+  const std::string& name_;
+  std::size_t at_ = 0;
+};
+
+bool finite(const std::vector<glm::vec3>& v) {
+  for (const glm::vec3& p : v)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+  return true;
+}
+bool finite(const std::vector<float>& v) {
+  for (float f : v)
+    if (!std::isfinite(f)) return false;
+  return true;
+}
+
+}  // namespace
+
+// The solver's private state, for the snapshot only.
+struct SnapshotAccess {
+  static std::uint64_t fingerprint(const Solver& s) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    auto mix = [&h](const auto& vec) {
+      h = fnv1a(std::string_view(reinterpret_cast<const char*>(vec.data()),
+                                 vec.size() * sizeof(vec[0])),
+                h ^ vec.size());
+    };
+    const Particles& p = s.particles_;
+    mix(p.position);
+    mix(p.velocity);
+    mix(p.direction);
+    mix(p.mass);
+    mix(p.is_root);
+    mix(p.uv);
+    mix(p.arc_length);
+    mix(p.root_point);
+    const ConnectionSet& c = s.connections_;
+    mix(c.offset);
+    mix(c.partner);
+    mix(c.rest_length);
+    mix(c.strength);
+    if (s.air_) {
+      mix(s.air_->positions());
+      mix(s.air_->velocities());
+    }
+    // the physical parameters (not the thread count, nor the time step,
+    // which the snapshot carries)
+    const SimParams& q = s.params_;
+    const std::vector<float> values = {
+        q.h1, q.h2, q.alignment_threshold, static_cast<float>(q.target_connections),
+        q.youngs_modulus, q.material_density, q.stiffness_clamp, q.spring_damping,
+        static_cast<float>(q.strain_limit), q.max_strain,
+        static_cast<float>(q.strain_limit_iterations), static_cast<float>(q.tether),
+        q.tether_slack, static_cast<float>(q.hair_hair), q.pressure_stiffness,
+        q.rest_density_scale, q.collision_rate, q.friction_rate, q.gravity.x, q.gravity.y,
+        q.gravity.z, q.air_drag, q.body_friction, q.contact_thickness,
+        static_cast<float>(s.world_bodies_.size())};
+    mix(values);
+    return h;
+  }
+
+  static std::string encode(const Solver& s) {
+    Writer w;
+    w.put<double>(s.time_);
+    w.put<std::uint64_t>(s.stats_.steps);
+    w.put<double>(s.params_.time_step);
+    w.array(s.particles_.position);
+    w.array(s.particles_.velocity);
+    w.array(s.particles_.direction);
+    w.put<std::uint8_t>(s.absorb_corrections_ ? 1 : 0);
+    const auto& scratch = *s.scratch_;
+    w.put<std::uint8_t>(scratch.sums_current ? 1 : 0);
+    if (scratch.sums_current) {
+      w.array(scratch.sum_root);
+      w.array(scratch.sum_tip);
+      w.put<std::uint64_t>(scratch.active_entries);
+    }
+    w.put<std::uint8_t>(s.air_ ? 1 : 0);
+    if (s.air_) {
+      const AirSystem::State a = s.air_->state();
+      w.array(a.x);
+      w.array(a.v);
+      w.array(a.density);
+      w.put<double>(a.advance);
+      w.put<std::uint64_t>(a.layer_counter);
+      w.put<std::uint64_t>(a.emitted);
+      w.put<std::uint64_t>(a.removed);
+    }
+    return std::move(w.out);
+  }
+
+  static void decode(Solver& s, std::string_view payload, const std::string& name) {
+    Reader r(payload, name);
+    const std::size_t n = s.particles_.size();
+    const auto time = r.get<double>("the time");
+    const auto steps = r.get<std::uint64_t>("the step count");
+    const auto dt = r.get<double>("the time step");
+    auto position = r.array<glm::vec3>("the positions", n);
+    auto velocity = r.array<glm::vec3>("the velocities", n);
+    auto direction = r.array<glm::vec3>("the directions", n);
+    const bool absorb = r.get<std::uint8_t>("the correction flag") != 0;
+    const bool sums_current = r.get<std::uint8_t>("the sums flag") != 0;
+    std::vector<float> sum_root, sum_tip;
+    std::uint64_t active = 0;
+    if (sums_current) {
+      sum_root = r.array<float>("the root-side sums", n);
+      sum_tip = r.array<float>("the tip-side sums", n);
+      active = r.get<std::uint64_t>("the active connection count");
+    }
+    const bool has_air = r.get<std::uint8_t>("the wind flag") != 0;
+    if (has_air != (s.air_ != nullptr))
+      r.fail(has_air ? "it has wind and the scene has none" : "the scene has wind and it has none");
+    AirSystem::State air;
+    if (has_air) {
+      air.x = r.array<glm::vec3>("the air positions");
+      air.v = r.array<glm::vec3>("the air velocities", air.x.size());
+      air.density = r.array<float>("the air densities");
+      if (air.density.size() > air.x.size()) r.fail("more air densities than air particles");
+      air.advance = r.get<double>("the wind run");
+      air.layer_counter = r.get<std::uint64_t>("the air layer count");
+      air.emitted = r.get<std::uint64_t>("the emitted air count");
+      air.removed = r.get<std::uint64_t>("the removed air count");
+    }
+    r.end();
+    if (!std::isfinite(time) || time < -1e9 || time > 1e9) r.fail("the time is " + std::to_string(time));
+    if (!finite(position) || !finite(velocity) || !finite(direction) || !finite(sum_root) ||
+        !finite(sum_tip) || !finite(air.x) || !finite(air.v) || !finite(air.density) ||
+        !std::isfinite(air.advance))
+      r.fail("it holds non-finite numbers");
+    for (const glm::vec3& t : direction)
+      if (std::abs(glm::dot(t, t) - 1.0f) > 1e-3f) r.fail("a hair direction is not a unit vector");
+    if (dt != s.params_.time_step) {
+      SimParams next = s.params_;
+      next.time_step = dt;
+      if (!validate(next).empty() || !std::isfinite(dt))
+        r.fail("its time step " + std::to_string(dt) + " s is not valid for this scene");
+    }
+
+    // Everything checked: the solver changes only from here on.
+    if (dt != s.params_.time_step) s.setTimeStep(dt);
+    s.time_ = time;
+    s.stats_ = StepStats{};
+    s.stats_.steps = steps;
+    s.particles_.position = std::move(position);
+    s.particles_.velocity = std::move(velocity);
+    s.particles_.direction = std::move(direction);
+    s.absorb_corrections_ = absorb;
+    if (s.air_) s.air_->restore(std::move(air));
+    // Queries between steps see the state (as after a step).
+    s.findNeighbors();
+    s.computeDensity();
+    auto& scratch = *s.scratch_;
+    scratch.sums_current = sums_current;
+    if (sums_current) {
+      scratch.sum_root = std::move(sum_root);
+      scratch.sum_tip = std::move(sum_tip);
+      scratch.active_entries = static_cast<std::size_t>(active);
+    }
+  }
+};
+
+std::uint64_t Solver::sceneFingerprint() const {
+  if (!fingerprint_taken_) {
+    fingerprint_ = SnapshotAccess::fingerprint(*this);
+    fingerprint_taken_ = true;
+  }
+  return fingerprint_;
+}
+
+std::string encodeSnapshot(const Solver& solver) {
+  const std::string payload = SnapshotAccess::encode(solver);
+  Writer w;
+  w.out.append(kMagic, sizeof kMagic);
+  w.put<std::uint32_t>(kSnapshotVersion);
+  w.put<std::uint32_t>(0);
+  w.put<std::uint64_t>(solver.sceneFingerprint());
+  w.put<std::uint64_t>(payload.size());
+  w.out += payload;
+  w.put<std::uint64_t>(fnv1a(w.out));
+  return std::move(w.out);
+}
+
+void decodeSnapshot(Solver& solver, std::string_view bytes, const std::string& name) {
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw SnapshotError(name + ": not a loosehair snapshot (it does not start with \"loosehair-state\")");
+  if (bytes.size() < kHeaderBytes + 8)
+    throw SnapshotError(name + ": the snapshot is truncated (" + std::to_string(bytes.size()) + " bytes)");
+  std::uint32_t version = 0;
+  std::uint64_t fingerprint = 0, length = 0, checksum = 0;
+  std::memcpy(&version, bytes.data() + 16, 4);
+  std::memcpy(&fingerprint, bytes.data() + 24, 8);
+  std::memcpy(&length, bytes.data() + 32, 8);
+  if (version != kSnapshotVersion)
+    throw SnapshotError(name + ": snapshot version " + std::to_string(version) +
+                        ", this program reads version " + std::to_string(kSnapshotVersion));
+  if (length != bytes.size() - kHeaderBytes - 8)
+    throw SnapshotError(name + ": the snapshot is truncated or damaged (" + std::to_string(bytes.size()) +
+                        " bytes where its header says " + std::to_string(length + kHeaderBytes + 8) + ")");
+  std::memcpy(&checksum, bytes.data() + bytes.size() - 8, 8);
+  if (checksum != fnv1a(bytes.substr(0, bytes.size() - 8)))
+    throw SnapshotError(name + ": the snapshot is damaged (its checksum does not match)");
+  if (fingerprint != solver.sceneFingerprint())
+    throw SnapshotError(name + ": the snapshot was saved from another scene (or another seed, "
+                               "particle count or physical parameter) than the one given");
+  SnapshotAccess::decode(solver, bytes.substr(kHeaderBytes, length), name);
+}
+
+void saveSnapshot(const Solver& solver, const std::string& path) {
+  const std::string bytes = encodeSnapshot(solver);
+  try {
+    writeFileAtomically(path, {bytes});
+  } catch (const FileError& e) {
+    throw SnapshotError(e.what());
+  }
+}
+
+void loadSnapshot(Solver& solver, const std::string& path) {
+  std::string bytes;
+  try {
+    bytes = readRegularFile(path, kMaxSnapshotFileBytes);
+  } catch (const FileError& e) {
+    throw SnapshotError(e.what());
+  }
+  decodeSnapshot(solver, bytes, path);
+}
+
+}  // namespace loosehair
