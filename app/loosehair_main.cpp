@@ -46,6 +46,8 @@ constexpr const char* kSimulateUsage =
     "    --overwrite      let --dump (or render's --out) replace the frames of an\n"
     "                     earlier run in DIR (they are removed first)\n"
     "    --seed S         random seed of the hair sampling (default: the scene's \"seed\")\n"
+    "    --allow-expensive  start scenes that need very many steps, air particles or\n"
+    "                     distance-grid cells (refused by default, with what to change)\n"
     "    --save-state F   write a snapshot of the whole state to F at the end (and\n"
     "                     every N frames with --save-every N); --resume F goes on\n"
     "                     from it, bit-identically\n";
@@ -68,7 +70,7 @@ constexpr const char* kRenderUsage =
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
     "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
     "    --light X,Y,Z    direction towards the (parallel) light\n"
-    "    --frames, --threads, --seed   as for simulate\n";
+    "    --frames, --threads, --seed, --allow-expensive   as for simulate\n";
 
 constexpr const char* kUsage =
     "usage: loosehair simulate SCENE [options]   run a scene headless, print its state hash\n"
@@ -80,6 +82,13 @@ struct UsageError {
   std::string message;
   const char* usage = kUsage;
 };
+
+// --allow-expensive: buildSolver starts whatever the scene costs.
+void liftCostLimits(loosehair::SceneDesc& scene) {
+  scene.limits.max_substeps = 1 << 30;
+  scene.limits.max_air_particles = std::size_t{1} << 40;
+  scene.limits.max_sdf_cells = 1e18;
+}
 
 // Makes `dir` ready for a run's frames: created if missing. A directory that
 // already holds files is refused unless `overwrite`, and then the frames of
@@ -134,7 +143,7 @@ struct Options {
   std::optional<std::uint64_t> seed;
   std::string dump_dir, save_state, resume;
   int save_every = 0;
-  bool overwrite = false;
+  bool overwrite = false, allow_expensive = false;
 };
 
 Options parseSimulate(const std::vector<std::string>& args) {
@@ -155,6 +164,8 @@ Options parseSimulate(const std::vector<std::string>& args) {
       o.dump_dir = value();
     else if (a == "--overwrite")
       o.overwrite = true;
+    else if (a == "--allow-expensive")
+      o.allow_expensive = true;
     else if (a == "--save-state")
       o.save_state = value();
     else if (a == "--save-every")
@@ -188,6 +199,7 @@ int simulate(const Options& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
+  if (o.allow_expensive) liftCostLimits(scene);
 
   const auto t_init = std::chrono::steady_clock::now();
   BuildReport build;
@@ -211,10 +223,11 @@ int simulate(const Options& o) {
   std::printf("time step %.4f ms x %d per frame (stable limit %.4f ms), %d threads, init %.2f s\n",
               build.time_step * 1e3, build.substeps, r.stable_time_step * 1e3,
               solver.threadCount(), init_seconds);
+  for (const std::string& w : build.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (r.unanchored > 0)
     std::fprintf(stderr,
                  "warning: %zu particles cannot reach a root through root-side connections and "
-                 "will fall (h1 too small for the sampling?)\n",
+                 "will fall (raise hair.h1_scale a little, or hair.particles)\n",
                  r.unanchored);
   if (build.time_step > r.stable_time_step)
     std::fprintf(stderr,
@@ -309,7 +322,7 @@ double parseReal(const std::string& flag, const std::string& value, double lo, d
 struct RenderOptions {
   std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter";
-  bool overwrite = false;
+  bool overwrite = false, allow_expensive = false;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
   int width = 640, height = 480;
@@ -330,6 +343,7 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       else if (a == "--seed") o.seed = static_cast<std::uint64_t>(parseInteger(a, value(), 0, INT64_MAX));
       else if (a == "--out") o.out_dir = value();
       else if (a == "--overwrite") o.overwrite = true;
+      else if (a == "--allow-expensive") o.allow_expensive = true;
       else if (a == "--video") o.video = value();
       else if (a == "--camera") {
         o.camera = value();
@@ -415,6 +429,7 @@ int renderScene(const RenderOptions& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
+  if (o.allow_expensive) liftCostLimits(scene);
   const int frames = o.frames.value_or(scene.frames);
   std::string ffmpeg;
   if (!o.video.empty()) {

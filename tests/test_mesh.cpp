@@ -225,7 +225,7 @@ TEST(Mesh, ScaleUpAndFrontAxesPlaceTheMesh) {
 
 TEST(Mesh, BadMeshesAreRejectedWithTheProblem) {
   const fs::path d = tempDir();
-  expectRejected(d / "missing.obj", "no such file");
+  expectRejected(d / "missing.obj", "No such file");
   writeText(d / "cube.xyz", kCubeObj);
   expectRejected(d / "cube.xyz", "unknown mesh format");
   writeText(d / "empty.obj", "# nothing\n");

@@ -108,7 +108,7 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   expectRejected(meshScene(R"(, "up": "+z", "front": "-z")"), "head.front: must be a different axis from up");
   expectRejected(meshScene(R"(, "scale": 0)"), "head.scale: must be a number in (0,");
   expectRejected(meshScene(R"(, "sdf_voxel": -1)"), "head.sdf_voxel");
-  expectRejected(R"({"head": {"type": "mesh", "mesh": "nowhere/head.obj"}})", "head.mesh: nowhere/head.obj: no such file");
+  expectRejected(R"({"head": {"type": "mesh", "mesh": "nowhere/head.obj"}})", "head.mesh: nowhere/head.obj: cannot open: No such file");
   expectRejected(R"({"head": {"type": "mesh"}})", "head.mesh: is required");
   expectRejected(meshScene("", R"(, "scalp": {"type": "sphere-cap"})"), R"(scalp.type: "sphere-cap" needs a sphere head)");
   expectRejected(meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0,0],[1,1,1]]})"), "scalp.right: is required");
@@ -126,7 +126,7 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   missing_map.replace(missing_map.find("hair_length.png"), 15, "no_such_map.png");
   expectRejected(missing_map, "hair.length_map:");
   // Torso, obstacles and wind.
-  expectRejected(meshScene("", R"(, "torso": {"mesh": "none.obj"})"), "torso.mesh: none.obj: no such file");
+  expectRejected(meshScene("", R"(, "torso": {"mesh": "none.obj"})"), "torso.mesh: none.obj: cannot open: No such file");
   expectRejected(meshScene("", R"(, "obstacles": [{"type": "cone"}])"), "obstacles[0].type: must be");
   expectRejected(meshScene("", R"(, "obstacles": [{"type": "capsule", "a": [0,0,0]}])"), "obstacles[0].a: a capsule needs both");
   expectRejected(meshScene("", R"(, "obstacles": [{"radius": 0.1, "begin": 2, "end": 1}])"), "obstacles[0].end: must be later");

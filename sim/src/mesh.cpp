@@ -1,5 +1,9 @@
 #include "loosehair/mesh.hpp"
 
+#include "loosehair/file_io.hpp"
+#include "mesh_file_checks.hpp"
+
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -68,12 +72,57 @@ void toOpenMesh(const TriangleMesh& mesh, OMesh& om) {
   for (const auto& t : mesh.triangles) om.add_face(vh[t.x], vh[t.y], vh[t.z]);
 }
 
-TriangleMesh readWithOpenMesh(const std::string& path) {
+// OpenMesh reports on streams of its own, line by line (up to tens of
+// thousands of lines for a broken file): they are silenced while it reads,
+// and what it would have said is checked here instead.
+class QuietOpenMesh {
+ public:
+  QuietOpenMesh() {
+    ::omerr().disable();
+    ::omlog().disable();
+    ::omout().disable();
+  }
+  ~QuietOpenMesh() {
+    ::omerr().enable();
+    ::omlog().enable();
+    ::omout().enable();
+  }
+  QuietOpenMesh(const QuietOpenMesh&) = delete;
+  QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
+};
+
+TriangleMesh readWithOpenMesh(const std::string& path, const std::string& ext) {
+  std::string bytes;
+  try {
+    bytes = readRegularFile(path, kMaxMeshFileBytes);
+  } catch (const FileError& e) {
+    throw MeshError(e.what());
+  }
+  const MeshFileCounts counts = checkMeshFile(path, bytes, ext);
   OMesh om;
   OpenMesh::IO::Options opt;
-  if (!OpenMesh::IO::read_mesh(om, path, opt))
-    throw MeshError(path + ": cannot read the mesh (missing file or not a valid " +
-                    std::filesystem::path(path).extension().string() + " file)");
+  // Binary variants, told from the content (a stream reader cannot look):
+  // a PLY header naming a binary format, an STL whose triangle count fits
+  // its size (checkMeshFile refuses any other non-ASCII STL).
+  if ((ext == ".ply" && bytes.substr(0, std::min<std::size_t>(bytes.size(), 512)).find("format binary") !=
+                            std::string::npos) ||
+      (ext == ".stl" && isBinaryStl(bytes)))
+    opt += OpenMesh::IO::Options::Binary;
+  bool ok = false;
+  {
+    const QuietOpenMesh quiet;
+    std::istringstream in(bytes);
+    try {
+      ok = OpenMesh::IO::read_mesh(om, in, ext.substr(1), opt);
+    } catch (const std::bad_alloc&) {
+      throw MeshError(path + ": the mesh is too large to read");
+    }
+  }
+  if (!ok) throw MeshError(path + ": not a valid " + ext + " mesh (the reader could not make sense of it)");
+  // (more is fine: OpenMesh duplicates vertices where faces meet badly)
+  if (counts.vertices > 0 && om.n_vertices() < counts.vertices)
+    throw MeshError(path + ": the file defines " + std::to_string(counts.vertices) + " vertices but " +
+                    std::to_string(om.n_vertices()) + " could be read (a malformed vertex?)");
   return fromOpenMesh(om);
 }
 
@@ -213,13 +262,18 @@ TriangleMesh readGltf(const std::string& path, bool binary) {
   } else {
     for (std::size_t n = 0; n < model.nodes.size(); ++n) stack.emplace_back(static_cast<int>(n), glm::mat4(1.0f));
   }
-  std::size_t visited = 0;
+  // glTF nodes form a forest: a node reached twice is in a cycle or has two
+  // parents, either way not a valid file (and a cycle would never end).
+  std::vector<char> reached(model.nodes.size(), 0);
   while (!stack.empty()) {
     auto [ni, parent] = stack.back();
     stack.pop_back();
     if (ni < 0 || static_cast<std::size_t>(ni) >= model.nodes.size())
-      throw MeshError(path + ": a node index is out of range");
-    if (++visited > 1000000) throw MeshError(path + ": the node hierarchy has a cycle");
+      throw MeshError(path + ": node index " + std::to_string(ni) + " is out of range (" +
+                      std::to_string(model.nodes.size()) + " nodes)");
+    if (reached[static_cast<std::size_t>(ni)]++)
+      throw MeshError(path + ": node " + std::to_string(ni) +
+                      " is reached twice: the node hierarchy has a cycle or a node with two parents");
     const auto& node = model.nodes[static_cast<std::size_t>(ni)];
     const glm::mat4 xf = parent * nodeMatrix(node);
     if (node.mesh >= 0) {
@@ -296,16 +350,21 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   const glm::vec3 up = axisVector(options.up), front = axisVector(options.front);
   if (std::abs(glm::dot(up, front)) > 0.5f)
     throw MeshError(path + ": the up and front axes must be different axes");
-  if (!std::filesystem::exists(path)) throw MeshError(path + ": no such file");
+  try {
+    (void)checkRegularFile(path, kMaxMeshFileBytes);
+  } catch (const FileError& e) {
+    throw MeshError(std::string(e.what()) + " (a mesh)");
+  }
   const std::string ext = lower(std::filesystem::path(path).extension().string());
   TriangleMesh mesh;
   if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl")
-    mesh = readWithOpenMesh(path);
+    mesh = readWithOpenMesh(path, ext);
   else if (ext == ".gltf" || ext == ".glb")
     mesh = readGltf(path, ext == ".glb");
   else
-    throw MeshError(path + ": unknown mesh format \"" + ext +
-                    "\" (use .obj, .ply, .off, .stl, .gltf or .glb)");
+    throw MeshError(path + ": " + (ext.empty() ? std::string("the file name has no extension")
+                                                : "unknown mesh format \"" + ext + "\"") +
+                    " (use .obj, .ply, .off, .stl, .gltf or .glb)");
   weld(mesh);
   // File frame -> simulator frame: up -> +Y, front -> +Z, right = up x front -> +X.
   const glm::vec3 right = glm::cross(up, front);

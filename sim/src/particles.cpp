@@ -3,6 +3,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -36,7 +37,11 @@ void Particles::check() const {
     if (!finite3(position[i]) || !finite3(velocity[i]) || !finite3(root_point[i]))
       throw std::invalid_argument(at + "non-finite position, velocity or root point");
     if (!(mass[i] > 0.0f) || !std::isfinite(mass[i]))
-      throw std::invalid_argument(at + "mass " + std::to_string(mass[i]) + " is not positive");
+    {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "%g", static_cast<double>(mass[i]));
+      throw std::invalid_argument(at + "mass " + buf + " kg is not positive");
+    }
     const float len = glm::length(direction[i]);
     if (!(std::abs(len - 1.0f) < 1e-3f))
       throw std::invalid_argument(at + "hair direction is not a unit vector");

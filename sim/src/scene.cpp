@@ -5,13 +5,16 @@
 #include "init/length_map.hpp"
 #include "init/mesh_scalp.hpp"
 #include "init/scalp_surface.hpp"
+#include "json_checks.hpp"
 #include "neighbor_grid.hpp"
+#include "loosehair/file_io.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -45,10 +48,19 @@ class PlacedBody final : public Body {
   glm::vec3 c_;
 };
 
+// A value for an error message: short values whole, long ones cut (the
+// input's nesting is bounded by checkJson, so dumping is safe).
+std::string num(double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 std::string show(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
+  if (v.is_string()) return "\"" + clipped(v.get_ref<const std::string&>()) + "\"";
+  if (v.is_array() && v.size() > 16) return "an array of " + std::to_string(v.size()) + " values";
+  if (v.is_object() && v.size() > 16) return "an object of " + std::to_string(v.size()) + " fields";
+  return clipped(v.dump());
 }
 
 // A JSON object being read: remembers its path for messages and which keys
@@ -98,8 +110,24 @@ class Fields {
                        std::int64_t hi) {
     if (!has(key)) return fallback;
     const json& v = obj_.at(key);
-    if (!v.is_number_integer()) fail(key, "must be an integer, got " + show(v));
-    const std::int64_t i = v.get<std::int64_t>();
+    // 1e5 is an integer written as a number with an exponent: taken if exact
+    std::int64_t i = 0;
+    if (v.is_number_integer()) {
+      if (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX))
+        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                      "], got " + show(v));
+      i = v.get<std::int64_t>();
+    } else if (v.is_number_float()) {
+      const double d = v.get<double>();
+      if (!(std::floor(d) == d) || !(std::abs(d) < 9.2e18))
+        fail(key, "must be a whole number, got " + show(v));
+      if (d < static_cast<double>(lo) || d > static_cast<double>(hi))
+        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                      "], got " + show(v));
+      i = static_cast<std::int64_t>(d);
+    } else {
+      fail(key, "must be an integer, got " + show(v));
+    }
     if (i < lo || i > hi)
       fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                     "], got " + show(v));
@@ -168,7 +196,8 @@ void readSolver(Fields f, SceneDesc& s) {
   p.target_connections =
       static_cast<int>(f.integer("target_connections", p.target_connections, 1, 256));
   p.youngs_modulus = f.real("youngs_modulus", p.youngs_modulus, 0.0, 1e12, true);
-  p.material_density = f.real("material_density", p.material_density, 0.0, 1e5, true);
+  // from a light foam to beyond any metal (hair keratin: about 1300)
+  p.material_density = f.real("material_density", p.material_density, 1.0, 1e5);
   p.stiffness_clamp = f.real("stiffness_clamp", p.stiffness_clamp, 1.0, 1e6);
   p.spring_damping = f.real("spring_damping", p.spring_damping, 0.0, 1.0);
   p.strain_limit = f.boolean("strain_limit", p.strain_limit);
@@ -340,11 +369,12 @@ HeadTrajectory readMotion(Fields f) {
 }  // namespace
 
 SceneDesc parseScene(const std::string& text, const std::string& source) {
+  checkJson(text, source, [](const std::string& message) { throw SceneError(message); });
   json root;
   try {
     root = json::parse(text);
   } catch (const json::exception& e) {
-    throw SceneError(source + ": invalid JSON: " + e.what());
+    throw SceneError(source + ": invalid JSON: " + clipped(e.what(), 200));
   }
   SceneDesc s;
   s.source = source;
@@ -423,7 +453,8 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
     HairSpec& h = s.hair;
     h.particles = static_cast<int>(hair.integer("particles", h.particles, 10, 20000000));
     h.length = hair.real("length", h.length, 0.0, 10.0, true);
-    h.mass = hair.real("mass", h.mass, 0.0, 100.0, true);
+    // at least a milligram: lighter "hair" rounds to zero-mass particles
+    h.mass = hair.real("mass", h.mass, 1e-6, 100.0);
     const glm::dvec3 whorl = hair.vec3("whorl", glm::dvec3(h.whorl), 1e6);
     if (!(glm::length(whorl) > 1e-9)) hair.fail("whorl", "must be a non-zero direction, got [0,0,0]");
     h.whorl = glm::vec3(glm::normalize(whorl));
@@ -448,12 +479,13 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
 }
 
 SceneDesc loadScene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw SceneError(path + ": cannot read the scene file");
-  return parseScene(text.str(), path);
+  std::string text;
+  try {
+    text = readRegularFile(path, kMaxTextFileBytes);
+  } catch (const FileError& e) {
+    throw SceneError(std::string(e.what()) + " (the scene file)");
+  }
+  return parseScene(text, path);
 }
 
 Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
@@ -475,6 +507,38 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
       throw SceneError(scene.source + ": " + field + ".mesh: " + e.what());
     }
     rep.seconds_meshes += since(t0);
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& v : mesh.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+    const glm::vec3 extent = hi - lo;
+    const float size = std::max({extent.x, extent.y, extent.z});
+    auto metres = [](double v) {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "%.3g m", v);
+      return std::string(buf);
+    };
+    // A head or body of no size (a tiny scale) has no surface to hang hair on
+    if (!(size >= 1e-3f))
+      throw SceneError(scene.source + ": " + field + ".scale: the mesh is " + metres(size) +
+                       " across after scaling (scale " + num(spec.load.scale) +
+                       "); a " + field + " is tenths of a metre: set " + field +
+                       ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
+    if (field == "head" && (size < 0.08f || size > 0.6f))
+      rep.warnings.push_back(field + ": the mesh is " + metres(size) + " across, far from a human head (about 0.2 m); if its unit is not the metre, set " +
+                             field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
+    if (spec.sdf_voxel > 0.0f) {
+      double cells = 1;
+      for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
+      if (cells > scene.limits.max_sdf_cells)
+        throw SceneError(scene.source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
+                         " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
+                         " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
+                         " GB), above the limit of " +
+                         std::to_string(static_cast<long long>(scene.limits.max_sdf_cells / 1e6)) +
+                         " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
+    }
     t0 = Clock::now();
     SdfBakeOptions opt;
     opt.voxel_size = spec.sdf_voxel;
@@ -485,12 +549,22 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
       body = GridSdfBody::bake(mesh, opt, &cached);
     } catch (const MeshError& e) {
       throw SceneError(scene.source + ": " + field + ".sdf_voxel: " + e.what());
+    } catch (const std::bad_alloc&) {
+      throw SceneError(scene.source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
+    } catch (const std::exception& e) {
+      throw SceneError(scene.source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) + ")");
     }
     rep.sdf_from_cache = cached;
     rep.seconds_sdf += since(t0);
     return body;
   };
   if (scene.head_kind == HeadKind::Sphere) {
+    if (scene.head_radius < 5e-4)
+      throw SceneError(scene.source + ": head.radius: " + num(scene.head_radius) +
+                       " m has no surface to hang hair on; a human head is about 0.1 m");
+    if (scene.head_radius < 0.04 || scene.head_radius > 0.3)
+      rep.warnings.push_back("head.radius: " + num(scene.head_radius) +
+                             " m is far from a human head (about 0.1 m)");
     scalp_owner = std::make_unique<SphereCapScalp>(scene.head_center, scene.head_radius,
                                                    glm::radians(scene.cap_angle_deg));
     head = std::make_shared<SphereBody>(scene.head_center, scene.head_radius);
@@ -646,7 +720,7 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   if (scene.h2_auto) params.h2 = std::min(hair.h2_scale * mean_nn, 0.8f * params.h1);
   if (!(params.h2 < params.h1))
     throw SceneError(scene.source + ": solver.h2 = " + std::to_string(params.h2) +
-                     " must be smaller than solver.h1 = " + std::to_string(params.h1) +
+                     " must be smaller than solver.h1 = " + num(params.h1) +
                      " (Poisson radius " + std::to_string(rp) +
                      " m, mean nearest-neighbour distance " + std::to_string(mean_nn) + " m)");
 
@@ -663,6 +737,24 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
     throw SceneError(msg);
   }
   Solver solver(params, std::move(p), head, scene.motion);
+  // Hair that hangs on nothing: no roots, no connections, or most of the
+  // hair unable to reach a root through its connections (a scalp too small
+  // for the sampling, a smoothing length below the particle spacing).
+  {
+    const InitReport& r = solver.initReport();
+    const std::size_t free_particles = r.particles - r.roots;
+    const std::string fix =
+        " (the scalp is too small for the hair, or hair.h1_scale too small for the particle "
+        "spacing: make the head or scalp larger, or raise hair.h1_scale or hair.particles)";
+    if (r.roots == 0)
+      throw SceneError(scene.source + ": no particle lies under the scalp, so the hair hangs on nothing" + fix);
+    if (r.connection_pairs == 0)
+      throw SceneError(scene.source + ": no two particles are within h1 = " + num(params.h1) +
+                       " m of each other, so nothing holds the hair together" + fix);
+    if (free_particles > 0 && 2 * r.unanchored > free_particles)
+      throw SceneError(scene.source + ": " + std::to_string(r.unanchored) + " of " + std::to_string(free_particles) +
+                       " hair particles cannot reach a root through their connections and would fall" + fix);
+  }
   if (torso) solver.addWorldBody(torso);
   for (const ObstacleSpec& o : scene.obstacles) {
     std::shared_ptr<const Body> shape;
@@ -673,6 +765,14 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
     solver.addWorldBody(shape, o.motion, o.begin, o.end, true);
   }
   if (scene.has_wind) {
+    const glm::vec3 box = scene.wind.box_size;
+    const double air = static_cast<double>(box.x) * box.y * box.z /
+                       std::pow(static_cast<double>(scene.wind.spacing), 3.0);
+    if (air > static_cast<double>(scene.limits.max_air_particles))
+      throw SceneError(scene.source + ": wind.spacing: " + num(scene.wind.spacing) +
+                       " m fills the air box with about " + std::to_string(static_cast<long long>(air)) +
+                       " air particles, above the limit of " + std::to_string(scene.limits.max_air_particles) +
+                       ": use a larger spacing or a smaller wind.box_size (or --allow-expensive)");
     try {
       solver.setWind(scene.wind);
     } catch (const std::invalid_argument& e) {
@@ -686,7 +786,14 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
                                           params.air_drag, 1e-9f});
     const double longest = std::min({0.6 * solver.initReport().stable_time_step,
                                      0.25 / fastest_rate, solver.airStableTimeStep()});
-    substeps = std::max(1, static_cast<int>(std::ceil(frame_time / longest)));
+    const double needed = std::ceil(frame_time / longest);
+    if (needed > scene.limits.max_substeps)
+      throw SceneError(scene.source + ": the stable time step is " + num(longest * 1e3) +
+                       " ms, so a frame would need " + std::to_string(static_cast<long long>(needed)) +
+                       " steps, above the limit of " + std::to_string(scene.limits.max_substeps) +
+                       ": lower solver.youngs_modulus, solver.collision_rate, solver.friction_rate or "
+                       "solver.air_drag, or raise the particle spacing (fewer hair.particles) (or --allow-expensive)");
+    substeps = std::max(1, static_cast<int>(needed));
     solver.setTimeStep(frame_time / substeps);
   }
   if (report) {

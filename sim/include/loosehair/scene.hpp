@@ -92,6 +92,13 @@ struct SceneDesc {
   SimParams sim;
   bool h1_auto = true, h2_auto = true;
   HeadTrajectory motion = HeadTrajectory::still();
+  /// What buildSolver refuses to start (not read from the file: the
+  /// program's --allow-expensive lifts them).
+  struct CostLimits {
+    int max_substeps = 2000;                    // solver steps a frame
+    std::size_t max_air_particles = 4'000'000;  // wind
+    double max_sdf_cells = 256.0e6;             // a body's signed-distance grid (4 bytes a cell)
+  } limits;
 };
 
 /// Reads and validates a scene file. Throws SceneError.
@@ -113,6 +120,9 @@ struct BuildReport {
   bool sdf_from_cache = false;
   double seconds_meshes = 0, seconds_sdf = 0, seconds_scalp = 0, seconds_sampling = 0,
          seconds_strands = 0;
+  /// Things the scene allows but a user should look at (a head far from
+  /// human size, say), each a sentence naming the field and what to set.
+  std::vector<std::string> warnings;
 };
 
 /// Grows the hair of `scene` and returns a solver ready to step. Throws

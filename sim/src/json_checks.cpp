@@ -1,0 +1,117 @@
+#include "json_checks.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <set>
+#include <vector>
+
+namespace loosehair {
+namespace {
+
+using json = nlohmann::json;
+
+// A SAX pass that builds nothing: it follows the nesting and the keys.
+class Checker : public nlohmann::json_sax<json> {
+ public:
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(true); }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(false); }
+  bool end_array() override { return close(); }
+  bool key(string_t& k) override {
+    Level& level = stack_.back();
+    if (!level.keys.insert(k).second) {
+      problem_ = pathWith(k) + ": the key \"" + clipped(k) + "\" appears twice in one object";
+      return false;
+    }
+    level.key = k;
+    return true;
+  }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
+    problem_ = "invalid JSON at byte " + std::to_string(position) + ": " + clipped(e.what(), 200);
+    return false;
+  }
+
+  const std::string& problem() const { return problem_; }
+
+ private:
+  struct Level {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;      // the current key (objects)
+    std::size_t index = 0;  // the current element (arrays)
+  };
+
+  bool value() {
+    if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+    return true;
+  }
+  bool open(bool object) {
+    if (static_cast<int>(stack_.size()) >= kMaxJsonDepth) {
+      problem_ = clipped(stack_.empty() ? std::string("the top level") : path(), 80) + ": nested more than " +
+                 std::to_string(kMaxJsonDepth) + " levels deep";
+      return false;
+    }
+    stack_.push_back(Level{object, {}, {}, 0});
+    return true;
+  }
+  bool close() {
+    stack_.pop_back();
+    return value();
+  }
+  // The path of the current value: levels [0, depth) of the stack.
+  std::string path(std::size_t depth) const {
+    std::string p;
+    for (std::size_t d = 0; d < depth; ++d) {
+      const Level& l = stack_[d];
+      if (l.object) {
+        if (l.key.empty()) continue;
+        if (!p.empty()) p.push_back('.');
+        p.append(clipped(l.key, 40));
+      } else {
+        p.push_back('[');
+        p.append(std::to_string(l.index));
+        p.push_back(']');
+      }
+    }
+    return p;
+  }
+  std::string path() const {
+    std::string p = path(stack_.size());
+    return p.empty() ? std::string("the top level") : p;
+  }
+  // The repeated key `k` of the innermost object.
+  std::string pathWith(const std::string& k) const {
+    std::string p = path(stack_.size() - 1);
+    if (!p.empty()) p.push_back('.');
+    p.append(clipped(k, 40));
+    return p;
+  }
+
+  std::vector<Level> stack_;
+  std::string problem_;
+};
+
+}  // namespace
+
+std::string clipped(std::string_view text, std::size_t limit) {
+  if (text.size() <= limit) return std::string(text);
+  return std::string(text.substr(0, limit > 3 ? limit - 3 : 0)) + "... (" +
+         std::to_string(text.size()) + " characters)";
+}
+
+void checkJson(std::string_view text, const std::string& source,
+               void (*raise)(const std::string& message)) {
+  Checker checker;
+  const bool ok = json::sax_parse(text.begin(), text.end(), &checker, json::input_format_t::json,
+                                  /*strict=*/true);
+  if (!ok) raise(source + ": " + (checker.problem().empty() ? "invalid JSON" : checker.problem()));
+}
+
+}  // namespace loosehair

@@ -1,0 +1,27 @@
+// Checks of a mesh file's text before a library reads it (mesh.cpp): counts
+// in PLY and OFF headers that the file cannot hold (they made the readers
+// allocate until memory ran out), and in OBJ files every vertex's numbers
+// (non-finite ones, which OpenMesh dropped, shifting later indices) and
+// every face's vertex indices (out-of-range ones, which it dropped
+// silently). Each problem is a MeshError naming the file, the line or
+// element, and the value.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace loosehair {
+
+/// What the file says it holds (0 where unknown).
+struct MeshFileCounts {
+  std::size_t vertices = 0, faces = 0;
+};
+
+/// A binary STL: 80 bytes of header, a triangle count, and 50 bytes a
+/// triangle, exactly filling the file.
+bool isBinaryStl(const std::string& bytes);
+
+/// `ext` is the lower-case extension with its dot (".obj", ".ply", ...).
+MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext);
+
+}  // namespace loosehair
