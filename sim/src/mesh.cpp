@@ -98,7 +98,8 @@ TriangleMesh readWithOpenMesh(const std::string& path, const std::string& ext) {
   } catch (const FileError& e) {
     throw MeshError(e.what());
   }
-  const MeshFileCounts counts = checkMeshFile(path, bytes, ext);
+  MeshFileCounts counts = checkMeshFile(path, bytes, ext);
+  if (counts.has_mesh) return std::move(counts.mesh);  // PLY and OFF: read by the check itself
   OMesh om;
   OpenMesh::IO::Options opt;
   // Binary variants, told from the content (a stream reader cannot look):
@@ -155,13 +156,25 @@ class AccessorReader {
       throw MeshError(path + ": an accessor index is out of range");
     acc_ = &model.accessors[static_cast<std::size_t>(index)];
     if (acc_->bufferView < 0) throw MeshError(path + ": sparse or empty accessors are not supported");
+    if (static_cast<std::size_t>(acc_->bufferView) >= model.bufferViews.size())
+      throw MeshError(path + ": accessor " + std::to_string(index) + " names buffer view " +
+                      std::to_string(acc_->bufferView) + " of " + std::to_string(model.bufferViews.size()));
     const auto& view = model.bufferViews[static_cast<std::size_t>(acc_->bufferView)];
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
+      throw MeshError(path + ": buffer view " + std::to_string(acc_->bufferView) + " names buffer " +
+                      std::to_string(view.buffer) + " of " + std::to_string(model.buffers.size()));
     const auto& buffer = model.buffers[static_cast<std::size_t>(view.buffer)];
     comps_ = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc_->type));
     comp_size_ = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(acc_->componentType));
     if (comps_ <= 0 || comp_size_ <= 0) throw MeshError(path + ": an accessor has an unknown type");
     stride_ = acc_->ByteStride(view);
     if (stride_ <= 0) throw MeshError(path + ": an accessor has an invalid byte stride");
+    const std::size_t size = buffer.data.size();
+    // every sum below within the buffer's size, so none can wrap around
+    if (view.byteOffset > size || view.byteLength > size - view.byteOffset ||
+        acc_->byteOffset > size - view.byteOffset ||
+        (acc_->count > 0 && acc_->count - 1 > size / static_cast<std::size_t>(stride_)))
+      throw MeshError(path + ": an accessor reads past the end of its buffer");
     const std::size_t begin = view.byteOffset + acc_->byteOffset;
     const std::size_t need =
         acc_->count == 0 ? 0

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <sstream>
 #include <string_view>
+#include <vector>
 
 namespace loosehair {
 namespace {
@@ -43,53 +44,264 @@ std::size_t count(const std::string& path, const std::string& what, const std::s
   return static_cast<std::size_t>(v);
 }
 
+// PLY: the header's elements and properties, then a walk over the body
+// (ASCII tokens or binary bytes) that checks every element is there, every
+// list count fits in what is left of the file (a huge count made OpenMesh
+// allocate for minutes), and vertex coordinates are finite numbers.
+struct PlyProperty {
+  std::string name;
+  bool list = false;
+  int count_bytes = 0, value_bytes = 0;  // binary sizes (count: lists only)
+  bool value_float = false, value_signed = false;
+};
+struct PlyElement {
+  std::string name;
+  std::size_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+int plyTypeBytes(const std::string& path, const std::string& type, bool* is_float, bool* is_signed = nullptr) {
+  static const struct {
+    const char* name;
+    int bytes;
+    bool floating;
+  } kTypes[] = {{"char", 1, false},   {"uchar", 1, false},  {"short", 2, false},  {"ushort", 2, false},
+                {"int", 4, false},    {"uint", 4, false},   {"float", 4, true},   {"double", 8, true},
+                {"int8", 1, false},   {"uint8", 1, false},  {"int16", 2, false},  {"uint16", 2, false},
+                {"int32", 4, false},  {"uint32", 4, false}, {"float32", 4, true}, {"float64", 8, true}};
+  for (const auto& t : kTypes)
+    if (type == t.name) {
+      if (is_float) *is_float = t.floating;
+      if (is_signed) *is_signed = t.floating || type.rfind("u", 0) != 0;
+      return t.bytes;
+    }
+  fail(path, "the PLY header names an unknown type \"" + shown(type) + "\"");
+}
+
 MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
   std::size_t at = 0;
   if (nextLine(bytes, at) != "ply") fail(path, "not a PLY file (it does not start with \"ply\")");
-  MeshFileCounts c;
-  // every vertex needs three numbers and every face a count and three
-  // indices: at least a byte each, two in ASCII
   const std::size_t size = bytes.size();
+  std::vector<PlyElement> elements;
+  std::string format;
   bool ended = false;
   while (at < size) {
     const std::string line(nextLine(bytes, at));
     std::istringstream in(line);
-    std::string word, name, n;
+    std::string word;
     in >> word;
     if (word == "end_header") {
       ended = true;
       break;
     }
-    if (word != "element") continue;
-    in >> name >> n;
-    if (name == "vertex") c.vertices = count(path, "vertices", n, size / 3);
-    else if (name == "face") c.faces = count(path, "faces", n, size / 4);
-    else (void)count(path, name, n, size);
+    if (word == "format") {
+      std::string version, extra;
+      in >> format >> version;
+      if (version != "1.0" || (in >> extra))
+        fail(path, "the PLY format line \"" + shown(line) + "\" does not end in version 1.0");
+    } else if (word == "element") {
+      std::string name, n;
+      in >> name >> n;
+      const std::string plural = name == "vertex" ? "vertices" : name == "face" ? "faces" : name + " elements";
+      elements.push_back({name, count(path, plural, n, size), {}});
+    } else if (word == "property") {
+      if (elements.empty()) fail(path, "the PLY header has a property before any element");
+      PlyProperty prop;
+      std::string type;
+      in >> type;
+      if (type == "list") {
+        std::string count_type, value_type;
+        in >> count_type >> value_type >> prop.name;
+        prop.list = true;
+        prop.count_bytes = plyTypeBytes(path, count_type, nullptr);
+        prop.value_bytes = plyTypeBytes(path, value_type, &prop.value_float, &prop.value_signed);
+      } else {
+        in >> prop.name;
+        prop.value_bytes = plyTypeBytes(path, type, &prop.value_float, &prop.value_signed);
+      }
+      std::string extra;
+      if (prop.name.empty() || (in >> extra))
+        fail(path, "the PLY property line \"" + shown(line) + "\" is malformed");
+      elements.back().properties.push_back(prop);
+    } else if (word != "comment" && word != "obj_info" && !word.empty()) {
+      fail(path, "the PLY header has a line \"" + shown(line) + "\" that is not an element, property or comment");
+    }
   }
   if (!ended) fail(path, "the PLY header has no end_header line");
+  if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+    fail(path, "the PLY format \"" + shown(format) + "\" is not ascii or binary");
+  MeshFileCounts c;
+  for (const PlyElement& e : elements) {
+    auto has = [&](const char* name, bool list) {
+      for (const PlyProperty& p : e.properties)
+        if (p.name == name && p.list == list) return true;
+      return false;
+    };
+    if (e.name == "vertex") {
+      c.vertices = e.count;
+      if (!has("x", false) || !has("y", false) || !has("z", false))
+        fail(path, "the PLY vertex element lacks one of the properties x, y and z");
+      for (const PlyProperty& p : e.properties)
+        if (p.list) fail(path, "the PLY vertex element has a list property (" + shown(p.name) + ")");
+    }
+    if (e.name == "face") {
+      c.faces = e.count;
+      if (!has("vertex_indices", true) && !has("vertex_index", true))
+        fail(path, "the PLY face element has no vertex_indices list");
+    }
+  }
+  // cheap bounds first: every element takes at least a byte a property
+  for (const PlyElement& e : elements)
+    if (e.count > 0 && e.properties.size() > 0 && e.count > (size - at) / e.properties.size())
+      fail(path, "the header claims " + std::to_string(e.count) + " " + shown(e.name) +
+                     " elements, more than a file of this size can hold");
+  const bool ascii = format == "ascii";
+  const bool big = format == "binary_big_endian";
+  auto where = [&](const PlyElement& e, std::size_t k) { return shown(e.name) + " " + std::to_string(k); };
+  // One value of property p, as a double (ASCII token or binary bytes).
+  auto token = [&](const PlyElement& e, std::size_t k) -> std::string {
+    while (at < size && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+    const std::size_t b = at;
+    while (at < size && !std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+    if (b == at) fail(path, "the file ends inside " + where(e, k));
+    return bytes.substr(b, at - b);
+  };
+  auto binary = [&](const PlyElement& e, std::size_t k, int nbytes, bool floating, bool is_signed) -> double {
+    if (size - at < static_cast<std::size_t>(nbytes)) fail(path, "the file ends inside " + where(e, k));
+    unsigned char b[8] = {};
+    for (int i = 0; i < nbytes; ++i)
+      b[i] = static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(big ? nbytes - 1 - i : i)]);
+    at += static_cast<std::size_t>(nbytes);
+    if (floating) {
+      if (nbytes == 4) {
+        float f;
+        std::memcpy(&f, b, 4);
+        return f;
+      }
+      double d;
+      std::memcpy(&d, b, 8);
+      return d;
+    }
+    std::uint64_t u = 0;
+    for (int i = nbytes - 1; i >= 0; --i) u = (u << 8) | b[i];
+    if (is_signed && nbytes < 8 && (u >> (8 * nbytes - 1)) != 0) u |= ~std::uint64_t{0} << (8 * nbytes);
+    return is_signed ? static_cast<double>(static_cast<std::int64_t>(u)) : static_cast<double>(u);
+  };
+  auto value = [&](const PlyElement& e, std::size_t k, const PlyProperty& p, bool count) -> double {
+    if (ascii) {
+      const std::string t = token(e, k);
+      char* end = nullptr;
+      const double d = std::strtod(t.c_str(), &end);
+      if (*end != '\0') fail(path, where(e, k) + ": \"" + shown(t) + "\" is not a number");
+      return d;
+    }
+    return count ? binary(e, k, p.count_bytes, false, false) : binary(e, k, p.value_bytes, p.value_float, p.value_signed);
+  };
+  for (const PlyElement& e : elements) {
+    const bool vertex = e.name == "vertex", face = e.name == "face";
+    for (std::size_t k = 0; k < e.count; ++k) {
+      glm::vec3 xyz(0.0f);
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          const double d = value(e, k, p, false);
+          if (vertex && (p.name == "x" || p.name == "y" || p.name == "z")) {
+            if (!std::isfinite(d) || std::abs(d) > 1e30)
+              fail(path, where(e, k) + ": " + p.name + " is not a finite number");
+            xyz[p.name[0] - 'x'] = static_cast<float>(d);
+          }
+          continue;
+        }
+        const double nd = value(e, k, p, true);
+        const std::size_t per = ascii ? 2 : static_cast<std::size_t>(p.value_bytes);
+        if (!(nd >= 0) || nd != std::floor(nd) || nd > static_cast<double>((size - at) / per))
+          fail(path, where(e, k) + ": the list " + shown(p.name) + " claims " + std::to_string(nd) +
+                         " values, more than the rest of the file holds");
+        const auto n = static_cast<std::size_t>(nd);
+        const bool corners = face && (p.name == "vertex_indices" || p.name == "vertex_index");
+        if (corners && n < 3) fail(path, where(e, k) + " has " + std::to_string(n) + " corners, fewer than 3");
+        std::vector<std::uint32_t> idx;
+        for (std::size_t v = 0; v < n; ++v) {
+          const double d = value(e, k, p, false);
+          if (!corners) continue;
+          if (!(d >= 0) || d >= static_cast<double>(c.vertices) || d != std::floor(d))
+            fail(path, where(e, k) + " refers to vertex " + std::to_string(d) + " of " + std::to_string(c.vertices));
+          idx.push_back(static_cast<std::uint32_t>(d));
+        }
+        for (std::size_t v = 1; v + 1 < idx.size(); ++v) c.mesh.triangles.emplace_back(idx[0], idx[v], idx[v + 1]);
+      }
+      if (vertex) c.mesh.vertices.push_back(xyz);
+    }
+  }
+  c.has_mesh = true;
   return c;
 }
 
+// OFF (and its COFF/NOFF/STOFF variants): the counts, then one vertex a
+// line (three finite coordinates first) and one face a line (a corner
+// count and that many indices of defined vertices first). OpenMesh's reader
+// ran for minutes on some malformed faces.
 MeshFileCounts checkOff(const std::string& path, const std::string& bytes) {
-  std::size_t at = 0;
-  std::string_view first = nextLine(bytes, at);
-  while (!first.empty() && std::isspace(static_cast<unsigned char>(first.front()))) first.remove_prefix(1);
-  if (first.substr(0, 3).find("OFF") == std::string_view::npos && first.find("OFF") == std::string_view::npos)
-    fail(path, "not an OFF file (its first line does not name OFF)");
-  // the counts: on the first line after "OFF", or on the next line that is
-  // not a comment
-  std::string counts(first.substr(first.find("OFF") + 3));
-  while (counts.find_first_not_of(" \t") == std::string::npos && at < bytes.size()) {
-    std::string_view line = nextLine(bytes, at);
-    if (!line.empty() && line.front() == '#') continue;
-    counts = std::string(line);
-  }
+  std::size_t at = 0, line_no = 0;
+  // the next line that is neither blank nor a comment
+  auto content = [&]() -> std::string {
+    while (at < bytes.size()) {
+      std::string line(nextLine(bytes, at));
+      ++line_no;
+      const std::size_t hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      if (line.find_first_not_of(" \t") != std::string::npos) return line;
+    }
+    return {};
+  };
+  std::string first = content();
+  const std::size_t off = first.find("OFF");
+  if (off == std::string::npos) fail(path, "not an OFF file (its first line does not name OFF)");
+  if (first.find("BINARY") != std::string::npos) fail(path, "binary OFF files are not read; use ASCII OFF, PLY or OBJ");
+  std::string counts = first.substr(off + 3);
+  if (counts.find_first_not_of(" \t") == std::string::npos) counts = content();
   std::istringstream in(counts);
   std::string nv, nf;
   in >> nv >> nf;
   MeshFileCounts c;
-  c.vertices = count(path, "vertices", nv, bytes.size() / 3);
-  c.faces = count(path, "faces", nf, bytes.size() / 4);
+  c.vertices = count(path, "vertices", nv, bytes.size() / 6);
+  c.faces = count(path, "faces", nf, bytes.size() / 8);
+  const std::string at_line = "line ";
+  for (std::size_t v = 0; v < c.vertices; ++v) {
+    const std::string line = content();
+    const std::string where = at_line + std::to_string(line_no) + ": vertex " + std::to_string(v) + " ";
+    if (line.empty()) fail(path, "the file ends after " + std::to_string(v) + " of " + nv + " vertices");
+    const char* s0 = line.c_str();
+    glm::vec3 xyz(0.0f);
+    for (int k = 0; k < 3; ++k) {
+      char* end = nullptr;
+      const double d = std::strtod(s0, &end);
+      if (end == s0) fail(path, where + "needs three numbers: \"" + shown(line) + "\"");
+      if (!std::isfinite(d) || std::abs(d) > 1e30)
+        fail(path, where + "has a coordinate that is not a finite number: \"" + shown(line) + "\"");
+      xyz[k] = static_cast<float>(d);
+      s0 = end;
+    }
+    c.mesh.vertices.push_back(xyz);
+  }
+  for (std::size_t f = 0; f < c.faces; ++f) {
+    const std::string line = content();
+    const std::string where = at_line + std::to_string(line_no) + ": face " + std::to_string(f) + " ";
+    if (line.empty()) fail(path, "the file ends after " + std::to_string(f) + " of " + nf + " faces");
+    std::istringstream fin(line);
+    long long n = -1;
+    if (!(fin >> n) || n < 3 || n > 1000000)
+      fail(path, where + "needs a corner count of at least 3: \"" + shown(line) + "\"");
+    std::vector<std::uint32_t> idx;
+    for (long long k = 0; k < n; ++k) {
+      long long i = -1;
+      if (!(fin >> i)) fail(path, where + "has fewer than " + std::to_string(n) + " corners: \"" + shown(line) + "\"");
+      if (i < 0 || i >= static_cast<long long>(c.vertices))
+        fail(path, where + "refers to vertex " + std::to_string(i) + " of " + std::to_string(c.vertices));
+      idx.push_back(static_cast<std::uint32_t>(i));
+    }
+    for (std::size_t v = 1; v + 1 < idx.size(); ++v) c.mesh.triangles.emplace_back(idx[0], idx[v], idx[v + 1]);
+  }
+  c.has_mesh = true;
   return c;
 }
 

@@ -7,14 +7,21 @@
 // element, and the value.
 #pragma once
 
+#include "loosehair/mesh.hpp"
+
 #include <cstddef>
 #include <string>
 
 namespace loosehair {
 
-/// What the file says it holds (0 where unknown).
+/// What the file says it holds (0 where unknown), and for PLY and OFF the
+/// mesh itself, read here (polygons as fans of triangles): OpenMesh's
+/// readers of these formats hung or allocated without bound on malformed
+/// files the checks could not rule out one by one.
 struct MeshFileCounts {
   std::size_t vertices = 0, faces = 0;
+  bool has_mesh = false;
+  TriangleMesh mesh;
 };
 
 /// A binary STL: 80 bytes of header, a triangle count, and 50 bytes a
