@@ -9,7 +9,7 @@ scripts/build.sh
 echo "== sanitizer build (ASan + UBSan) =="
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Release -DLOOSEHAIR_SANITIZE=ON \
   -DLOOSEHAIR_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build/asan -j"$jobs" --target loosehair_sim_tests loosehair
+cmake --build build/asan -j"$jobs" --target loosehair_sim_tests loosehair loosehair_fuzz
 echo "== solver tests under ASan + UBSan =="
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j"$jobs" -L 'sim|cli'

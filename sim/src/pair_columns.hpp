@@ -73,7 +73,7 @@ class PairColumns {
   int columns_ = 0;
 };
 
-/// The calling thread's columns (OpenMP threads keep theirs across steps).
+/// The calling thread's columns (team threads keep theirs across steps).
 inline PairColumns& threadColumns() {
   static thread_local PairColumns columns;
   return columns;

@@ -68,7 +68,7 @@ double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-using Index = std::int64_t;  // OpenMP loop index
+using Index = std::int64_t;
 
 // alpha_ij (eq. 14) of an entry from the owner's factor on the entry's side
 // and the partner's factor on the other side: j on i's tip side means i on
@@ -103,7 +103,7 @@ static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWi
 
 // How the work is shared among threads. Every pass gives each thread one
 // contiguous range: the per-particle loops an equal range of particle
-// indices (OpenMP schedule(static)), the connection passes about the same
+// indices (parallel::share), the connection passes about the same
 // range cut at whole windows with about equal work (workItemPart), the
 // neighbour search an equal range of the search order, density and
 // hair-hair about the same range with about equal pairs
@@ -420,7 +420,7 @@ namespace {
 // its own, however the hair has moved since it was made. Four partners'
 // records are loaded whole and transposed into the columns (4 loads and a
 // few shuffles where a scalar gather makes 12 loads and 12 stores). The
-// calling thread's buffers, shared with its OpenMP team, so that const
+// calling thread's buffers, shared with its team (parallel.hpp), so that const
 // queries from several threads stay safe.
 struct HairRecords {
   std::vector<glm::vec4> xm, vp, tt;
@@ -752,7 +752,7 @@ namespace {
 
 // The hair-hair force on i of each gathered pair (SPEC §4, eqs. 16-18), for
 // accumulateHairHairForces. A function of its own with plain arguments so
-// that the loop vectorises (inside the OpenMP region it does not).
+// that the loop vectorises (inside the parallel region's lambda it may not).
 struct HairHairTerms {
   float inv_h, norm_w, norm_g;  // kernel W(r, h2): 1/h, 1/(4 pi h^3), 1/(4 pi h^4)
   float dc, dfr;                // collision and friction coefficients

@@ -99,7 +99,10 @@ struct SimParams {
   float contact_thickness = 0.002f;
 
   // ---- execution -------------------------------------------------------
-  /// Worker threads (0 = all hardware threads). Results do not depend on it.
+  /// Worker threads: 0 (the default) lets the solver choose between all the
+  /// cores the process may use and one, whichever it measures to be faster
+  /// (one while other programs keep the cores busy); T > 0 is exactly T.
+  /// Results do not depend on it.
   int threads = 0;
 };
 
