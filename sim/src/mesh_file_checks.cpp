@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
@@ -21,9 +22,15 @@ namespace {
 std::string_view nextLine(const std::string& bytes, std::size_t& at) {
   const std::size_t end = std::min(bytes.find('\n', at), bytes.size());
   std::string_view line(bytes.data() + at, end - at);
-  at = end + 1;
+  at = std::min(end + 1, bytes.size());  // never past the end (a last line without a newline)
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
   return line;
+}
+
+std::string numberText(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
 }
 
 std::string shown(std::string_view s) {
@@ -153,8 +160,10 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
   // cheap bounds first: every element takes at least a byte a property
   for (const PlyElement& e : elements)
     if (e.count > 0 && e.properties.size() > 0 && e.count > (size - at) / e.properties.size())
-      fail(path, "the header claims " + std::to_string(e.count) + " " + shown(e.name) +
-                     " elements, more than a file of this size can hold");
+      fail(path, "the header claims " + std::to_string(e.count) + " " +
+                     (e.name == "vertex" ? std::string("vertices") : e.name == "face" ? std::string("faces")
+                                                                          : shown(e.name) + " elements") +
+                     ", more than a file of this size can hold");
   const bool ascii = format == "ascii";
   const bool big = format == "binary_big_endian";
   auto where = [&](const PlyElement& e, std::size_t k) { return shown(e.name) + " " + std::to_string(k); };
@@ -214,7 +223,7 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
         const double nd = value(e, k, p, true);
         const std::size_t per = ascii ? 2 : static_cast<std::size_t>(p.value_bytes);
         if (!(nd >= 0) || nd != std::floor(nd) || nd > static_cast<double>((size - at) / per))
-          fail(path, where(e, k) + ": the list " + shown(p.name) + " claims " + std::to_string(nd) +
+          fail(path, where(e, k) + ": the list " + shown(p.name) + " claims " + numberText(nd) +
                          " values, more than the rest of the file holds");
         const auto n = static_cast<std::size_t>(nd);
         const bool corners = face && (p.name == "vertex_indices" || p.name == "vertex_index");
@@ -224,7 +233,7 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
           const double d = value(e, k, p, false);
           if (!corners) continue;
           if (!(d >= 0) || d >= static_cast<double>(c.vertices) || d != std::floor(d))
-            fail(path, where(e, k) + " refers to vertex " + std::to_string(d) + " of " + std::to_string(c.vertices));
+            fail(path, where(e, k) + " refers to vertex " + numberText(d) + " of " + std::to_string(c.vertices));
           idx.push_back(static_cast<std::uint32_t>(d));
         }
         for (std::size_t v = 1; v + 1 < idx.size(); ++v) c.mesh.triangles.emplace_back(idx[0], idx[v], idx[v + 1]);
