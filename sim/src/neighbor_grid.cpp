@@ -461,7 +461,9 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
   } else {
     rank_.clear();  // neighbors(i) is for point-index lists only
   }
-  if (buffers_.size() != static_cast<std::size_t>(threads)) buffers_.resize(threads);
+  // never shrunk: the automatic thread count switches between 1 and all, and a
+  // shrink would free the other threads' buffers each time
+  if (buffers_.size() < static_cast<std::size_t>(threads)) buffers_.resize(threads);
   const float r2 = radius * radius;
 
   // Chunks of sorted points, an equal contiguous range of them a thread,

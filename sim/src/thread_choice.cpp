@@ -18,7 +18,7 @@ void ThreadChoice::record(double seconds) {
     probe_sum_ += seconds;
     if (--probing_ > 0) return;
     const double probe_mean = probe_sum_ / kProbeSteps;
-    if (probe_mean < 0.9 * mean_) {  // clearly faster: switch
+    if (probe_mean < 0.8 * mean_) {  // clearly faster (a noisy step or two is not): switch
       many_ = !many_;
       mean_ = probe_mean;
       interval_ = kShortestInterval;

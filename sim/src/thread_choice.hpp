@@ -7,8 +7,9 @@
 // now and then descheduled for a whole time slice (milliseconds) while the
 // others wait for it at the step's barriers; one thread never waits. Which
 // is faster is measured, not guessed: the solver reports each step's wall
-// time, and now and then a short probe runs the other choice. The probes
-// become rarer while they lose (up to kLongestInterval steps apart) and
+// time, and now and then a short probe runs the other choice. The first
+// probe comes after kFirstInterval steps; probes become twice as rare
+// each time they lose (up to kLongestInterval steps apart) and
 // frequent again when the step time moves the way a change of load moves it
 // (all threads slower, or one thread faster), so a load that comes is
 // noticed within a few dozen steps, one that goes within kLongestInterval. Results do not depend on the choice (bitwise, SPEC §5).
@@ -19,6 +20,7 @@ namespace loosehair {
 class ThreadChoice {
  public:
   static constexpr int kProbeSteps = 2;
+  static constexpr int kFirstInterval = 4;  // steps before the first probe
   static constexpr int kShortestInterval = 16;
   static constexpr int kLongestInterval = 1024;
 
@@ -37,7 +39,7 @@ class ThreadChoice {
   bool many_ = true;        // the current choice: most_ threads (else one)
   double mean_ = 0;         // running mean step time of the current choice
   double decided_mean_ = 0;  // mean_ when the current choice was last confirmed
-  int since_probe_ = 0, interval_ = kShortestInterval;
+  int since_probe_ = 0, interval_ = kFirstInterval;
   int probing_ = 0;  // probe steps left (> 0: the other choice runs)
   double probe_sum_ = 0;
 };
