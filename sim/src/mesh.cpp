@@ -91,7 +91,9 @@ class QuietOpenMesh {
   QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
 };
 
-TriangleMesh readWithOpenMesh(const std::string& path, const std::string& ext) {
+// OBJ, PLY, OFF and STL: read whole, checked (mesh_file_checks.hpp); PLY and
+// OFF come out of the checks themselves, OBJ and STL go on to OpenMesh.
+TriangleMesh readPolygonFile(const std::string& path, const std::string& ext) {
   std::string bytes;
   try {
     bytes = readRegularFile(path, kMaxMeshFileBytes);
@@ -371,7 +373,7 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   const std::string ext = lower(std::filesystem::path(path).extension().string());
   TriangleMesh mesh;
   if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl")
-    mesh = readWithOpenMesh(path, ext);
+    mesh = readPolygonFile(path, ext);
   else if (ext == ".gltf" || ext == ".glb")
     mesh = readGltf(path, ext == ".glb");
   else
