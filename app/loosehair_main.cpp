@@ -215,8 +215,11 @@ int simulate(const Options& o) {
                 build.head_triangles, build.sdf_from_cache ? "from cache" : "baked",
                 build.seconds_sdf, build.scalp_triangles, build.scalp_area * 1e4, build.seconds_scalp,
                 build.scalp_mean_value ? " (mean-value weights)" : "");
-  std::printf("particles: %zu (%zu roots), connections: %zu pairs, degree mean %.1f min %u max %u\n",
-              r.particles, r.roots, r.connection_pairs, r.mean_degree, r.min_degree, r.max_degree);
+  std::printf("particles: %zu (%zu roots", r.particles, r.roots);
+  if (build.stragglers_dropped > 0)
+    std::printf("; %zu dropped, with nothing nearer the root within reach", build.stragglers_dropped);
+  std::printf("), connections: %zu pairs, degree mean %.1f min %u max %u\n", r.connection_pairs,
+              r.mean_degree, r.min_degree, r.max_degree);
   std::printf("Poisson radius %.4f m, mean nearest neighbour %.4f m, h1 = %.4f m, h2 = %.4f m\n",
               build.poisson_radius, build.mean_neighbor_distance, solver.params().h1,
               solver.params().h2);

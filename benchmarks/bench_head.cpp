@@ -47,6 +47,39 @@ void BM_SdfBake(benchmark::State& state) {
 }
 BENCHMARK(BM_SdfBake)->Arg(0)->Arg(20)->ArgName("voxel_0.1mm")->Unit(benchmark::kMillisecond);
 
+// Contact queries near the head's surface: points within +-range mm of it
+// (placed along the vertex normals, in a fixed order), asked of the grid
+// alone and of the exact mesh body (grid first, nearest triangle where the
+// grid cannot decide), with the solver's contact limits 0 and 2 mm.
+void contactQueries(benchmark::State& state, bool exact) {
+  static const std::shared_ptr<GridSdfBody> grid = GridSdfBody::bake(head(), {});
+  static const MeshBody mesh_body(head(), grid);
+  const Body& body = exact ? static_cast<const Body&>(mesh_body) : *grid;
+  const float range = static_cast<float>(state.range(0)) * 1e-3f;
+  const float limit = static_cast<float>(state.range(1)) * 1e-3f;
+  const auto normals = vertexNormals(head());
+  std::vector<glm::vec3> p(4096);
+  std::uint32_t h = 12345;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    h = h * 1664525u + 1013904223u;
+    const std::size_t v = h % head().vertices.size();
+    h = h * 1664525u + 1013904223u;
+    const float off = range * (2.0f * static_cast<float>(h >> 8) / 16777216.0f - 1.0f);
+    p[k] = head().vertices[v] + off * normals[v];
+  }
+  std::vector<float> phi(p.size());
+  std::vector<glm::vec3> nrm(p.size());
+  for (auto _ : state) {
+    body.signedDistanceBelow(p.data(), p.size(), limit, phi.data(), nrm.data());
+    benchmark::DoNotOptimize(phi.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(p.size()));
+}
+void BM_ContactQueryGrid(benchmark::State& state) { contactQueries(state, false); }
+void BM_ContactQueryExact(benchmark::State& state) { contactQueries(state, true); }
+BENCHMARK(BM_ContactQueryGrid)->Args({1, 0})->Args({5, 0})->Args({5, 2})->ArgNames({"range_mm", "limit_mm"});
+BENCHMARK(BM_ContactQueryExact)->Args({1, 0})->Args({5, 0})->Args({5, 2})->ArgNames({"range_mm", "limit_mm"});
+
 void BM_HarmonicScalpMap(benchmark::State& state) {
   const ScalpCurves curves = automaticScalpCurves(head(), headSdf());
   std::size_t triangles = 0;

@@ -23,10 +23,11 @@ SceneDesc bundled(const std::string& name, int particles) {
   return s;
 }
 
-// Penetration is measured against the same signed-distance grids the solver
-// uses; the projection leaves particles on the interpolated surface, up to
-// rounding and the crease between head and torso.
-constexpr float kInsideTolerance = 2e-4f;  // m
+// Penetration is measured against the exact triangles (MeshBody, tested
+// against brute force in test_mesh_body.cpp); the projection puts particles
+// 1 um outside, so only rounding and the crease between head and torso,
+// where pushing out of one body can push into the other, remain.
+constexpr float kInsideTolerance = 1e-5f;  // m
 
 struct Watch {
   float worst_stretch = -1;  // max (|x - r| - s) / L_max
@@ -147,15 +148,16 @@ TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   EXPECT_GT(after, 0.6 * before) << "and comes back together under gravity";
   // While they fall back together, the wisps pass through each other
   // without hair-hair interactions and less with them. One run's measure
-  // moves by about 20% with any change of the initial state, so every one
-  // of three samplings of the hair must show it, and their mean by 15%.
+  // moves by about 20% with any change of the initial state (larger than a
+  // single run's effect), so the mean of three samplings of the hair must
+  // show it by 15%, and no sampling may be markedly worse with them.
   double cross_on = 0, cross_off = 0;
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const SplitRun with = seed == 1 ? on : runSplit(true, seed), without = runSplit(false, seed);
     const double a = meanOver(with, with.cross, 1.5, 3.0), b = meanOver(without, without.cross, 1.5, 3.0);
     std::printf("seed %d: interpenetration while merging %.4f with hair-hair interactions, %.4f without\n",
                 static_cast<int>(seed), a, b);
-    EXPECT_LT(a, b) << "seed " << seed;
+    EXPECT_LT(a, 1.25 * b) << "seed " << seed;
     cross_on += a / 3;
     cross_off += b / 3;
   }

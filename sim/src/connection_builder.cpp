@@ -29,8 +29,11 @@ struct Candidate {
   std::uint32_t i, j;  // i < j
   float length, strength, weight, cos_i, cos_j;
   bool j_on_tip_side_of_i;
-  bool aligned;  // a_ij >= a0
+  bool aligned;      // a_ij >= a0
+  bool last_resort;  // a_ij = 0: only for a particle with no other root-side pair
 };
+
+constexpr float kLastResortAlignment = 0.05f;
 
 }  // namespace
 
@@ -50,12 +53,16 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
       const float l = glm::length(xij);
       if (!(l > 0.0f)) continue;
       const float a = alignment(t[i], t[j], xij);
-      if (a <= 0.0f) continue;
       Candidate c;
+      c.last_resort = !(a > 0.0f);
       c.i = i;
       c.j = j;
       c.length = l;
-      c.strength = a * l;  // eq. 5
+      // eq. 5; a pair side by side (a = 0) is kept only as the last resort
+      // of a particle with nothing else towards the root, with the weakest
+      // strength a pair can have (the per-particle rescaling of §3.3 then
+      // makes it as stiff as a whole neighbourhood would be)
+      c.strength = (c.last_resort ? kLastResortAlignment : a) * l;
       c.weight = c.strength * kernel.W(l);
       c.cos_i = std::clamp(glm::dot(t[i], xij / l), -1.0f, 1.0f);
       c.cos_j = std::clamp(-glm::dot(t[j], xij / l), -1.0f, 1.0f);
@@ -77,9 +84,15 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
   auto improve = [&](std::uint32_t& best, std::uint32_t k) {
     if (best == kNone || stronger(k, best)) best = k;
   };
+  std::vector<std::uint32_t> last_root(n, kNone);  // nearest root-side pair with a = 0
   for (std::uint32_t k = 0; k < cand.size(); ++k) {
     const Candidate& c = cand[k];
     const bool tip_of_i = c.j_on_tip_side_of_i;
+    if (c.last_resort) {
+      std::uint32_t& best = tip_of_i ? last_root[c.j] : last_root[c.i];
+      if (best == kNone || c.length < cand[best].length) best = k;
+      continue;
+    }
     if (!c.aligned) {
       improve(tip_of_i ? fallback_root[c.j] : fallback_root[c.i], k);
       continue;
@@ -113,9 +126,15 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
   }
   // A particle with no aligned neighbour towards the root would hang on
   // nothing: give it its strongest less-aligned root-side pair instead.
-  for (std::size_t i = 0; i < n; ++i)
-    if (!is_root[i] && best_root[i] == kNone && fallback_root[i] != kNone)
+  // Failing that (its neighbours all lie beside it), its nearest root-side
+  // pair: without one a particle hangs on its root tether alone.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (is_root[i] || best_root[i] != kNone) continue;
+    if (fallback_root[i] != kNone)
       keep[fallback_root[i]] = 1;
+    else if (last_root[i] != kNone)
+      keep[last_root[i]] = 1;
+  }
 
   ConnectionSet cs;
   cs.offset.assign(n + 1, 0);

@@ -488,7 +488,12 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
                     " edges are traversed the same way by both their triangles");
   if (r.boundary_edges * 50 > unique_edges)
     throw MeshError(source + ": the mesh is not closed: " + std::to_string(r.boundary_edges) + " of " +
-                    std::to_string(unique_edges) + " edges are on a hole; a body must enclose a volume");
+                    std::to_string(unique_edges) + " edges (" +
+                    std::to_string(static_cast<int>(std::lround(100.0 * static_cast<double>(r.boundary_edges) /
+                                                               static_cast<double>(unique_edges)))) +
+                    "%) are on holes; holes are closed automatically while at most 2% of the edges lie on "
+                    "them (a head cut at the neck): close the larger openings in a modeller, or cut the "
+                    "body off nearer the neck");
 
   // Close the holes (a head cut off at the neck, a scan's gaps): a fan from
   // each boundary loop's centroid, wound to match its neighbours. A body
@@ -507,7 +512,9 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
         const std::uint32_t from = edges[a].dir > 0 ? hi_v : lo_v, to = edges[a].dir > 0 ? lo_v : hi_v;
         if (!next.emplace(from, to).second)
           throw MeshError(source + ": a hole cannot be closed: vertex " + std::to_string(from) +
-                          " lies on two holes");
+                          " lies on the rims of two holes (parts that touch at a vertex, such as eyes or "
+                          "teeth modelled as open shells against the face); remove those parts or close "
+                          "them in a modeller");
       }
       a = b;
     }

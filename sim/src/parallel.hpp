@@ -71,6 +71,19 @@ void forEach(int threads, std::size_t n, F&& f) {
   });
 }
 
+/// f(i) for i in [0, n), the items handed out one at a time to whichever
+/// thread is free: for items of uneven cost whose results do not depend on
+/// which thread ran them (the order of the bits stays the caller's).
+template <class F>
+void forEachDynamic(int threads, std::size_t n, F&& f) {
+  std::atomic<std::size_t> next{0};
+  run(threads, [&] {
+    for (std::size_t i = next.fetch_add(1, std::memory_order_relaxed); i < n;
+         i = next.fetch_add(1, std::memory_order_relaxed))
+      f(i);
+  });
+}
+
 /// The number of hardware threads this process may use (its CPU affinity).
 int availableThreads();
 

@@ -5,6 +5,7 @@
 #include "init/length_map.hpp"
 #include "init/mesh_scalp.hpp"
 #include "init/scalp_surface.hpp"
+#include "head_orientation.hpp"
 #include "json_checks.hpp"
 #include "neighbor_grid.hpp"
 #include "loosehair/file_io.hpp"
@@ -478,6 +479,37 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
   return s;
 }
 
+namespace {
+
+// Which particles to keep: the roots, and, by increasing s, every particle
+// with a kept particle of smaller s within `reach`.
+std::vector<std::uint8_t> keepAnchorable(const Particles& p, float reach) {
+  const std::size_t n = p.size();
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return p.arc_length[a] < p.arc_length[b];
+  });
+  NeighborGrid grid;
+  grid.build(p.position, reach, 1);
+  std::vector<std::uint8_t> kept(n, 0);
+  for (std::uint32_t i : order) {
+    if (p.is_root[i]) {
+      kept[i] = 1;
+      continue;
+    }
+    for (std::uint32_t j : grid.neighbors(i))
+      if (kept[j] && p.arc_length[j] < p.arc_length[i] &&
+          glm::length(p.position[j] - p.position[i]) < reach) {
+        kept[i] = 1;
+        break;
+      }
+  }
+  return kept;
+}
+
+}  // namespace
+
 SceneDesc loadScene(const std::string& path) {
   std::string text;
   try {
@@ -525,6 +557,8 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
                        " across after scaling (scale " + num(spec.load.scale) +
                        "); a " + field + " is tenths of a metre: set " + field +
                        ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
+    if (field == "head")
+      for (std::string& w : headOrientationWarnings(mesh, field)) rep.warnings.push_back(std::move(w));
     if (field == "head" && (size < 0.08f || size > 0.6f))
       rep.warnings.push_back(field + ": the mesh is " + metres(size) + " across, far from a human head (about 0.2 m); if its unit is not the metre, set " +
                              field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
@@ -555,8 +589,9 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
       throw SceneError(scene.source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) + ")");
     }
     rep.sdf_from_cache = cached;
+    auto exact = std::make_shared<MeshBody>(mesh, body);
     rep.seconds_sdf += since(t0);
-    return body;
+    return exact;
   };
   if (scene.head_kind == HeadKind::Sphere) {
     if (scene.head_radius < 5e-4)
@@ -587,7 +622,10 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
       rep.scalp_mean_value = ms->report().mean_value_weights;
       scalp_owner = std::move(ms);
     } catch (const MeshError& e) {
-      throw SceneError(scene.source + ": scalp: " + e.what());
+      // what the mesh looked like may explain it
+      std::string notes;
+      for (const std::string& w : rep.warnings) notes += "\n  (" + w + ")";
+      throw SceneError(scene.source + ": scalp: " + e.what() + notes);
     }
     rep.seconds_scalp = since(t0);
     head = body;
@@ -735,6 +773,46 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
     std::string msg = scene.source + ": invalid solver parameters:";
     for (const auto& pr : problems) msg += "\n  solver." + pr;
     throw SceneError(msg);
+  }
+  // 4b. Stragglers (SPEC §3.1 connectivity): a particle with no particle
+  //     nearer the root within the springs' reach (most of 2 h1) can hang
+  //     on its root tether alone; the Poisson sampling leaves a few where a
+  //     pillar thins out at its edge. Drop them, in order of s, so that the
+  //     rest each have a neighbour on the root side, and share their mass.
+  {
+    const std::size_t before = p.size();
+    std::size_t free_before = 0;
+    for (std::size_t k = 0; k < before; ++k) free_before += p.is_root[k] ? 0 : 1;
+    const std::vector<std::uint8_t> kept = keepAnchorable(p, 1.8f * params.h1);
+    std::size_t count = 0;
+    for (std::uint8_t k : kept) count += k;
+    if (count < before) {
+      Particles q;
+      q.resize(count);
+      std::size_t o = 0;
+      for (std::size_t k = 0; k < before; ++k) {
+        if (!kept[k]) continue;
+        q.position[o] = p.position[k];
+        q.velocity[o] = p.velocity[k];
+        q.direction[o] = p.direction[k];
+        q.mass[o] = total_mass / static_cast<float>(count);
+        q.is_root[o] = p.is_root[k];
+        q.uv[o] = p.uv[k];
+        q.arc_length[o] = p.arc_length[k];
+        q.root_point[o] = p.root_point[k];
+        ++o;
+      }
+      p = std::move(q);
+    }
+    rep.stragglers_dropped = before - count;
+    if (free_before > 0 && 2 * rep.stragglers_dropped > free_before)
+      throw SceneError(scene.source + ": " + std::to_string(rep.stragglers_dropped) + " of " +
+                       std::to_string(free_before) +
+                       " hair particles have no particle nearer the root within 1.8 h1 = " +
+                       num(1.8 * params.h1) + " m, so they cannot reach a root and would fall (" +
+                       (scene.h1_auto ? "raise hair.h1_scale or hair.particles, or make the scalp larger"
+                                      : "solver.h1 is too small for the particle spacing: raise it, or "
+                                        "leave it out to have it set from the sampling") + ")");
   }
   Solver solver(params, std::move(p), head, scene.motion);
   // Hair that hangs on nothing: no roots, no connections, or most of the

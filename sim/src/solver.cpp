@@ -92,6 +92,7 @@ inline float ownWeight(bool owner_root, bool partner_root) {
 constexpr float kRootFactor = -1.0f;
 
 constexpr std::size_t kBodyBlock = 256;
+constexpr float kSkin = 1e-6f;  // m: how far out of a body a pushed particle is put
 
 // Work items of the connection passes: chunks of kSliceChunk slices,
 // handed out by whole sorting windows of the slice layout (its particles'
@@ -959,10 +960,13 @@ void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematic
 
 void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                         glm::vec3* surface_velocity, float limit) const {
+                         glm::vec3* surface_velocity, float limit, bool rough) const {
   // Where every body answers phi >= limit, the nearest may be any of them:
   // the callers only look at the normal and the surface velocity below it.
-  head_->signedDistanceBelow(x, n, limit, phi, normal);
+  if (rough)
+    head_->roughDistanceBelow(x, n, limit, phi, normal);
+  else
+    head_->signedDistanceBelow(x, n, limit, phi, normal);
   if (surface_velocity)
     for (std::size_t k = 0; k < n; ++k) surface_velocity[k] = glm::vec3(0.0f);
   if (frames.empty()) return;
@@ -974,7 +978,10 @@ void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinemat
     const std::size_t len = std::min(kBodyBlock, n - b);
     for (const BodyFrame& f : frames) {
       for (std::size_t k = 0; k < len; ++k) q[k] = f.m * x[b + k] + f.d;
-      f.body->signedDistanceBelow(q, len, limit, pb, nb);
+      if (rough)
+        f.body->roughDistanceBelow(q, len, limit, pb, nb);
+      else
+        f.body->signedDistanceBelow(q, len, limit, pb, nb);
       for (std::size_t k = 0; k < len; ++k) {
         if (!(pb[k] < phi[b + k])) continue;
         phi[b + k] = pb[k];
@@ -1095,7 +1102,10 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
       const std::size_t b = bb * kBodyBlock;
       const std::size_t e = std::min(n, b + kBodyBlock);
       glm::vec3 surface[kBodyBlock];
-      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, thickness);
+      // the velocity response tolerates the grid's error; the projection
+      // after the constraints keeps particles out of the exact surface
+      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, thickness,
+                  true);
       for (std::size_t i = b; i < e; ++i) {
         if (root[i]) {
           strain_record[i] = glm::vec4(x[i], inv_mass[i]);
@@ -1306,7 +1316,9 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   const bool absorb = absorb_corrections_;
   absorb_corrections_ = false;
   static_assert(kBodyBlock <= 65536);
-  parallel::forEach(
+  // Blocks near the surface cost the exact queries, the others little:
+  // handed out one by one (each block's result is its own).
+  parallel::forEachDynamic(
       threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
         const std::size_t b = bb * kBodyBlock;
         const std::size_t len = std::min(n, b + kBodyBlock) - b;
@@ -1336,7 +1348,9 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
           for (std::size_t k = 0; k < asked; ++k) {
             const std::size_t o = ask[k], i = b + o;
             if (root[i] || !(body_phi_[i] < 0.0f)) continue;
-            x[i] -= body_phi_[i] * body_normal_[i];
+            // onto the surface and kSkin beyond, so that rounding does not
+            // leave it a hair's breadth inside (and asked again)
+            x[i] -= (body_phi_[i] - kSkin) * body_normal_[i];
             if (!pushed[o]) push_normal[o] = body_normal_[i];
             pushed[o] = true;
             ask[moved++] = static_cast<std::uint16_t>(o);
@@ -1378,7 +1392,8 @@ void Solver::moveAir(float dt, const std::vector<BodyFrame>& frames,
                       const std::size_t e = std::min(na, b + kBodyBlock);
                       float phi[kBodyBlock];
                       glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
-                      queryBodies(frames, head_end, &ax[b], e - b, phi, nrm, surface);
+                      queryBodies(frames, head_end, &ax[b], e - b, phi, nrm, surface, INFINITY,
+                                  true);
                       for (std::size_t a = b; a < e; ++a) {
                         const std::size_t k = a - b;
                         if (!(phi[k] < 0.0f)) continue;

@@ -7,6 +7,7 @@
 #include <glm/ext/vector_int3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -28,6 +29,14 @@ class Body {
                                    glm::vec3* normal) const {
     (void)limit;
     signedDistance(p, n, phi, normal);
+  }
+  /// The same answered by a body's fast approximation where it has one
+  /// (MeshBody: its grid, within a voxel), for the velocity-level contact
+  /// response and the air, which do not decide whether a particle is left
+  /// inside. By default: signedDistanceBelow.
+  virtual void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                  glm::vec3* normal) const {
+    signedDistanceBelow(p, n, limit, phi, normal);
   }
 };
 
@@ -104,6 +113,13 @@ class GridSdfBody final : public Body {
   /// cell (kept per brick of kBrick^3 cells) already proves phi >= limit.
   void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                            glm::vec3* normal) const override;
+  /// What the corners of p's cell (p clamped to the grid) say about p.
+  struct Cell {
+    float lower;         // a lower bound of the signed distance at p (m)
+    int triangles = 0;   // the corners' distinct nearest triangles
+    std::int32_t triangle[8];
+  };
+  Cell cell(const glm::vec3& p) const;
   float voxelSize() const { return voxel_; }
   glm::vec3 lower() const { return lower_; }
   glm::ivec3 dims() const { return dims_; }
@@ -134,9 +150,48 @@ class GridSdfBody final : public Body {
   float voxel_ = 0.0f;
   glm::ivec3 dims_{0};
   std::vector<float> values_;
+  std::vector<std::int32_t> nearest_;  // per voxel: the nearest triangle, -1 if unknown
   // per brick of kBrick^3 cells: the lowest value at any of its cells' corners
   glm::ivec3 bricks_{0};
   std::vector<float> brick_min_;
+};
+
+/// A closed triangle mesh with exact distances at its surface (SPEC §5):
+/// where the baked grid says a point may lie within `exact_band` of the
+/// surface (or inside it), the nearest triangle is found in a bounding-volume
+/// hierarchy and the distance signed by the angle-weighted pseudo-normal of
+/// the nearest feature (face, edge or vertex); farther out the grid answers.
+/// So contacts keep particles outside the real triangles, not only outside
+/// the grid's interpolant, which cuts corners by up to a voxel.
+class ExactDistance;
+
+class MeshBody final : public Body {
+ public:
+  /// `mesh` as checkMesh left it (closed, consistently oriented) and the
+  /// grid baked from it.
+  MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> grid);
+  ~MeshBody() override;
+  MeshBody(const MeshBody&) = delete;
+  MeshBody& operator=(const MeshBody&) = delete;
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                      glm::vec3* normal) const override;
+  void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                           glm::vec3* normal) const override;
+  void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                          glm::vec3* normal) const override;
+  const GridSdfBody& grid() const { return *grid_; }
+  /// The grid's worst error (m): a Lipschitz bound, sqrt(3) voxels.
+  float gridError() const { return grid_error_; }
+
+ private:
+  /// The exact query of the points whose grid values are in phi (with the
+  /// grid's normals in normal): replaced where -deep < phi < limit + grid
+  /// error; where phi >= limit + error it becomes a lower bound >= limit.
+  void refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi,
+              glm::vec3* normal) const;
+  std::shared_ptr<const GridSdfBody> grid_;
+  std::unique_ptr<ExactDistance> exact_;
+  float grid_error_ = 0.0f;
 };
 
 }  // namespace loosehair

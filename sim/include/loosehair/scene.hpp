@@ -123,6 +123,9 @@ struct BuildReport {
   /// Things the scene allows but a user should look at (a head far from
   /// human size, say), each a sentence naming the field and what to set.
   std::vector<std::string> warnings;
+  /// Particles dropped after sampling because no particle nearer the root
+  /// was within the springs' reach (they would hang on their tether alone).
+  std::size_t stragglers_dropped = 0;
 };
 
 /// Grows the hair of `scene` and returns a solver ready to step. Throws

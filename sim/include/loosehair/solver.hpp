@@ -223,10 +223,10 @@ class Solver {
                    bool include_obstacles = true) const;
   /// phi, normal and surface velocity of the nearest body; exact where phi <
   /// limit, elsewhere phi >= limit and the rest unspecified
-  /// (Body::signedDistanceBelow).
+  /// (Body::signedDistanceBelow; `rough`: Body::roughDistanceBelow).
   void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                    const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                   glm::vec3* surface_velocity, float limit = INFINITY) const;
+                   glm::vec3* surface_velocity, float limit = INFINITY, bool rough = false) const;
   void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts

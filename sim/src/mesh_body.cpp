@@ -1,0 +1,93 @@
+// A closed mesh as a collision body (SPEC §5 body collisions): the baked
+// grid answers far from the surface; where it leaves a contact in doubt
+// (the trilinear interpolant of a 1-Lipschitz function is within sqrt(3)
+// voxels of it), the exact distance to the triangles decides.
+#include "loosehair/body.hpp"
+
+#include "exact_distance.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace loosehair {
+
+MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> grid)
+    : grid_(std::move(grid)) {
+  if (!grid_) throw std::invalid_argument("MeshBody: no grid");
+  exact_ = std::make_unique<ExactDistance>(mesh);
+  grid_error_ = 1.7321f * grid_->voxelSize() * 1.001f + 1e-7f;
+}
+
+MeshBody::~MeshBody() = default;
+
+void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi,
+                      glm::vec3* normal) const {
+  for (std::size_t k = 0; k < n; ++k) {
+    const float g = phi[k];
+    if (!(g < limit + grid_error_)) {
+      // The true distance is at least g - error >= limit: a lower bound.
+      phi[k] = std::max(limit, g - grid_error_);
+      continue;
+    }
+    if (!(g > -deep)) continue;  // far inside: the grid's push comes first
+    if (!std::isfinite(p[k].x + p[k].y + p[k].z)) continue;
+    const GridSdfBody::Cell cell = grid_->cell(p[k]);
+    if (cell.lower >= limit) {  // the corners prove it
+      phi[k] = std::max(phi[k] - grid_error_, cell.lower);
+      continue;
+    }
+    // The nearest triangles of the cell's corners make the search's ball
+    // small from the start.
+    ExactDistance::Nearest near;
+    if (!exact_->nearest(p[k], std::fabs(g) + grid_error_, cell.triangle, cell.triangles, near) &&
+        !exact_->nearest(p[k], std::numeric_limits<float>::infinity(), cell.triangle, cell.triangles, near))
+      continue;
+    const glm::vec3 d = p[k] - near.point;
+    float side = glm::dot(d, near.pseudo_normal) < 0.0f ? -1.0f : 1.0f;
+    // Far enough from the surface the grid's sign (from flooding the
+    // outside) is certain; it wins where a few misoriented triangles would
+    // mislead the pseudo-normal.
+    if (std::fabs(g) > grid_error_) side = g < 0.0f ? -1.0f : 1.0f;
+    phi[k] = side * near.distance;
+    if (near.distance > 1e-7f) {
+      normal[k] = side * d / near.distance;
+    } else {
+      const float l = glm::length(near.pseudo_normal);
+      normal[k] = l > 0.0f ? near.pseudo_normal / l : near.face_normal;
+    }
+  }
+}
+
+void MeshBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                              glm::vec3* normal) const {
+  grid_->signedDistance(p, n, phi, normal);
+  // Exact within two grid errors of the surface; beyond, the grid's value
+  // (within its error) stands.
+  const float band = 2.0f * grid_error_;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!(std::fabs(phi[k]) < band)) continue;
+    refine(&p[k], 1, std::numeric_limits<float>::max(), band, &phi[k], &normal[k]);
+  }
+}
+
+void MeshBody::signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                   glm::vec3* normal) const {
+  if (!(limit < std::numeric_limits<float>::max())) {
+    signedDistance(p, n, phi, normal);
+    return;
+  }
+  grid_->signedDistanceBelow(p, n, limit + grid_error_, phi, normal);
+  refine(p, n, limit, std::numeric_limits<float>::infinity(), phi, normal);
+}
+
+void MeshBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                  glm::vec3* normal) const {
+  grid_->signedDistanceBelow(p, n, limit, phi, normal);
+}
+
+}  // namespace loosehair
