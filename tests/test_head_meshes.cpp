@@ -87,3 +87,111 @@ TEST(HeadMeshes, AHeadInCentimetresWithoutScaleIsNamed) {
   EXPECT_TRUE(mentions(b, "head.scale")) << b.error;
   EXPECT_TRUE(mentions(b, "0.01 for centimetres")) << b.error;
 }
+
+namespace {
+
+// An open shell: the front half (z > 0) of a sphere of latitude/longitude
+// quads, as eyes are often modelled.
+void addOpenHemisphere(TriangleMesh& m, glm::vec3 centre, float radius) {
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  constexpr int kLat = 8, kLon = 12;
+  for (int i = 0; i <= kLat; ++i)
+    for (int j = 0; j <= kLon; ++j) {
+      const float theta = 3.14159265f * static_cast<float>(i) / kLat;
+      const float phi = 3.14159265f * static_cast<float>(j) / kLon;  // half: z >= 0
+      m.vertices.push_back(centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                                       std::sin(theta) * std::sin(phi)));
+    }
+  auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (kLon + 1) + j); };
+  for (int i = 0; i < kLat; ++i)
+    for (int j = 0; j < kLon; ++j) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+}
+
+Built buildHead(const TriangleMesh& h, const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "loosehair-" + name;
+  std::filesystem::create_directories(dir);
+  writeObj(h, dir + "/head.obj");
+  const std::string text = R"({"name": ")" + name + R"(", "substeps": 4,
+    "head": {"type": "mesh", "mesh": "head.obj"}, "hair": {"particles": 800, "length": 0.2}})";
+  std::ofstream(dir + "/scene.json") << text;
+  Built b;
+  try {
+    BuildReport report;
+    Solver solver = buildSolver(loadScene(dir + "/scene.json"), &report);
+    b.warnings = report.warnings;
+    for (int s = 0; s < 40; ++s) solver.step();
+    std::vector<glm::vec3> hair;
+    for (std::size_t i = 0; i < solver.particles().size(); ++i)
+      if (!solver.particles().is_root[i]) hair.push_back(solver.particles().position[i]);
+    std::vector<float> phi;
+    solver.bodyDistance(hair, solver.time(), phi);
+    float deepest = 1;
+    for (float d : phi) deepest = std::min(deepest, d);
+    EXPECT_GE(deepest, -1e-5f) << name << ": hair inside the head";
+    EXPECT_TRUE(lhtest::allFinite(solver)) << name;
+    EXPECT_EQ(solver.initReport().unanchored, 0u) << name;
+  } catch (const std::exception& e) {
+    b.error = e.what();
+  }
+  std::filesystem::remove_all(dir);
+  return b;
+}
+
+TriangleMesh bundledHead() { return loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply"); }
+
+}  // namespace
+
+TEST(HeadMeshes, OpenShellsForEyesAreDroppedAndTheHeadIsUsed) {
+  TriangleMesh h = bundledHead();
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& v : h.vertices) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const float eye_y = hi.y - 0.3f * (hi.y - lo.y), front = hi.z;
+  addOpenHemisphere(h, glm::vec3(-0.032f, eye_y, front - 0.03f), 0.012f);
+  addOpenHemisphere(h, glm::vec3(0.032f, eye_y, front - 0.03f), 0.012f);
+  const Built b = buildHead(h, "eyes");
+  ASSERT_TRUE(b.error.empty()) << b.error;
+  bool named = false;
+  for (const auto& w : b.warnings) named = named || w.find("dropped 2 open part") != std::string::npos;
+  EXPECT_TRUE(named) << (b.warnings.empty() ? "no warning" : b.warnings[0]);
+}
+
+TEST(HeadMeshes, OtherProportionsWork) {
+  // wider, shorter, deeper than the bundled head
+  TriangleMesh h = bundledHead();
+  for (auto& v : h.vertices) v *= glm::vec3(1.2f, 0.9f, 1.1f);
+  const Built b = buildHead(h, "proportions");
+  EXPECT_TRUE(b.error.empty()) << b.error;
+  EXPECT_TRUE(b.warnings.empty()) << b.warnings[0];
+}
+
+TEST(HeadMeshes, AnOpenNeckIsClosedAndAScanFullOfHolesIsNamed) {
+  TriangleMesh h = bundledHead();
+  float lo = INFINITY, hi = -INFINITY;
+  for (const auto& v : h.vertices) {
+    lo = std::min(lo, v.y);
+    hi = std::max(hi, v.y);
+  }
+  // the neck cut open: triangles below 8% of the height removed
+  TriangleMesh cut = h;
+  std::erase_if(cut.triangles, [&](const glm::u32vec3& t) {
+    return cut.vertices[t.x].y < lo + 0.08f * (hi - lo) || cut.vertices[t.y].y < lo + 0.08f * (hi - lo) ||
+           cut.vertices[t.z].y < lo + 0.08f * (hi - lo);
+  });
+  const Built neck = buildHead(cut, "open-neck");
+  EXPECT_TRUE(neck.error.empty()) << neck.error;
+  // every 15th triangle missing: too many holes to close silently
+  TriangleMesh holes = h;
+  holes.triangles.clear();
+  for (std::size_t t = 0; t < h.triangles.size(); ++t)
+    if (t % 15 != 0) holes.triangles.push_back(h.triangles[t]);
+  const Built scan = buildHead(holes, "holes");
+  EXPECT_NE(scan.error.find("not closed"), std::string::npos) << scan.error;
+  EXPECT_NE(scan.error.find("2%"), std::string::npos) << scan.error;
+  EXPECT_NE(scan.error.find("closed automatically"), std::string::npos) << scan.error;
+}

@@ -387,9 +387,80 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
     const glm::vec3 q(glm::dot(p, right), glm::dot(p, up), glm::dot(p, front));
     p = options.scale * q + options.offset;
   }
+  std::size_t parts_dropped = 0, triangles_dropped = 0;
+  if (options.drop_open_parts) dropOpenMinorParts(mesh, parts_dropped, triangles_dropped);
   MeshReport r = checkMesh(mesh, path);
+  r.parts_dropped = parts_dropped;
+  r.triangles_dropped = triangles_dropped;
   if (report) *report = r;
   return mesh;
+}
+
+void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
+                        std::size_t& triangles_dropped) {
+  parts_dropped = triangles_dropped = 0;
+  const std::size_t nv = mesh.vertices.size();
+  if (mesh.triangles.empty() || nv == 0) return;
+  for (const auto& t : mesh.triangles)
+    if (t.x >= nv || t.y >= nv || t.z >= nv) return;  // checkMesh names it
+  std::vector<std::uint32_t> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& t : mesh.triangles) {
+    parent[find(t.y)] = find(t.x);
+    parent[find(t.z)] = find(t.x);
+  }
+  // Triangles and boundary edges (edges used once) of each part.
+  std::unordered_map<std::uint32_t, std::size_t> triangles_of, open_edges_of;
+  std::vector<std::uint64_t> keys;
+  keys.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    ++triangles_of[find(t.x)];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      keys.push_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b));
+    }
+  }
+  if (triangles_of.size() < 2) return;
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t a = 0; a < keys.size();) {
+    std::size_t b = a;
+    while (b < keys.size() && keys[b] == keys[a]) ++b;
+    if (b - a == 1) ++open_edges_of[find(static_cast<std::uint32_t>(keys[a] >> 32))];
+    a = b;
+  }
+  std::uint32_t largest = 0;
+  std::size_t most = 0;
+  for (const auto& [root, count] : triangles_of)
+    if (count > most || (count == most && root < largest)) {
+      largest = root;
+      most = count;
+    }
+  // A part with no area is not a shell but broken input: left for
+  // checkMesh to reject as degenerate.
+  std::unordered_map<std::uint32_t, bool> has_area;
+  for (const auto& t : mesh.triangles) {
+    const glm::dvec3 a(mesh.vertices[t.x]), b(mesh.vertices[t.y]), c(mesh.vertices[t.z]);
+    const double area2 = glm::length(glm::cross(b - a, c - a));
+    const double scale = glm::dot(b - a, b - a) + glm::dot(c - a, c - a);
+    if (area2 > 1e-6 * scale) has_area[find(t.x)] = true;
+  }
+  auto dropped = [&](std::uint32_t root) {
+    return root != largest && open_edges_of.count(root) > 0 && has_area.count(root) > 0;
+  };
+  std::vector<glm::u32vec3> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    if (!dropped(find(t.x))) kept.push_back(t);
+  for (const auto& [root, count] : triangles_of)
+    if (dropped(root)) {
+      ++parts_dropped;
+      triangles_dropped += count;
+    }
+  mesh.triangles = std::move(kept);  // unreferenced vertices: checkMesh drops them
 }
 
 MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {

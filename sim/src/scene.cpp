@@ -533,12 +533,19 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   const std::string cache = GridSdfBody::defaultCacheDir();
   auto meshBody = [&](const MeshSpec& spec, const std::string& field, TriangleMesh& mesh) {
     auto t0 = Clock::now();
+    MeshReport mesh_report;
     try {
-      mesh = loadMesh(spec.path, spec.load);
+      mesh = loadMesh(spec.path, spec.load, &mesh_report);
     } catch (const MeshError& e) {
       throw SceneError(scene.source + ": " + field + ".mesh: " + e.what());
     }
     rep.seconds_meshes += since(t0);
+    if (mesh_report.parts_dropped > 0)
+      rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
+                             " open part(s) besides the largest (" +
+                             std::to_string(mesh_report.triangles_dropped) +
+                             " triangles: eyes, teeth or helper geometry enclose no volume); the hair "
+                             "collides with the rest");
     glm::vec3 lo(INFINITY), hi(-INFINITY);
     for (const glm::vec3& v : mesh.vertices) {
       lo = glm::min(lo, v);

@@ -41,6 +41,10 @@ struct MeshLoadOptions {
   Axis front = Axis::PosZ;
   /// Added after scaling and turning (m).
   glm::vec3 offset{0.0f};
+  /// Drop the open parts other than the largest (open shells for eyes,
+  /// teeth or helper geometry, which enclose no volume and whose rims cannot
+  /// be closed); closed parts and the largest part are kept.
+  bool drop_open_parts = true;
 };
 
 /// What checkMesh found.
@@ -51,7 +55,9 @@ struct MeshReport {
   std::size_t holes_filled = 0;         // boundary loops closed by a fan of triangles
   std::size_t nonmanifold_edges = 0;    // edges with three or more triangles
   std::size_t misoriented_edges = 0;    // edges whose two triangles disagree in orientation
-  std::size_t components = 0;           // connected pieces
+  std::size_t components = 0;           // connected pieces (after dropping)
+  std::size_t parts_dropped = 0;        // open parts besides the largest, dropped
+  std::size_t triangles_dropped = 0;    // their triangles
   double volume = 0;                    // enclosed volume (m^3), after reorientation
   bool flipped = false;                 // the whole mesh was turned inside out and fixed
   glm::vec3 lower{0.0f}, upper{0.0f};   // bounding box (m)
@@ -73,6 +79,11 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = 
 /// non-finite coordinates, is flat, is mostly degenerate, has more than 1%
 /// non-manifold or misoriented edges, or more than 2% boundary edges.
 MeshReport checkMesh(TriangleMesh& mesh, const std::string& source);
+
+/// Drops the parts (connected pieces) that are open, other than the one with
+/// the most triangles (MeshLoadOptions::drop_open_parts); counts what went.
+void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
+                        std::size_t& triangles_dropped);
 
 /// Writes a binary little-endian PLY through OpenMesh (the whole file or
 /// nothing): float x y z vertices, triangle faces. Throws MeshError.

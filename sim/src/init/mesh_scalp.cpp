@@ -13,6 +13,7 @@
 #include <numbers>
 #include <queue>
 #include <sstream>
+#include <numeric>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -285,11 +286,37 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
   }
   polyline_ = samples;
 
-  // Nearest mesh vertex of each sample (brute force: few samples).
+  // Nearest mesh vertex of each sample (brute force: few samples), on the
+  // part with the most triangles: the scalp is one connected piece of the
+  // head, and helper parts (eyes, a hat) may lie nearer.
+  std::vector<std::uint8_t> on_head(head.vertices.size(), 1);
+  {
+    std::vector<std::uint32_t> parent(head.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const auto& t : head.triangles) {
+      parent[find(t.y)] = find(t.x);
+      parent[find(t.z)] = find(t.x);
+    }
+    std::unordered_map<std::uint32_t, std::size_t> count;
+    for (const auto& t : head.triangles) ++count[find(t.x)];
+    std::uint32_t largest = 0;
+    std::size_t most = 0;
+    for (const auto& [root, c] : count)
+      if (c > most || (c == most && root < largest)) {
+        largest = root;
+        most = c;
+      }
+    for (std::uint32_t v = 0; v < on_head.size(); ++v) on_head[v] = find(v) == largest ? 1 : 0;
+  }
   std::vector<std::uint32_t> near(samples.size());
   for (std::size_t s = 0; s < samples.size(); ++s) {
     float best = INFINITY;
     for (std::size_t v = 0; v < head.vertices.size(); ++v) {
+      if (!on_head[v]) continue;
       const glm::vec3 d = head.vertices[v] - samples[s];
       const float d2 = glm::dot(d, d);
       if (d2 < best) {
@@ -309,7 +336,8 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
   for (std::size_t s = 0; s < samples.size(); ++s) {
     const std::uint32_t a = near[s], b = near[(s + 1) % samples.size()];
     auto piece = graph.path(a, b, dist, prev);
-    if (piece.empty()) fail("the curves cross parts of the mesh that are not connected");
+    if (piece.empty())
+      fail("the hairline crosses a gap in the head's surface (the mesh is not connected along it)");
     for (std::size_t i = 0; i + 1 < piece.size(); ++i)
       if (loop.empty() || loop.back() != piece[i]) loop.push_back(piece[i]);
   }
