@@ -148,21 +148,30 @@ TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   EXPECT_GT(after, 0.6 * before) << "and comes back together under gravity";
   // While they fall back together, the wisps pass through each other
   // without hair-hair interactions and less with them. One run's measure
-  // moves by about 20% with any change of the initial state (larger than a
-  // single run's effect), so the mean of three samplings of the hair must
-  // show it by 15%, and no sampling may be markedly worse with them.
+  // moves by about 20% with any change of the initial state, so every one
+  // of three samplings of the hair must show it, and their mean by 15%.
   double cross_on = 0, cross_off = 0;
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const SplitRun with = seed == 1 ? on : runSplit(true, seed), without = runSplit(false, seed);
     const double a = meanOver(with, with.cross, 1.5, 3.0), b = meanOver(without, without.cross, 1.5, 3.0);
     std::printf("seed %d: interpenetration while merging %.4f with hair-hair interactions, %.4f without\n",
                 static_cast<int>(seed), a, b);
-    EXPECT_LT(a, 1.25 * b) << "seed " << seed;
+    EXPECT_LT(a, b) << "seed " << seed;
     cross_on += a / 3;
     cross_off += b / 3;
   }
   std::printf("mean interpenetration while merging: %.4f with, %.4f without\n", cross_on, cross_off);
   EXPECT_LT(cross_on, 0.85 * cross_off);
+}
+
+// At the scene's own resolution, through the parting (the obstacle is
+// present to 1.5 s): an obstacle that pinched the hair against the nape
+// stretched it by 2.2%.
+TEST(HeadScenario, BackHairSplitAtFullResolutionKeepsTheStretchBound) {
+  const SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/back-hair-split.json");
+  Solver solver = buildSolver(scene);
+  const Watch w = run(solver, 1.6, maxLength(scene), [] {});
+  expectInvariants(w, "back-hair-split, 6000 particles");
 }
 
 TEST(HeadScenario, HeadShakeHairLagsTheHeadWithoutStretchOrPenetration) {
