@@ -225,3 +225,39 @@ TEST(MeshBody, HairStaysOutsideTheExactSurface) {
   std::printf("deepest particle against the exact surface: %.2e m\n", deepest);
   EXPECT_GE(deepest, -2e-6) << "a particle ended a step inside the real triangles";
 }
+
+// A closed eyeball set half into a closed head (two overlapping parts): the
+// body is their union. Every point near either surface gets the sign of the
+// generalised winding number of the whole mesh (inside if >= 1/2), which the
+// pseudo-normal of the nearest triangle alone would get wrong inside one
+// part near the other's surface.
+TEST(MeshBody, OverlappingClosedPartsActAsTheirUnion) {
+  TriangleMesh m = bumpySphere(0.1f, 3, 0.0f);
+  const TriangleMesh eye = bumpySphere(0.025f, 2, 0.0f);
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  const glm::vec3 centre(0.0f, 0.0f, 0.1f);
+  for (const auto& v : eye.vertices) m.vertices.push_back(v + centre);
+  for (const auto& t : eye.triangles) m.triangles.push_back(t + glm::u32vec3(base));
+  MeshReport report = checkMesh(m, "head with an eye");
+  ASSERT_EQ(report.components, 2u);
+  SdfBakeOptions opt;
+  opt.voxel_size = 0.01f;
+  const MeshBody body(m, GridSdfBody::bake(m, opt));
+  int wrong = 0, points = 0;
+  for (int k = 0; k < 2000; ++k) {
+    // around the eye's rim, where the two surfaces meet, and over it
+    const float a = 0.0031f * static_cast<float>(k * 97 % 2000), b = 0.0057f * static_cast<float>(k * 31 % 1100);
+    const float r = 0.015f + 0.02f * static_cast<float>(k % 37) / 36.0f;
+    const glm::vec3 p = centre + r * glm::vec3(std::cos(a) * std::sin(b), std::cos(b), std::sin(a) * std::sin(b));
+    float phi;
+    glm::vec3 n;
+    body.signedDistance(&p, 1, &phi, &n);
+    const double e = exactSignedDistance(m, p);  // winding number sign
+    if (std::abs(e) < 1e-5) continue;
+    ++points;
+    if ((phi < 0) != (e < 0)) ++wrong;
+  }
+  std::printf("%d points near an eyeball set into a head, %d with the wrong side\n", points, wrong);
+  EXPECT_GT(points, 1500);
+  EXPECT_EQ(wrong, 0);
+}

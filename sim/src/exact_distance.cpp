@@ -79,6 +79,8 @@ inline float boxDistance2(const glm::vec3& p, const glm::vec3& lo, const glm::ve
 }  // namespace
 
 struct ExactDistance::Tree {
+  void init(const TriangleMesh& part);
+  std::vector<std::uint32_t> global;  // per triangle: its id in the whole mesh
   std::vector<glm::vec3> vertices;
   std::vector<glm::u32vec3> triangles;
   std::vector<glm::vec3> face_normal;    // unit
@@ -205,9 +207,34 @@ struct ExactDistance::Tree {
   }
 };
 
-ExactDistance::ExactDistance(const TriangleMesh& mesh) : tree_(std::make_unique<Tree>()) {
-  if (mesh.triangles.empty()) throw MeshError("exact distance: the mesh has no triangles");
-  Tree& t = *tree_;
+namespace {
+
+// The parts (connected pieces) of a mesh: per triangle, its part.
+std::vector<std::uint32_t> partOfTriangles(const TriangleMesh& mesh, std::uint32_t& parts) {
+  std::vector<std::uint32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& t : mesh.triangles) {
+    parent[find(t.y)] = find(t.x);
+    parent[find(t.z)] = find(t.x);
+  }
+  std::vector<std::uint32_t> label(mesh.vertices.size(), UINT32_MAX), part(mesh.triangles.size());
+  parts = 0;
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const std::uint32_t root = find(mesh.triangles[k].x);
+    if (label[root] == UINT32_MAX) label[root] = parts++;
+    part[k] = label[root];
+  }
+  return part;
+}
+
+}  // namespace
+
+void ExactDistance::Tree::init(const TriangleMesh& mesh) {
+  Tree& t = *this;
   t.vertices = mesh.vertices;
   t.triangles = mesh.triangles;
   const std::size_t nt = t.triangles.size();
@@ -255,25 +282,74 @@ ExactDistance::ExactDistance(const TriangleMesh& mesh) : tree_(std::make_unique<
   t.build();
 }
 
+ExactDistance::ExactDistance(const TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) throw MeshError("exact distance: the mesh has no triangles");
+  std::uint32_t parts = 0;
+  const std::vector<std::uint32_t> part = partOfTriangles(mesh, parts);
+  local_.resize(mesh.triangles.size());
+  part_.resize(mesh.triangles.size());
+  for (std::uint32_t k = 0; k < parts; ++k) {
+    TriangleMesh sub;
+    std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+    auto tree = std::make_unique<Tree>();
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (part[t] != k) continue;
+      glm::u32vec3 tri;
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t v = mesh.triangles[t][i];
+        if (remap[v] == UINT32_MAX) {
+          remap[v] = static_cast<std::uint32_t>(sub.vertices.size());
+          sub.vertices.push_back(mesh.vertices[v]);
+        }
+        tri[i] = remap[v];
+      }
+      local_[t] = static_cast<std::uint32_t>(sub.triangles.size());
+      part_[t] = k;
+      tree->global.push_back(static_cast<std::uint32_t>(t));
+      sub.triangles.push_back(tri);
+    }
+    tree->init(sub);
+    trees_.push_back(std::move(tree));
+  }
+}
+
 ExactDistance::~ExactDistance() = default;
 
 bool ExactDistance::nearest(const glm::vec3& p, float radius, const std::int32_t* seeds, int count,
                             Nearest& out) const {
-  const Tree& t = *tree_;
-  Tree::Nearest q{p, radius * radius * 1.0001f};
-  if (!(q.r2 < std::numeric_limits<float>::max())) q.r2 = std::numeric_limits<float>::infinity();
-  for (int s = 0; s < count; ++s)
-    if (seeds[s] >= 0 && static_cast<std::size_t>(seeds[s]) < t.triangles.size())
-      t.offer(q, static_cast<std::uint32_t>(seeds[s]));
-  if (q.best != UINT32_MAX) q.r2 *= 1.0001f;  // room for rounding: the same triangle again
-  t.search(q);
-  if (q.best == UINT32_MAX) return false;
-  out.distance = std::sqrt(glm::dot(p - q.point, p - q.point));
-  out.point = q.point;
-  out.triangle = q.best;
-  out.pseudo_normal = t.pseudoNormal(q.best, q.feature);
-  out.face_normal = t.face_normal[q.best];
-  return true;
+  float r2 = radius * radius * 1.0001f;
+  if (!(r2 < std::numeric_limits<float>::max())) r2 = std::numeric_limits<float>::infinity();
+  bool found = false;
+  out.distance = std::numeric_limits<float>::infinity();
+  for (std::size_t k = 0; k < trees_.size(); ++k) {
+    const Tree& t = *trees_[k];
+    Tree::Nearest q{p, r2};
+    for (int s = 0; s < count; ++s)
+      if (seeds[s] >= 0 && static_cast<std::size_t>(seeds[s]) < part_.size() &&
+          part_[static_cast<std::size_t>(seeds[s])] == k)
+        t.offer(q, local_[static_cast<std::size_t>(seeds[s])]);
+    if (q.best != UINT32_MAX) q.r2 *= 1.0001f;  // room for rounding: the same triangle again
+    t.search(q);
+    if (q.best == UINT32_MAX) continue;
+    // Union of the parts: the lowest signed distance of any part (exact
+    // outside them all, the depth in the part it is deepest in inside).
+    const glm::vec3 d = p - q.point;
+    const float dist = std::sqrt(glm::dot(d, d));
+    const glm::vec3 pn = t.pseudoNormal(q.best, q.feature);
+    const float side = glm::dot(d, pn) < 0.0f ? -1.0f : 1.0f;
+    const float signed_distance = side * dist;
+    if (found && !(signed_distance < out.signed_distance)) continue;
+    found = true;
+    out.distance = dist;
+    out.signed_distance = signed_distance;
+    out.point = q.point;
+    out.triangle = t.global[q.best];
+    out.pseudo_normal = pn;
+    out.face_normal = t.face_normal[q.best];
+    const float l = glm::length(pn);
+    out.normal = dist > 1e-7f ? side * d / dist : (l > 0.0f ? pn / l : out.face_normal);
+  }
+  return found;
 }
 
 float ExactDistance::signedDistance(const glm::vec3& p, const std::int32_t* seeds, int count,
@@ -281,15 +357,9 @@ float ExactDistance::signedDistance(const glm::vec3& p, const std::int32_t* seed
   Nearest near;
   if (!nearest(p, std::numeric_limits<float>::infinity(), seeds, count, near))
     return std::numeric_limits<float>::infinity();
-  const glm::vec3 d = p - near.point;
-  const float side = glm::dot(d, near.pseudo_normal) < 0.0f ? -1.0f : 1.0f;
-  if (normal) {
-    const float l = glm::length(near.pseudo_normal);
-    *normal = near.distance > 1e-7f ? side * d / near.distance
-                                    : (l > 0.0f ? near.pseudo_normal / l : near.face_normal);
-  }
+  if (normal) *normal = near.normal;
   if (triangle) *triangle = near.triangle;
-  return side * near.distance;
+  return near.signed_distance;
 }
 
 }  // namespace loosehair

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace loosehair {
 
@@ -21,25 +22,31 @@ class ExactDistance {
 
   struct Nearest {
     float distance;           // unsigned (m)
+    float signed_distance;    // negative inside (the union of the parts)
+    glm::vec3 normal;         // unit, outward: away from the point inside, towards it outside
     glm::vec3 point;          // the nearest point of the mesh
     glm::vec3 pseudo_normal;  // of the nearest feature (not unit)
     glm::vec3 face_normal;    // of the nearest triangle (unit)
     std::uint32_t triangle;
   };
-  /// The nearest point of the mesh to p, if one lies within `radius`
-  /// (infinite: anywhere); `seeds` (count of them; out-of-range ids are
-  /// ignored) are tried first and only make the search faster. Ties go to
-  /// the lower triangle id, so the answer does not depend on the seeds.
+  /// The nearest point to p of each part (connected piece) within `radius`
+  /// (infinite: anywhere), signed by its pseudo-normal; of these the one
+  /// with the lowest signed distance, so the parts act as their union
+  /// (overlapping closed parts such as eyeballs set into a head). `seeds`
+  /// (count of them; out-of-range ids are ignored) are tried first and only
+  /// make the search faster. Ties go to the lower triangle id, so the
+  /// answer does not depend on the seeds. False if no part is in reach.
   bool nearest(const glm::vec3& p, float radius, const std::int32_t* seeds, int count,
                Nearest& out) const;
-  /// Signed by the pseudo-normal (negative inside); `normal` (optional) the
-  /// unit outward direction away from the nearest point.
+  /// nearest() anywhere: the signed distance, `normal` (optional) and the
+  /// nearest triangle (optional).
   float signedDistance(const glm::vec3& p, const std::int32_t* seeds, int count,
                        glm::vec3* normal = nullptr, std::uint32_t* triangle = nullptr) const;
 
  private:
   struct Tree;
-  std::unique_ptr<Tree> tree_;
+  std::vector<std::unique_ptr<Tree>> trees_;  // one a part
+  std::vector<std::uint32_t> part_, local_;   // per triangle: its part, its id there
 };
 
 }  // namespace loosehair

@@ -47,18 +47,14 @@ void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep
     if (!exact_->nearest(p[k], std::fabs(g) + grid_error_, cell.triangle, cell.triangles, near) &&
         !exact_->nearest(p[k], std::numeric_limits<float>::infinity(), cell.triangle, cell.triangles, near))
       continue;
-    const glm::vec3 d = p[k] - near.point;
-    float side = glm::dot(d, near.pseudo_normal) < 0.0f ? -1.0f : 1.0f;
+    phi[k] = near.signed_distance;
+    normal[k] = near.normal;
     // Far enough from the surface the grid's sign (from flooding the
     // outside) is certain; it wins where a few misoriented triangles would
     // mislead the pseudo-normal.
-    if (std::fabs(g) > grid_error_) side = g < 0.0f ? -1.0f : 1.0f;
-    phi[k] = side * near.distance;
-    if (near.distance > 1e-7f) {
-      normal[k] = side * d / near.distance;
-    } else {
-      const float l = glm::length(near.pseudo_normal);
-      normal[k] = l > 0.0f ? near.pseudo_normal / l : near.face_normal;
+    if (std::fabs(g) > grid_error_ && (g < 0.0f) != (phi[k] < 0.0f)) {
+      phi[k] = -phi[k];
+      normal[k] = -normal[k];
     }
   }
 }
