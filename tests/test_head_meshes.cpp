@@ -86,6 +86,10 @@ TEST(HeadMeshes, AHeadInCentimetresWithoutScaleIsNamed) {
   const Built b = buildTurnedHead([](glm::vec3 p) { return 100.0f * p; }, "");
   EXPECT_TRUE(mentions(b, "head.scale")) << b.error;
   EXPECT_TRUE(mentions(b, "0.01 for centimetres")) << b.error;
+  // and a head scaled to 2 cm is named as well (its bake is small: the
+  // margin around a mesh shrinks with it)
+  const Built tiny = buildTurnedHead([](glm::vec3 p) { return 0.05f * p; }, "");
+  EXPECT_TRUE(mentions(tiny, "head.scale")) << tiny.error;
 }
 
 namespace {

@@ -520,11 +520,30 @@ SceneDesc loadScene(const std::string& path) {
   return parseScene(text, path);
 }
 
+namespace {
+Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep);
+}  // namespace
+
 Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
+  BuildReport rep;
+  try {
+    return buildSolverReporting(scene, report, rep);
+  } catch (const SceneError& e) {
+    // The warnings so far (a head far from human size, on its side) often
+    // explain the error: they go with it.
+    std::string msg = e.what();
+    for (const std::string& w : rep.warnings)
+      if (msg.find(w) == std::string::npos) msg += "\n  (" + w + ")";
+    throw SceneError(msg);
+  }
+}
+
+namespace {
+
+Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   const HairSpec& hair = scene.hair;
-  BuildReport rep;
 
   // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
   std::shared_ptr<const Body> head;
@@ -583,6 +602,10 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
     t0 = Clock::now();
     SdfBakeOptions opt;
     opt.voxel_size = spec.sdf_voxel;
+    // 4 cm around a head, less around a tiny one (a mesh in the wrong unit):
+    // its automatic voxels are tiny too, and a 4 cm margin of them made a
+    // 2 cm head bake for a minute
+    opt.margin = std::min(opt.margin, 0.25f * size);
     opt.cache_dir = cache;
     bool cached = false;
     std::shared_ptr<GridSdfBody> body;
@@ -890,5 +913,7 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   }
   return solver;
 }
+
+}  // namespace
 
 }  // namespace loosehair
