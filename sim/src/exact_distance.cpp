@@ -3,9 +3,9 @@
 // searched nearest box first inside a ball that seed triangles (the grid's
 // nearest triangles) make small, and the sign from the angle-weighted
 // pseudo-normal of the nearest feature (Baerentzen and Aanaes 2005), exact
-// for a closed, consistently oriented mesh. (Eigen's KdBVH answered the
-// same about ten times slower: it allocates its stack and visits boxes in
-// no order.)
+// for a closed, consistently oriented mesh. (With Eigen's KdBVH, which
+// allocates its stack and visits boxes in no order, the contact stages of
+// hang.json took twice as long: docs/performance.md.)
 #include "exact_distance.hpp"
 
 #include <glm/geometric.hpp>
@@ -199,39 +199,15 @@ struct ExactDistance::Tree {
                           b = node.first_or_second;
       const float da = boxDistance2(q.p, nodes[a].lo, nodes[a].hi);
       const float db = boxDistance2(q.p, nodes[b].lo, nodes[b].hi);
-      // the nearer child is searched first: pushed last
+      // the nearer child is searched first: pushed last. A median split
+      // is at most log2(triangles) deep and the stack holds at most one
+      // node a level more than that: 64 are never reached.
       const std::uint32_t near = da <= db ? a : b, far = da <= db ? b : a;
-      if (std::max(da, db) <= q.r2 && top < 64) stack[top++] = far;
-      if (std::min(da, db) <= q.r2 && top < 64) stack[top++] = near;
+      if (std::max(da, db) <= q.r2) stack[top++] = far;
+      if (std::min(da, db) <= q.r2) stack[top++] = near;
     }
   }
 };
-
-namespace {
-
-// The parts (connected pieces) of a mesh: per triangle, its part.
-std::vector<std::uint32_t> partOfTriangles(const TriangleMesh& mesh, std::uint32_t& parts) {
-  std::vector<std::uint32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (const auto& t : mesh.triangles) {
-    parent[find(t.y)] = find(t.x);
-    parent[find(t.z)] = find(t.x);
-  }
-  std::vector<std::uint32_t> label(mesh.vertices.size(), UINT32_MAX), part(mesh.triangles.size());
-  parts = 0;
-  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-    const std::uint32_t root = find(mesh.triangles[k].x);
-    if (label[root] == UINT32_MAX) label[root] = parts++;
-    part[k] = label[root];
-  }
-  return part;
-}
-
-}  // namespace
 
 void ExactDistance::Tree::init(const TriangleMesh& mesh) {
   Tree& t = *this;
@@ -284,11 +260,11 @@ void ExactDistance::Tree::init(const TriangleMesh& mesh) {
 
 ExactDistance::ExactDistance(const TriangleMesh& mesh) {
   if (mesh.triangles.empty()) throw MeshError("exact distance: the mesh has no triangles");
-  std::uint32_t parts = 0;
-  const std::vector<std::uint32_t> part = partOfTriangles(mesh, parts);
+  const MeshParts parts = meshParts(mesh);
+  const std::vector<std::uint32_t>& part = parts.of_triangle;
   local_.resize(mesh.triangles.size());
-  part_.resize(mesh.triangles.size());
-  for (std::uint32_t k = 0; k < parts; ++k) {
+  part_ = part;
+  for (std::uint32_t k = 0; k < parts.count(); ++k) {
     TriangleMesh sub;
     std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
     auto tree = std::make_unique<Tree>();
@@ -304,7 +280,6 @@ ExactDistance::ExactDistance(const TriangleMesh& mesh) {
         tri[i] = remap[v];
       }
       local_[t] = static_cast<std::uint32_t>(sub.triangles.size());
-      part_[t] = k;
       tree->global.push_back(static_cast<std::uint32_t>(t));
       sub.triangles.push_back(tri);
     }
@@ -320,7 +295,6 @@ bool ExactDistance::nearest(const glm::vec3& p, float radius, const std::int32_t
   float r2 = radius * radius * 1.0001f;
   if (!(r2 < std::numeric_limits<float>::max())) r2 = std::numeric_limits<float>::infinity();
   bool found = false;
-  out.distance = std::numeric_limits<float>::infinity();
   for (std::size_t k = 0; k < trees_.size(); ++k) {
     const Tree& t = *trees_[k];
     Tree::Nearest q{p, r2};
@@ -340,14 +314,10 @@ bool ExactDistance::nearest(const glm::vec3& p, float radius, const std::int32_t
     const float signed_distance = side * dist;
     if (found && !(signed_distance < out.signed_distance)) continue;
     found = true;
-    out.distance = dist;
     out.signed_distance = signed_distance;
-    out.point = q.point;
     out.triangle = t.global[q.best];
-    out.pseudo_normal = pn;
-    out.face_normal = t.face_normal[q.best];
     const float l = glm::length(pn);
-    out.normal = dist > 1e-7f ? side * d / dist : (l > 0.0f ? pn / l : out.face_normal);
+    out.normal = dist > 1e-7f ? side * d / dist : (l > 0.0f ? pn / l : t.face_normal[q.best]);
   }
   return found;
 }

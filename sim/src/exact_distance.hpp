@@ -21,13 +21,9 @@ class ExactDistance {
   ExactDistance& operator=(const ExactDistance&) = delete;
 
   struct Nearest {
-    float distance;           // unsigned (m)
-    float signed_distance;    // negative inside (the union of the parts)
-    glm::vec3 normal;         // unit, outward: away from the point inside, towards it outside
-    glm::vec3 point;          // the nearest point of the mesh
-    glm::vec3 pseudo_normal;  // of the nearest feature (not unit)
-    glm::vec3 face_normal;    // of the nearest triangle (unit)
-    std::uint32_t triangle;
+    float signed_distance;  // m, negative inside (the union of the parts)
+    glm::vec3 normal;       // unit, outward: away from the point inside, towards it outside
+    std::uint32_t triangle; // the nearest triangle
   };
   /// The nearest point to p of each part (connected piece) within `radius`
   /// (infinite: anywhere), signed by its pseudo-normal; of these the one

@@ -396,14 +396,8 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   return mesh;
 }
 
-void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
-                        std::size_t& triangles_dropped) {
-  parts_dropped = triangles_dropped = 0;
-  const std::size_t nv = mesh.vertices.size();
-  if (mesh.triangles.empty() || nv == 0) return;
-  for (const auto& t : mesh.triangles)
-    if (t.x >= nv || t.y >= nv || t.z >= nv) return;  // checkMesh names it
-  std::vector<std::uint32_t> parent(nv);
+MeshParts meshParts(const TriangleMesh& mesh) {
+  std::vector<std::uint32_t> parent(mesh.vertices.size());
   std::iota(parent.begin(), parent.end(), 0u);
   auto find = [&](std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -413,53 +407,78 @@ void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
     parent[find(t.y)] = find(t.x);
     parent[find(t.z)] = find(t.x);
   }
-  // Triangles and boundary edges (edges used once) of each part.
-  std::unordered_map<std::uint32_t, std::size_t> triangles_of, open_edges_of;
+  MeshParts parts;
+  std::vector<std::uint32_t> label(mesh.vertices.size(), UINT32_MAX);
+  parts.of_triangle.resize(mesh.triangles.size());
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const std::uint32_t root = find(mesh.triangles[k].x);
+    if (label[root] == UINT32_MAX) {
+      label[root] = static_cast<std::uint32_t>(parts.triangles.size());
+      parts.triangles.push_back(0);
+    }
+    parts.of_triangle[k] = label[root];
+    ++parts.triangles[label[root]];
+  }
+  return parts;
+}
+
+std::uint32_t MeshParts::largest() const {
+  std::uint32_t best = 0;
+  for (std::uint32_t k = 1; k < triangles.size(); ++k)
+    if (triangles[k] > triangles[best]) best = k;
+  return best;
+}
+
+void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
+                        std::size_t& triangles_dropped) {
+  parts_dropped = triangles_dropped = 0;
+  const std::size_t nv = mesh.vertices.size();
+  if (mesh.triangles.empty() || nv == 0) return;
+  for (const auto& t : mesh.triangles)
+    if (t.x >= nv || t.y >= nv || t.z >= nv) return;  // checkMesh names it
+  const MeshParts parts = meshParts(mesh);
+  if (parts.count() < 2) return;
+  // Boundary edges (used once) of each part.
+  std::vector<std::size_t> open_edges(parts.count(), 0);
   std::vector<std::uint64_t> keys;
   keys.reserve(3 * mesh.triangles.size());
-  for (const auto& t : mesh.triangles) {
-    ++triangles_of[find(t.x)];
+  for (const auto& t : mesh.triangles)
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = t[k], b = t[(k + 1) % 3];
       keys.push_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b));
     }
-  }
-  if (triangles_of.size() < 2) return;
+  std::vector<std::uint32_t> part_of_vertex(nv, 0);
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k)
+    for (int i = 0; i < 3; ++i) part_of_vertex[mesh.triangles[k][i]] = parts.of_triangle[k];
   std::sort(keys.begin(), keys.end());
   for (std::size_t a = 0; a < keys.size();) {
     std::size_t b = a;
     while (b < keys.size() && keys[b] == keys[a]) ++b;
-    if (b - a == 1) ++open_edges_of[find(static_cast<std::uint32_t>(keys[a] >> 32))];
+    if (b - a == 1) ++open_edges[part_of_vertex[keys[a] >> 32]];
     a = b;
   }
-  std::uint32_t largest = 0;
-  std::size_t most = 0;
-  for (const auto& [root, count] : triangles_of)
-    if (count > most || (count == most && root < largest)) {
-      largest = root;
-      most = count;
-    }
   // A part with no area is not a shell but broken input: left for
   // checkMesh to reject as degenerate.
-  std::unordered_map<std::uint32_t, bool> has_area;
-  for (const auto& t : mesh.triangles) {
+  std::vector<std::uint8_t> has_area(parts.count(), 0);
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const auto& t = mesh.triangles[k];
     const glm::dvec3 a(mesh.vertices[t.x]), b(mesh.vertices[t.y]), c(mesh.vertices[t.z]);
     const double area2 = glm::length(glm::cross(b - a, c - a));
     const double scale = glm::dot(b - a, b - a) + glm::dot(c - a, c - a);
-    if (area2 > 1e-6 * scale) has_area[find(t.x)] = true;
+    if (area2 > 1e-6 * scale) has_area[parts.of_triangle[k]] = 1;
   }
-  auto dropped = [&](std::uint32_t root) {
-    return root != largest && open_edges_of.count(root) > 0 && has_area.count(root) > 0;
-  };
+  const std::uint32_t largest = parts.largest();
+  std::vector<std::uint8_t> dropped(parts.count(), 0);
+  for (std::uint32_t k = 0; k < parts.count(); ++k) {
+    dropped[k] = k != largest && open_edges[k] > 0 && has_area[k];
+    if (!dropped[k]) continue;
+    ++parts_dropped;
+    triangles_dropped += parts.triangles[k];
+  }
   std::vector<glm::u32vec3> kept;
   kept.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles)
-    if (!dropped(find(t.x))) kept.push_back(t);
-  for (const auto& [root, count] : triangles_of)
-    if (dropped(root)) {
-      ++parts_dropped;
-      triangles_dropped += count;
-    }
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k)
+    if (!dropped[parts.of_triangle[k]]) kept.push_back(mesh.triangles[k]);
   mesh.triangles = std::move(kept);  // unreferenced vertices: checkMesh drops them
 }
 
@@ -616,20 +635,7 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
     }
   }
 
-  // Connected pieces (union-find over triangle corners).
-  {
-    std::vector<std::uint32_t> parent(mesh.vertices.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    for (const auto& t : mesh.triangles) {
-      parent[find(t.y)] = find(t.x);
-      parent[find(t.z)] = find(t.x);
-    }
-    for (std::uint32_t v = 0; v < parent.size(); ++v) r.components += find(v) == v ? 1 : 0;
-  }
+  r.components = meshParts(mesh).count();
 
   // Enclosed volume; a mesh turned inside out is turned back.
   double vol = 0;

@@ -20,6 +20,23 @@ void Particles::resize(std::size_t n) {
   root_point.resize(n);
 }
 
+Particles Particles::select(const std::vector<std::uint32_t>& which) const {
+  Particles q;
+  q.resize(which.size());
+  for (std::size_t k = 0; k < which.size(); ++k) {
+    const std::uint32_t o = which[k];
+    q.position[k] = position[o];
+    q.velocity[k] = velocity[o];
+    q.direction[k] = direction[o];
+    q.mass[k] = mass[o];
+    q.is_root[k] = is_root[o];
+    q.uv[k] = uv[o];
+    q.arc_length[k] = arc_length[o];
+    q.root_point[k] = root_point[o];
+  }
+  return q;
+}
+
 namespace {
 bool finite3(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);

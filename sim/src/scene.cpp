@@ -481,9 +481,9 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
 
 namespace {
 
-// Which particles to keep: the roots, and, by increasing s, every particle
-// with a kept particle of smaller s within `reach`.
-std::vector<std::uint8_t> keepAnchorable(const Particles& p, float reach) {
+// The particles to keep, in their order: the roots, and, by increasing s,
+// every particle with a kept particle of smaller s within `reach`.
+std::vector<std::uint32_t> anchorableParticles(const Particles& p, float reach) {
   const std::size_t n = p.size();
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
@@ -505,7 +505,10 @@ std::vector<std::uint8_t> keepAnchorable(const Particles& p, float reach) {
         break;
       }
   }
-  return kept;
+  std::vector<std::uint32_t> which;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (kept[i]) which.push_back(i);
+  return which;
 }
 
 }  // namespace
@@ -746,20 +749,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
-    Particles q;
-    q.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::uint32_t o = order[k];
-      q.position[k] = p.position[o];
-      q.velocity[k] = p.velocity[o];
-      q.direction[k] = p.direction[o];
-      q.mass[k] = p.mass[o];
-      q.is_root[k] = p.is_root[o];
-      q.uv[k] = p.uv[o];
-      q.arc_length[k] = p.arc_length[o];
-      q.root_point[k] = p.root_point[o];
-    }
-    p = std::move(q);
+    p = p.select(order);
   }
 
   // 4. Smoothing lengths from the sampling (SPEC §9).
@@ -813,28 +803,12 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     const std::size_t before = p.size();
     std::size_t free_before = 0;
     for (std::size_t k = 0; k < before; ++k) free_before += p.is_root[k] ? 0 : 1;
-    const std::vector<std::uint8_t> kept = keepAnchorable(p, 1.8f * params.h1);
-    std::size_t count = 0;
-    for (std::uint8_t k : kept) count += k;
-    if (count < before) {
-      Particles q;
-      q.resize(count);
-      std::size_t o = 0;
-      for (std::size_t k = 0; k < before; ++k) {
-        if (!kept[k]) continue;
-        q.position[o] = p.position[k];
-        q.velocity[o] = p.velocity[k];
-        q.direction[o] = p.direction[k];
-        q.mass[o] = total_mass / static_cast<float>(count);
-        q.is_root[o] = p.is_root[k];
-        q.uv[o] = p.uv[k];
-        q.arc_length[o] = p.arc_length[k];
-        q.root_point[o] = p.root_point[k];
-        ++o;
-      }
-      p = std::move(q);
+    const std::vector<std::uint32_t> kept = anchorableParticles(p, 1.8f * params.h1);
+    if (kept.size() < before) {
+      p = p.select(kept);
+      for (float& m : p.mass) m = total_mass / static_cast<float>(kept.size());
     }
-    rep.stragglers_dropped = before - count;
+    rep.stragglers_dropped = before - kept.size();
     if (free_before > 0 && 2 * rep.stragglers_dropped > free_before)
       throw SceneError(scene.source + ": " + std::to_string(rep.stragglers_dropped) + " of " +
                        std::to_string(free_before) +

@@ -126,7 +126,6 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
   std::vector<openvdb::Vec3I> tris(mesh.triangles.size());
   for (std::size_t t = 0; t < tris.size(); ++t)
     tris[t] = openvdb::Vec3I(mesh.triangles[t].x, mesh.triangles[t].y, mesh.triangles[t].z);
-  std::vector<openvdb::Vec4I> quads;
   auto xform = openvdb::math::Transform::createLinearTransform(static_cast<double>(voxel));
   const float band = margin / voxel + 2.0f;
   // The conversion works in index space (coordinates in voxels); it also
@@ -141,7 +140,6 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
   auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
       adapter, *xform, band, std::numeric_limits<float>::max(),
       openvdb::tools::DISABLE_RENORMALIZATION, &index_grid);
-  (void)quads;
   auto acc = grid->getConstAccessor();
   auto index_acc = index_grid.getConstAccessor();
   body->values_.resize(static_cast<std::size_t>(cells));

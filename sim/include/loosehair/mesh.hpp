@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,6 +80,16 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = 
 /// non-finite coordinates, is flat, is mostly degenerate, has more than 1%
 /// non-manifold or misoriented edges, or more than 2% boundary edges.
 MeshReport checkMesh(TriangleMesh& mesh, const std::string& source);
+
+/// The connected pieces of a mesh (triangles that share a vertex are in one).
+struct MeshParts {
+  std::vector<std::uint32_t> of_triangle;  // per triangle: its part, numbered by first triangle
+  std::vector<std::size_t> triangles;      // per part: how many triangles
+  std::size_t count() const { return triangles.size(); }
+  std::uint32_t largest() const;  // the part with the most triangles (ties: the lower number)
+};
+/// The vertex indices must be in range.
+MeshParts meshParts(const TriangleMesh& mesh);
 
 /// Drops the parts (connected pieces) that are open, other than the one with
 /// the most triangles (MeshLoadOptions::drop_open_parts); counts what went.

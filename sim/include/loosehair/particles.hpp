@@ -27,6 +27,8 @@ struct Particles {
 
   std::size_t size() const { return position.size(); }
   void resize(std::size_t n);
+  /// The particles `which[0]`, `which[1]`, ... in that order (indices in range).
+  Particles select(const std::vector<std::uint32_t>& which) const;
   /// Throws std::invalid_argument if the arrays disagree in length or hold
   /// non-finite values, zero masses or non-unit directions.
   void check() const;

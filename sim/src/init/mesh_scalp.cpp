@@ -13,7 +13,6 @@
 #include <numbers>
 #include <queue>
 #include <sstream>
-#include <numeric>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -289,28 +288,13 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
   // Nearest mesh vertex of each sample (brute force: few samples), on the
   // part with the most triangles: the scalp is one connected piece of the
   // head, and helper parts (eyes, a hat) may lie nearer.
-  std::vector<std::uint8_t> on_head(head.vertices.size(), 1);
+  std::vector<std::uint8_t> on_head(head.vertices.size(), 0);
   {
-    std::vector<std::uint32_t> parent(head.vertices.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    for (const auto& t : head.triangles) {
-      parent[find(t.y)] = find(t.x);
-      parent[find(t.z)] = find(t.x);
-    }
-    std::unordered_map<std::uint32_t, std::size_t> count;
-    for (const auto& t : head.triangles) ++count[find(t.x)];
-    std::uint32_t largest = 0;
-    std::size_t most = 0;
-    for (const auto& [root, c] : count)
-      if (c > most || (c == most && root < largest)) {
-        largest = root;
-        most = c;
-      }
-    for (std::uint32_t v = 0; v < on_head.size(); ++v) on_head[v] = find(v) == largest ? 1 : 0;
+    const MeshParts parts = meshParts(head);
+    const std::uint32_t largest = parts.largest();
+    for (std::size_t t = 0; t < head.triangles.size(); ++t)
+      if (parts.of_triangle[t] == largest)
+        for (int i = 0; i < 3; ++i) on_head[head.triangles[t][i]] = 1;
   }
   std::vector<std::uint32_t> near(samples.size());
   for (std::size_t s = 0; s < samples.size(); ++s) {
