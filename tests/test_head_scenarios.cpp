@@ -148,19 +148,24 @@ TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   EXPECT_GT(after, 0.6 * before) << "and comes back together under gravity";
   // While they fall back together, the wisps pass through each other
   // without hair-hair interactions and less with them. One run's measure
-  // moves by about 20% with any change of the initial state, so every one
-  // of three samplings of the hair must show it, and their mean by 15%.
+  // counts a dozen particles and moves by 20-40% with any change of the
+  // initial state: over eight samplings one or two show no difference
+  // (means 0.0066 with, 0.0110 without), so four of five samplings must
+  // show it, and their mean by 15%.
   double cross_on = 0, cross_off = 0;
-  for (std::uint64_t seed : {1u, 2u, 3u}) {
+  int shown = 0;
+  constexpr int kSeeds = 5;
+  for (std::uint64_t seed = 1; seed <= kSeeds; ++seed) {
     const SplitRun with = seed == 1 ? on : runSplit(true, seed), without = runSplit(false, seed);
     const double a = meanOver(with, with.cross, 1.5, 3.0), b = meanOver(without, without.cross, 1.5, 3.0);
     std::printf("seed %d: interpenetration while merging %.4f with hair-hair interactions, %.4f without\n",
                 static_cast<int>(seed), a, b);
-    EXPECT_LT(a, b) << "seed " << seed;
-    cross_on += a / 3;
-    cross_off += b / 3;
+    if (a < b) ++shown;
+    cross_on += a / kSeeds;
+    cross_off += b / kSeeds;
   }
   std::printf("mean interpenetration while merging: %.4f with, %.4f without\n", cross_on, cross_off);
+  EXPECT_GE(shown, kSeeds - 1) << "samplings with less interpenetration with the interactions on";
   EXPECT_LT(cross_on, 0.85 * cross_off);
 }
 
@@ -317,5 +322,37 @@ TEST(HeadScenario, AUserHeadMeshWithTheAutomaticScalpJustWorks) {
   EXPECT_LE(solver.initReport().unanchored, solver.particles().size() / 200) << "at most 0.5% hang on tethers only";
   const Watch w = run(solver, 1.0, scene.hair.length, [] {});
   expectInvariants(w, "user head");
+  std::filesystem::remove_all(dir);
+}
+
+// A bust cut flat under the chest (the bundled torso with everything below
+// y = -0.30 removed; the opening is closed by a fan) and hair long enough
+// to reach under it, the head shaking: hair caught under the flat bottom,
+// where the straight line to the root runs through the body, was pulled in
+// by its tether and pushed back out, and stretched by 2.3%.
+TEST(HeadScenario, HairUnderTheFlatBottomOfABustKeepsTheStretchBound) {
+  const std::string dir = ::testing::TempDir() + "loosehair-bust";
+  std::filesystem::create_directories(dir);
+  TriangleMesh torso = loadMesh(lhtest::sourceDir() + "/data/meshes/torso.ply");
+  std::erase_if(torso.triangles, [&](const glm::u32vec3& t) {
+    return torso.vertices[t.x].y < -0.30f || torso.vertices[t.y].y < -0.30f || torso.vertices[t.z].y < -0.30f;
+  });
+  writeObj(torso, dir + "/bust.obj");
+  const SceneDesc scene = parseScene(R"({"name": "bust", "substeps": "auto",
+    "head": {"type": "mesh", "mesh": ")" + lhtest::sourceDir() + R"(/data/meshes/head.ply"},
+    "torso": {"mesh": ")" + dir + R"(/bust.obj"},
+    "hair": {"particles": 3000, "length": 0.45, "mass": 0.08, "whorl": [0, 0.85, -0.5],
+             "w_t": 1.0, "w_n": 0.6, "bending_stiffness": 5e-4},
+    "solver": {"youngs_modulus": 1e3, "hair_hair": true},
+    "motion": {"type": "shake", "amplitude_deg": 40, "frequency_hz": 1.0, "cycles": 2, "start": 0.5}})",
+                                     dir + "/scene.json");
+  Solver solver = buildSolver(scene);
+  // some hair does reach under the bust (its bottom is at y ~ -0.295)
+  float lowest = 1;
+  const Watch w = run(solver, 2.3, scene.hair.length, [&] {
+    for (const auto& x : solver.particles().position) lowest = std::min(lowest, x.y);
+  });
+  EXPECT_LT(lowest, -0.31f);
+  expectInvariants(w, "bust cut flat, head shaking");
   std::filesystem::remove_all(dir);
 }

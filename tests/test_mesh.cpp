@@ -232,11 +232,17 @@ TEST(Mesh, BadMeshesAreRejectedWithTheProblem) {
   expectRejected(d / "empty.obj", "no triangles");
   writeText(d / "flat.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 3 2\nf 1 4 3\n");
   expectRejected(d / "flat.obj", "flat");
-  // A cube with two faces missing: open.
-  writeText(d / "open.obj",
-            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-            "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\n");
-  expectRejected(d / "open.obj", "not closed");
+  // A sphere with a C-shaped band cut out of it: one opening, which a fan
+  // from its centroid would fold over itself, on more than 2% of the edges.
+  {
+    TriangleMesh s = sphereMesh(1.0f, 3);
+    std::erase_if(s.triangles, [&](const glm::u32vec3& t) {
+      const glm::vec3 c = (s.vertices[t.x] + s.vertices[t.y] + s.vertices[t.z]) / 3.0f;
+      return std::abs(c.y) < 0.25f && std::abs(std::atan2(c.z, c.x)) < 2.6f;
+    });
+    writeObj(s, (d / "open.obj").string());
+    expectRejected(d / "open.obj", "not closed: 1 hole(s), 1 of them not flat enough");
+  }
   // Every triangle of a closed mesh reversed but one: inconsistent.
   {
     TriangleMesh s = sphereMesh(1.0f, 2);
@@ -316,6 +322,39 @@ TEST(Mesh, HolesAreClosedSoTheBodyHasAnInside) {
     glm::vec3 n;
     body->signedDistance(&p, 1, &phi, &n);
     EXPECT_LT(phi, -0.01f) << "the inside of an open head is inside";
+  }
+}
+
+TEST(Mesh, AFewFlatOpeningsAreClosedWhateverTheirSize) {
+  // A bust cut flat under the chest: the opening is 2.3% of the edges, and
+  // closes with a flat fan.
+  TriangleMesh bust = loadMesh(lhtest::sourceDir() + "/data/meshes/torso.ply");
+  std::erase_if(bust.triangles, [&](const glm::u32vec3& t) {
+    return bust.vertices[t.x].y < -0.30f || bust.vertices[t.y].y < -0.30f || bust.vertices[t.z].y < -0.30f;
+  });
+  const MeshReport r = checkMesh(bust, "bust");
+  EXPECT_EQ(r.holes_filled, 1u);
+  EXPECT_GT(r.boundary_edges * 50, 6000u) << "more than 2% of the edges";
+  MeshTest::expectClosed(bust);
+  // A cube with two opposite faces missing is closed to the cube.
+  TriangleMesh cube;
+  cube.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  cube.triangles = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4}, {2, 3, 7}, {2, 7, 6}};
+  const MeshReport c = checkMesh(cube, "open-cube");
+  EXPECT_EQ(c.holes_filled, 2u);
+  EXPECT_NEAR(c.volume, 1.0, 1e-6);
+  // Five openings are too many to guess an inside for, at more than 2% of the edges.
+  TriangleMesh holes = sphereMesh(1.0f, 2);
+  std::vector<glm::u32vec3> kept;
+  for (std::size_t t = 0; t < holes.triangles.size(); ++t)
+    if (t % 25 != 0 || t > 100) kept.push_back(holes.triangles[t]);
+  holes.triangles = kept;
+  try {
+    checkMesh(holes, "five-holes");
+    ADD_FAILURE() << "closed five holes on 8% of the edges";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("5 hole(s)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at most 4 openings"), std::string::npos) << e.what();
   }
 }
 

@@ -576,21 +576,15 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
     throw MeshError(source + ": the triangles are not consistently oriented: " +
                     std::to_string(r.misoriented_edges) + " of " + std::to_string(unique_edges) +
                     " edges are traversed the same way by both their triangles");
-  if (r.boundary_edges * 50 > unique_edges)
-    throw MeshError(source + ": the mesh is not closed: " + std::to_string(r.boundary_edges) + " of " +
-                    std::to_string(unique_edges) + " edges (" +
-                    std::to_string(static_cast<int>(std::lround(100.0 * static_cast<double>(r.boundary_edges) /
-                                                               static_cast<double>(unique_edges)))) +
-                    "%) are on holes; holes are closed automatically while at most 2% of the edges lie on "
-                    "them (a head cut at the neck): close the larger openings in a modeller, or cut the "
-                    "body off nearer the neck");
-
-  // Close the holes (a head cut off at the neck, a scan's gaps): a fan from
-  // each boundary loop's centroid, wound to match its neighbours. A body
-  // must enclose a volume, and the signed-distance bake floods the outside,
-  // so an open mesh would read as outside everywhere.
+  // Holes: trace each boundary loop first, then decide. A few openings
+  // that each close with a flat fan (a head cut off at the neck, a bust cut
+  // flat under the chest or at the arms) are closed, whatever their size; so
+  // are many small gaps (a scan's) while they hold at most 2% of the edges.
+  // Anything more is a surface that does not say where its inside is.
+  std::vector<std::vector<std::uint32_t>> loops;
+  std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
+  std::uint32_t pinched = UINT32_MAX;                     // a vertex on two rims
   if (r.boundary_edges > 0) {
-    std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
     next.reserve(2 * r.boundary_edges);
     for (std::size_t a = 0; a < edges.size();) {
       std::size_t b = a;
@@ -600,17 +594,38 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
         const auto hi_v = static_cast<std::uint32_t>(edges[a].key & 0xffffffffu);
         // the triangle runs lo->hi when dir > 0; the hole runs the other way
         const std::uint32_t from = edges[a].dir > 0 ? hi_v : lo_v, to = edges[a].dir > 0 ? lo_v : hi_v;
-        if (!next.emplace(from, to).second)
-          throw MeshError(source + ": a hole cannot be closed: vertex " + std::to_string(from) +
-                          " lies on the rims of two holes (parts that touch at a vertex, such as eyes or "
-                          "teeth modelled as open shells against the face); remove those parts or close "
-                          "them in a modeller");
+        if (!next.emplace(from, to).second && pinched == UINT32_MAX) pinched = from;
       }
       a = b;
     }
+  }
+  const bool small_gaps = r.boundary_edges * 50 <= unique_edges;
+  auto refuse = [&](std::size_t holes, std::size_t folded) {
+    char what[320];
+    std::snprintf(what, sizeof what, "the mesh is not closed: %s, %zu of %zu edges (%.1f%%) on their rims",
+                  holes == SIZE_MAX ? "holes that touch each other"
+                                    : (std::to_string(holes) + " hole(s), " + std::to_string(folded) +
+                                       " of them not flat enough to close with a fan")
+                                          .c_str(),
+                  r.boundary_edges, unique_edges,
+                  100.0 * static_cast<double>(r.boundary_edges) / static_cast<double>(unique_edges));
+    throw MeshError(source + ": " + what +
+                    "; holes are closed automatically when there are at most 4 openings that each close "
+                    "with a flat fan (a head cut at the neck, a bust cut under the chest or at the arms) or "
+                    "when at most 2% of the edges lie on them (a scan's small gaps): close the other holes "
+                    "in a modeller");
+  };
+  if (pinched != UINT32_MAX) {
+    if (!small_gaps) refuse(SIZE_MAX, 0);
+    throw MeshError(source + ": a hole cannot be closed: vertex " + std::to_string(pinched) +
+                    " lies on the rims of two holes (parts that touch at a vertex, such as eyes or "
+                    "teeth modelled as open shells against the face); remove those parts or close "
+                    "them in a modeller");
+  }
+  if (r.boundary_edges > 0) {
     std::vector<std::uint32_t> starts;
     for (const auto& [from, to] : next) starts.push_back(from);
-    std::sort(starts.begin(), starts.end());  // deterministic order of the new vertices
+    std::sort(starts.begin(), starts.end());  // deterministic order of the loops
     std::unordered_map<std::uint32_t, bool> done;
     for (std::uint32_t start : starts) {
       if (done.count(start)) continue;
@@ -624,15 +639,43 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
           throw MeshError(source + ": a hole's boundary does not close on itself");
         v = it->second;
       } while (v != start);
-      glm::dvec3 c(0.0);
-      for (std::uint32_t q : loop) c += glm::dvec3(mesh.vertices[q]);
-      c /= static_cast<double>(loop.size());
-      const auto centre = static_cast<std::uint32_t>(mesh.vertices.size());
-      mesh.vertices.emplace_back(c);
-      for (std::size_t k = 0; k < loop.size(); ++k)
-        mesh.triangles.emplace_back(loop[k], loop[(k + 1) % loop.size()], centre);
-      ++r.holes_filled;
+      loops.push_back(std::move(loop));
     }
+  }
+  // A loop's fan is flat enough when no triangle of it folds back against
+  // the loop's area vector (seen along it, the rim goes once around the centroid).
+  std::vector<glm::dvec3> centres;
+  std::size_t folded = 0;
+  for (const auto& loop : loops) {
+    glm::dvec3 c(0.0);
+    for (std::uint32_t q : loop) c += glm::dvec3(mesh.vertices[q]);
+    c /= static_cast<double>(loop.size());
+    centres.push_back(c);
+    std::vector<glm::dvec3> fan(loop.size());
+    glm::dvec3 area(0.0);
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      fan[k] = glm::cross(glm::dvec3(mesh.vertices[loop[k]]) - c,
+                          glm::dvec3(mesh.vertices[loop[(k + 1) % loop.size()]]) - c);
+      area += fan[k];
+    }
+    bool flat = glm::length(area) > 0.0;
+    for (const auto& f : fan) flat = flat && glm::dot(f, area) > 0.0;
+    if (!flat) ++folded;
+  }
+  constexpr std::size_t kFewOpenings = 4;
+  const bool few_openings = loops.size() <= kFewOpenings && folded == 0;
+  if (!few_openings && !small_gaps) refuse(loops.size(), folded);
+
+  // Close the holes: a fan from each loop's centroid, wound to match its
+  // neighbours. A body must enclose a volume, and the signed-distance bake
+  // floods the outside, so an open mesh would read as outside everywhere.
+  for (std::size_t h = 0; h < loops.size(); ++h) {
+    const auto& loop = loops[h];
+    const auto centre = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.emplace_back(centres[h]);
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      mesh.triangles.emplace_back(loop[k], loop[(k + 1) % loop.size()], centre);
+    ++r.holes_filled;
   }
 
   r.components = meshParts(mesh).count();

@@ -12,6 +12,7 @@
 #include "pair_columns.hpp"
 #include "parallel.hpp"
 #include "solver_scratch.hpp"
+#include "tether.hpp"
 #include "thread_choice.hpp"
 
 #include <glm/geometric.hpp>
@@ -1267,13 +1268,9 @@ std::size_t Solver::limitStrain() {
   return limited;
 }
 
-// Tethers (long-range attachments; our addition to SPEC §5's strain limit):
-// a particle may be no further from its own root point than its arc length
-// allows, |x_i - r_i| <= (1 + slack) s_i. This is the no-stretch promise
-// itself, enforced per particle in O(N) without adding shear stiffness, so
-// the springs can be soft enough for the hair to bend and swing.
-// Applied to particles [b, e) (by projectOutOfBodies, block by block, just
-// before their bodies are asked: one pass over the particles for both).
+// Tethers (sim/src/tether.hpp) on particles [b, e): called by
+// projectOutOfBodies, block by block, just before their bodies are asked
+// (one pass over the particles for both).
 void Solver::applyTethers(std::size_t b, std::size_t e) {
   if (!params_.tether) return;
   auto& x = particles_.position;
@@ -1281,13 +1278,8 @@ void Solver::applyTethers(std::size_t b, std::size_t e) {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
   const float scale = 1.0f + params_.tether_slack;
-  for (std::size_t i = b; i < e; ++i) {
-    if (root[i]) continue;
-    const glm::vec3 d = x[i] - rp[i];
-    const float dist = glm::length(d);
-    const float reach = scale * sarc[i];
-    if (dist > reach) x[i] = rp[i] + (reach / dist) * d;
-  }
+  for (std::size_t i = b; i < e; ++i)
+    if (!root[i]) x[i] = tether::within(x[i], rp[i], scale * sarc[i]);
 }
 
 // The tethers, then: project what is still inside the body to its surface
@@ -1315,6 +1307,11 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   const bool has_obstacles = solid_frames.size() != frames.size();
   const bool absorb = absorb_corrections_;
   absorb_corrections_ = false;
+  const int total_rounds = rounds + (has_obstacles ? 1 : 0);
+  const bool slide = params_.tether;
+  const auto& rp = particles_.root_point;
+  const auto& sarc = particles_.arc_length;
+  const float reach_scale = 1.0f + params_.tether_slack;
   static_assert(kBodyBlock <= 65536);
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
@@ -1331,7 +1328,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
         float q_phi[kBodyBlock];
         std::size_t asked = len;
         for (std::size_t o = 0; o < len; ++o) ask[o] = static_cast<std::uint16_t>(o);
-        for (int round = 0; round < rounds + (has_obstacles ? 1 : 0); ++round) {
+        for (int round = 0; round < total_rounds; ++round) {
           if (round == 0) {
             queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f);
           } else {
@@ -1351,6 +1348,10 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
             // onto the surface and kSkin beyond, so that rounding does not
             // leave it a hair's breadth inside (and asked again)
             x[i] -= (body_phi_[i] - kSkin) * body_normal_[i];
+            // a tether through the body: slide round it (a later round
+            // checks where that went; the last one only pushes out)
+            if (slide && round + 1 < total_rounds)
+              x[i] += tether::slideAlongSurface(x[i], body_normal_[i], rp[i], reach_scale * sarc[i]);
             if (!pushed[o]) push_normal[o] = body_normal_[i];
             pushed[o] = true;
             ask[moved++] = static_cast<std::uint16_t>(o);
