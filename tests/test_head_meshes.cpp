@@ -193,3 +193,26 @@ TEST(HeadMeshes, AnOpenNeckIsClosedAndAScanFullOfHolesIsNamed) {
   EXPECT_NE(scan.error.find("2%"), std::string::npos) << scan.error;
   EXPECT_NE(scan.error.find("closed automatically"), std::string::npos) << scan.error;
 }
+
+TEST(HeadMeshes, AWholeBodyInMetresIsAHeadWithABodyBelowIt) {
+  // head, torso and a block of legs below it, 1.73 m tall: no unit or
+  // orientation warning, and the hair grows on the head and hangs outside it
+  TriangleMesh body = bundledHead();
+  const TriangleMesh torso = loadMesh(lhtest::sourceDir() + "/data/meshes/torso.ply");
+  auto append = [&](const TriangleMesh& part) {
+    const auto base = static_cast<std::uint32_t>(body.vertices.size());
+    body.vertices.insert(body.vertices.end(), part.vertices.begin(), part.vertices.end());
+    for (const auto& t : part.triangles) body.triangles.push_back(t + glm::u32vec3(base));
+  };
+  append(torso);
+  TriangleMesh legs;
+  const glm::vec3 lo(-0.16f, -1.6f, -0.1f), hi(0.16f, -0.55f, 0.08f);
+  for (int k = 0; k < 8; ++k)
+    legs.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+  legs.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  append(legs);
+  const Built b = buildHead(body, "whole-body", "", 20);
+  EXPECT_TRUE(b.error.empty()) << b.error;
+  EXPECT_TRUE(b.warnings.empty()) << b.warnings[0];
+}

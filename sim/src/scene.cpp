@@ -588,7 +588,10 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                        ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
     if (field == "head")
       for (std::string& w : headOrientationWarnings(mesh, field)) rep.warnings.push_back(std::move(w));
-    if (field == "head" && (size < 0.08f || size > 0.6f))
+    // a whole body in metres (1.2-2.3 m tall, and taller than wide or deep)
+    // is a head with a body below it, not a head in the wrong unit
+    const bool whole_body = extent.y >= 1.2f && extent.y <= 2.3f && extent.y >= std::max(extent.x, extent.z);
+    if (field == "head" && (size < 0.08f || (size > 0.6f && !whole_body)))
       rep.warnings.push_back(field + ": the mesh is " + metres(size) + " across, far from a human head (about 0.2 m); if its unit is not the metre, set " +
                              field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
     if (spec.sdf_voxel > 0.0f) {
