@@ -27,6 +27,7 @@
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace loosehair {
 namespace {
@@ -558,14 +559,22 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
   std::sort(edges.begin(), edges.end(),
             [](const HalfEdge& x, const HalfEdge& y) { return x.key < y.key || (x.key == y.key && x.dir < y.dir); });
   std::size_t unique_edges = 0;
+  std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
+  std::uint32_t pinched = UINT32_MAX;                     // a vertex on two rims
   for (std::size_t a = 0; a < edges.size();) {
     std::size_t b = a;
     int sum = 0;
     while (b < edges.size() && edges[b].key == edges[a].key) sum += edges[b++].dir;
     const std::size_t count = b - a;
     ++unique_edges;
-    if (count == 1) ++r.boundary_edges;
-    else if (count > 2) ++r.nonmanifold_edges;
+    if (count == 1) {
+      ++r.boundary_edges;
+      const auto lo_v = static_cast<std::uint32_t>(edges[a].key >> 32);
+      const auto hi_v = static_cast<std::uint32_t>(edges[a].key & 0xffffffffu);
+      // the triangle runs lo->hi when dir > 0; the hole runs the other way
+      const std::uint32_t from = edges[a].dir > 0 ? hi_v : lo_v, to = edges[a].dir > 0 ? lo_v : hi_v;
+      if (!next.emplace(from, to).second && pinched == UINT32_MAX) pinched = from;
+    } else if (count > 2) ++r.nonmanifold_edges;
     else if (sum != 0) ++r.misoriented_edges;
     a = b;
   }
@@ -581,59 +590,37 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
   // flat under the chest or at the arms) are closed, whatever their size; so
   // are many small gaps (a scan's) while they hold at most 2% of the edges.
   // Anything more is a surface that does not say where its inside is.
-  std::vector<std::vector<std::uint32_t>> loops;
-  std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
-  std::uint32_t pinched = UINT32_MAX;                     // a vertex on two rims
-  if (r.boundary_edges > 0) {
-    next.reserve(2 * r.boundary_edges);
-    for (std::size_t a = 0; a < edges.size();) {
-      std::size_t b = a;
-      while (b < edges.size() && edges[b].key == edges[a].key) ++b;
-      if (b - a == 1) {
-        const auto lo_v = static_cast<std::uint32_t>(edges[a].key >> 32);
-        const auto hi_v = static_cast<std::uint32_t>(edges[a].key & 0xffffffffu);
-        // the triangle runs lo->hi when dir > 0; the hole runs the other way
-        const std::uint32_t from = edges[a].dir > 0 ? hi_v : lo_v, to = edges[a].dir > 0 ? lo_v : hi_v;
-        if (!next.emplace(from, to).second && pinched == UINT32_MAX) pinched = from;
-      }
-      a = b;
-    }
-  }
   const bool small_gaps = r.boundary_edges * 50 <= unique_edges;
-  auto refuse = [&](std::size_t holes, std::size_t folded) {
-    char what[320];
-    std::snprintf(what, sizeof what, "the mesh is not closed: %s, %zu of %zu edges (%.1f%%) on their rims",
-                  holes == SIZE_MAX ? "holes that touch each other"
-                                    : (std::to_string(holes) + " hole(s), " + std::to_string(folded) +
-                                       " of them not flat enough to close with a fan")
-                                          .c_str(),
-                  r.boundary_edges, unique_edges,
-                  100.0 * static_cast<double>(r.boundary_edges) / static_cast<double>(unique_edges));
-    throw MeshError(source + ": " + what +
+  auto refuse = [&](const std::string& holes) {
+    char share[96];
+    std::snprintf(share, sizeof share, ", %zu of %zu edges (%.1f%%) on their rims", r.boundary_edges,
+                  unique_edges, 100.0 * static_cast<double>(r.boundary_edges) / static_cast<double>(unique_edges));
+    throw MeshError(source + ": the mesh is not closed: " + holes + share +
                     "; holes are closed automatically when there are at most 4 openings that each close "
                     "with a flat fan (a head cut at the neck, a bust cut under the chest or at the arms) or "
                     "when at most 2% of the edges lie on them (a scan's small gaps): close the other holes "
                     "in a modeller");
   };
   if (pinched != UINT32_MAX) {
-    if (!small_gaps) refuse(SIZE_MAX, 0);
+    if (!small_gaps) refuse("holes that touch each other");
     throw MeshError(source + ": a hole cannot be closed: vertex " + std::to_string(pinched) +
                     " lies on the rims of two holes (parts that touch at a vertex, such as eyes or "
                     "teeth modelled as open shells against the face); remove those parts or close "
                     "them in a modeller");
   }
-  if (r.boundary_edges > 0) {
+  std::vector<std::vector<std::uint32_t>> loops;
+  {
     std::vector<std::uint32_t> starts;
     for (const auto& [from, to] : next) starts.push_back(from);
     std::sort(starts.begin(), starts.end());  // deterministic order of the loops
-    std::unordered_map<std::uint32_t, bool> done;
+    std::unordered_set<std::uint32_t> done;
     for (std::uint32_t start : starts) {
       if (done.count(start)) continue;
       std::vector<std::uint32_t> loop;
       std::uint32_t v = start;
       do {
         loop.push_back(v);
-        done.emplace(v, true);
+        done.insert(v);
         auto it = next.find(v);
         if (it == next.end() || loop.size() > next.size())
           throw MeshError(source + ": a hole's boundary does not close on itself");
@@ -664,7 +651,9 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
   }
   constexpr std::size_t kFewOpenings = 4;
   const bool few_openings = loops.size() <= kFewOpenings && folded == 0;
-  if (!few_openings && !small_gaps) refuse(loops.size(), folded);
+  if (!few_openings && !small_gaps)
+    refuse(std::to_string(loops.size()) + " hole(s), " + std::to_string(folded) +
+           " of them not flat enough to close with a fan");
 
   // Close the holes: a fan from each loop's centroid, wound to match its
   // neighbours. A body must enclose a volume, and the signed-distance bake

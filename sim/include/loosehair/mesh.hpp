@@ -74,11 +74,12 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = 
 
 /// Cleans and checks a mesh in place: drops degenerate triangles and
 /// unreferenced vertices, closes holes with a fan of triangles from each
-/// hole's centroid (a head cut off at the neck), turns an inside-out mesh
-/// right way out. Throws
-/// MeshError (message starting with `source`) if it is empty, has
-/// non-finite coordinates, is flat, is mostly degenerate, has more than 1%
-/// non-manifold or misoriented edges, or more than 2% boundary edges.
+/// hole's centroid, turns an inside-out mesh right way out. Holes are
+/// closed when there are at most 4 and each fan is flat (a head cut off at
+/// the neck, a bust cut flat), or when they hold at most 2% of the edges (a
+/// scan's gaps). Throws MeshError (message starting with `source`) if it is
+/// empty, has non-finite coordinates, is flat, is mostly degenerate, has
+/// more than 1% non-manifold or misoriented edges, or holes it cannot close.
 MeshReport checkMesh(TriangleMesh& mesh, const std::string& source);
 
 /// The connected pieces of a mesh (triangles that share a vertex are in one).
