@@ -9,6 +9,8 @@
 #include "json_checks.hpp"
 #include "neighbor_grid.hpp"
 #include "loosehair/file_io.hpp"
+#include "loosehair/head_model.hpp"
+#include "json_fields.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -27,7 +29,7 @@
 namespace loosehair {
 namespace {
 
-using json = nlohmann::json;
+using namespace detail;
 
 // A body fixed in the world seen from the head frame at one head pose.
 class PlacedBody final : public Body {
@@ -47,146 +49,6 @@ class PlacedBody final : public Body {
   std::shared_ptr<const Body> body_;
   glm::mat3 r_;
   glm::vec3 c_;
-};
-
-// A value for an error message: short values whole, long ones cut (the
-// input's nesting is bounded by checkJson, so dumping is safe).
-std::string num(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-std::string show(const json& v) {
-  if (v.is_string()) return "\"" + clipped(v.get_ref<const std::string&>()) + "\"";
-  if (v.is_array() && v.size() > 16) return "an array of " + std::to_string(v.size()) + " values";
-  if (v.is_object() && v.size() > 16) return "an object of " + std::to_string(v.size()) + " fields";
-  return clipped(v.dump());
-}
-
-// A JSON object being read: remembers its path for messages and which keys
-// were used, so that misspelt fields are reported instead of ignored.
-class Fields {
- public:
-  Fields(const json& obj, std::string path, const std::string& source)
-      : obj_(obj), path_(std::move(path)), source_(source) {
-    if (!obj_.is_object()) fail("", "must be a JSON object, got " + show(obj_));
-  }
-
-  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    std::string field = path_;
-    if (!key.empty()) field += (field.empty() ? "" : ".") + key;
-    throw SceneError(source_ + ": " + (field.empty() ? "" : field + ": ") + problem);
-  }
-
-  const std::string& source() const { return source_; }
-
-  bool has(const std::string& key) {
-    used_.insert(key);
-    return obj_.contains(key);
-  }
-  const json& at(const std::string& key) {
-    used_.insert(key);
-    return obj_.at(key);
-  }
-
-  double number(const std::string& key, double fallback, double lo, double hi,
-                bool lo_open = false) {
-    if (!has(key)) return fallback;
-    const json& v = obj_.at(key);
-    if (!v.is_number()) fail(key, "must be a number, got " + show(v));
-    const double d = v.get<double>();
-    if (!std::isfinite(d) || d < lo || d > hi || (lo_open && d == lo)) {
-      std::ostringstream os;
-      os << "must be a number in " << (lo_open ? "(" : "[") << lo << ", " << hi << "], got "
-         << show(v);
-      fail(key, os.str());
-    }
-    return d;
-  }
-  float real(const std::string& key, float fallback, double lo, double hi, bool lo_open = false) {
-    return static_cast<float>(number(key, fallback, lo, hi, lo_open));
-  }
-  std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t lo,
-                       std::int64_t hi) {
-    if (!has(key)) return fallback;
-    const json& v = obj_.at(key);
-    // 1e5 is an integer written as a number with an exponent: taken if exact
-    std::int64_t i = 0;
-    if (v.is_number_integer()) {
-      if (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX))
-        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                      "], got " + show(v));
-      i = v.get<std::int64_t>();
-    } else if (v.is_number_float()) {
-      const double d = v.get<double>();
-      if (!(std::floor(d) == d) || !(std::abs(d) < 9.2e18))
-        fail(key, "must be a whole number, got " + show(v));
-      if (d < static_cast<double>(lo) || d > static_cast<double>(hi))
-        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                      "], got " + show(v));
-      i = static_cast<std::int64_t>(d);
-    } else {
-      fail(key, "must be an integer, got " + show(v));
-    }
-    if (i < lo || i > hi)
-      fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                    "], got " + show(v));
-    return i;
-  }
-  bool boolean(const std::string& key, bool fallback) {
-    if (!has(key)) return fallback;
-    const json& v = obj_.at(key);
-    if (!v.is_boolean()) fail(key, "must be true or false, got " + show(v));
-    return v.get<bool>();
-  }
-  std::string text(const std::string& key, const std::string& fallback) {
-    if (!has(key)) return fallback;
-    const json& v = obj_.at(key);
-    if (!v.is_string()) fail(key, "must be a string, got " + show(v));
-    return v.get<std::string>();
-  }
-  glm::dvec3 vec3(const std::string& key, glm::dvec3 fallback, double bound = 1e6) {
-    if (!has(key)) return fallback;
-    const json& v = obj_.at(key);
-    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
-        !v[2].is_number())
-      fail(key, "must be an array of three numbers, got " + show(v));
-    glm::dvec3 out(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
-    for (int a = 0; a < 3; ++a)
-      if (!std::isfinite(out[a]) || std::abs(out[a]) > bound)
-        fail(key, "must hold finite numbers of magnitude at most " + std::to_string(bound) +
-                      ", got " + show(v));
-    return out;
-  }
-  /// A number, or "auto" (returns nullopt-like: sets is_auto).
-  double numberOrAuto(const std::string& key, double fallback, bool& is_auto, double lo,
-                      double hi) {
-    if (has(key) && obj_.at(key).is_string()) {
-      if (obj_.at(key).get<std::string>() != "auto")
-        fail(key, "must be a number or \"auto\", got " + show(obj_.at(key)));
-      is_auto = true;
-      return fallback;
-    }
-    if (!has(key)) return fallback;
-    is_auto = false;
-    return number(key, fallback, lo, hi, true);
-  }
-  Fields child(const std::string& key) {
-    used_.insert(key);
-    return Fields(obj_.at(key), path_.empty() ? key : path_ + "." + key, source_);
-  }
-  /// Fails on any key that was never asked for.
-  void finish() const {
-    for (auto it = obj_.begin(); it != obj_.end(); ++it)
-      if (!used_.count(it.key())) fail(it.key(), "unknown field");
-  }
-
- private:
-  const json& obj_;
-  std::string path_;
-  const std::string& source_;
-  std::set<std::string> used_;
 };
 
 void readSolver(Fields f, SceneDesc& s) {
@@ -217,54 +79,6 @@ void readSolver(Fields f, SceneDesc& s) {
   p.body_friction = f.real("body_friction", p.body_friction, 0.0, 100.0);
   p.contact_thickness = f.real("contact_thickness", p.contact_thickness, 0.0, 1.0);
   f.finish();
-}
-
-std::string resolvePath(const std::string& source, const std::string& file) {
-  const std::filesystem::path p(file);
-  if (p.is_absolute()) return file;
-  return (std::filesystem::path(source).parent_path() / p).lexically_normal().string();
-}
-
-// The mesh fields shared by "head" (type "mesh") and "torso".
-void readMeshSpec(Fields& f, MeshSpec& m) {
-  if (!f.has("mesh")) f.fail("mesh", "is required (the mesh file, relative to the scene file)");
-  const std::string file = f.text("mesh", "");
-  if (file.empty()) f.fail("mesh", "must name a mesh file");
-  m.path = resolvePath(f.source(), file);
-  m.load.scale = f.real("scale", 1.0f, 0.0, 1e6, true);
-  try {
-    m.load.up = parseAxis(f.text("up", "+y"));
-  } catch (const std::invalid_argument& e) {
-    f.fail("up", e.what());
-  }
-  try {
-    m.load.front = parseAxis(f.text("front", "+z"));
-  } catch (const std::invalid_argument& e) {
-    f.fail("front", e.what());
-  }
-  if (std::abs(glm::dot(axisVector(m.load.up), axisVector(m.load.front))) > 0.5f)
-    f.fail("front", "must be a different axis from up");
-  m.load.offset = glm::vec3(f.vec3("offset", glm::dvec3(0.0), 100.0));
-  bool voxel_auto = true;
-  m.sdf_voxel = static_cast<float>(f.numberOrAuto("sdf_voxel", 0.0, voxel_auto, 0.0, 1.0));
-  if (voxel_auto) m.sdf_voxel = 0.0f;
-}
-
-std::vector<glm::vec3> readPoints(Fields& f, const std::string& key, std::size_t at_least) {
-  const json& v = f.at(key);
-  if (!v.is_array() || v.size() < at_least)
-    f.fail(key, "must be an array of at least " + std::to_string(at_least) + " points [x, y, z]");
-  std::vector<glm::vec3> out;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    const json& q = v[k];
-    if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number())
-      f.fail(key + "[" + std::to_string(k) + "]", "must be a point [x, y, z], got " + show(q));
-    const glm::dvec3 d(q[0].get<double>(), q[1].get<double>(), q[2].get<double>());
-    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || glm::length(d) > 100.0)
-      f.fail(key + "[" + std::to_string(k) + "]", "must hold finite coordinates within 100 m, got " + show(q));
-    out.emplace_back(d);
-  }
-  return out;
 }
 
 HeadTrajectory readMotion(Fields f);
@@ -392,53 +206,7 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
     s.substeps = static_cast<int>(top.integer("substeps", 0, 1, 100000));
   }
 
-  if (!top.has("head")) top.fail("head", "is required");
-  {
-    Fields head = top.child("head");
-    const std::string type = head.text("type", "sphere");
-    if (type == "sphere") {
-      s.head_kind = HeadKind::Sphere;
-      s.head_center = glm::vec3(head.vec3("center", glm::dvec3(0.0), 100.0));
-      s.head_radius = head.real("radius", s.head_radius, 0.0, 10.0, true);
-      s.scalp_kind = ScalpKind::SphereCap;
-    } else if (type == "mesh") {
-      s.head_kind = HeadKind::Mesh;
-      readMeshSpec(head, s.head_mesh);
-      s.scalp_kind = ScalpKind::Auto;
-    } else {
-      head.fail("type", "must be \"sphere\" or \"mesh\", got \"" + type + "\"");
-    }
-    head.finish();
-  }
-  if (top.has("torso")) {
-    Fields torso = top.child("torso");
-    readMeshSpec(torso, s.torso_mesh);
-    s.has_torso = true;
-    torso.finish();
-  }
-  if (top.has("scalp")) {
-    Fields scalp = top.child("scalp");
-    const bool mesh = s.head_kind == HeadKind::Mesh;
-    const std::string type = scalp.text("type", mesh ? "auto" : "sphere-cap");
-    if (type == "sphere-cap") {
-      if (mesh) scalp.fail("type", "\"sphere-cap\" needs a sphere head; use \"auto\" or \"curves\" on a mesh");
-      s.scalp_kind = ScalpKind::SphereCap;
-      s.cap_angle_deg = scalp.real("cap_angle_deg", s.cap_angle_deg, 0.0, 180.0, true);
-    } else if (type == "auto" || type == "curves") {
-      if (!mesh) scalp.fail("type", "\"" + type + "\" needs a mesh head; a sphere head takes \"sphere-cap\"");
-      s.scalp_kind = type == "auto" ? ScalpKind::Auto : ScalpKind::Curves;
-      if (type == "curves") {
-        const char* names[4] = {"front", "right", "back", "left"};
-        for (int k = 0; k < 4; ++k) {
-          if (!scalp.has(names[k])) scalp.fail(names[k], "is required: control points of the curve");
-          s.scalp_curves[static_cast<std::size_t>(k)] = readPoints(scalp, names[k], 2);
-        }
-      }
-    } else {
-      scalp.fail("type", "must be \"sphere-cap\", \"auto\" or \"curves\", got \"" + type + "\"");
-    }
-    scalp.finish();
-  }
+  readHeadParts(top, s);
   if (top.has("wind")) {
     s.wind = readWind(top.child("wind"));
     s.has_wind = true;
@@ -549,129 +317,10 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   const HairSpec& hair = scene.hair;
 
   // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
-  std::shared_ptr<const Body> head;
-  std::unique_ptr<ScalpSurface> scalp_owner;
-  std::shared_ptr<const Body> torso;
-  const std::string cache = GridSdfBody::defaultCacheDir();
-  auto meshBody = [&](const MeshSpec& spec, const std::string& field, TriangleMesh& mesh) {
-    auto t0 = Clock::now();
-    MeshReport mesh_report;
-    try {
-      mesh = loadMesh(spec.path, spec.load, &mesh_report);
-    } catch (const MeshError& e) {
-      throw SceneError(scene.source + ": " + field + ".mesh: " + e.what());
-    }
-    rep.seconds_meshes += since(t0);
-    if (mesh_report.parts_dropped > 0)
-      rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
-                             " open part(s) besides the largest (" +
-                             std::to_string(mesh_report.triangles_dropped) +
-                             " triangles: eyes, teeth or helper geometry enclose no volume); the hair "
-                             "collides with the rest");
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const glm::vec3& v : mesh.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-    const glm::vec3 extent = hi - lo;
-    const float size = std::max({extent.x, extent.y, extent.z});
-    auto metres = [](double v) {
-      char buf[48];
-      std::snprintf(buf, sizeof buf, "%.3g m", v);
-      return std::string(buf);
-    };
-    // A head or body of no size (a tiny scale) has no surface to hang hair on
-    if (!(size >= 1e-3f))
-      throw SceneError(scene.source + ": " + field + ".scale: the mesh is " + metres(size) +
-                       " across after scaling (scale " + num(spec.load.scale) +
-                       "); a " + field + " is tenths of a metre: set " + field +
-                       ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
-    if (field == "head")
-      for (std::string& w : headOrientationWarnings(mesh, field)) rep.warnings.push_back(std::move(w));
-    // a whole body in metres (1.2-2.3 m tall, and taller than wide or deep)
-    // is a head with a body below it, not a head in the wrong unit
-    const bool whole_body = extent.y >= 1.2f && extent.y <= 2.3f && extent.y >= std::max(extent.x, extent.z);
-    if (field == "head" && (size < 0.08f || (size > 0.6f && !whole_body)))
-      rep.warnings.push_back(field + ": the mesh is " + metres(size) + " across, far from a human head (about 0.2 m); if its unit is not the metre, set " +
-                             field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
-    if (spec.sdf_voxel > 0.0f) {
-      double cells = 1;
-      for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
-      if (cells > scene.limits.max_sdf_cells)
-        throw SceneError(scene.source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
-                         " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
-                         " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
-                         " GB), above the limit of " +
-                         std::to_string(static_cast<long long>(scene.limits.max_sdf_cells / 1e6)) +
-                         " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
-    }
-    t0 = Clock::now();
-    SdfBakeOptions opt;
-    opt.voxel_size = spec.sdf_voxel;
-    // 4 cm around a head, less around a tiny one (a mesh in the wrong unit):
-    // its automatic voxels are tiny too, and a 4 cm margin of them made a
-    // 2 cm head bake for a minute
-    opt.margin = std::min(opt.margin, 0.25f * size);
-    opt.cache_dir = cache;
-    bool cached = false;
-    std::shared_ptr<GridSdfBody> body;
-    try {
-      body = GridSdfBody::bake(mesh, opt, &cached);
-    } catch (const MeshError& e) {
-      throw SceneError(scene.source + ": " + field + ".sdf_voxel: " + e.what());
-    } catch (const std::bad_alloc&) {
-      throw SceneError(scene.source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
-    } catch (const std::exception& e) {
-      throw SceneError(scene.source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) + ")");
-    }
-    rep.sdf_from_cache = cached;
-    auto exact = std::make_shared<MeshBody>(mesh, body);
-    rep.seconds_sdf += since(t0);
-    return exact;
-  };
-  if (scene.head_kind == HeadKind::Sphere) {
-    if (scene.head_radius < 5e-4)
-      throw SceneError(scene.source + ": head.radius: " + num(scene.head_radius) +
-                       " m has no surface to hang hair on; a human head is about 0.1 m");
-    if (scene.head_radius < 0.04 || scene.head_radius > 0.3)
-      rep.warnings.push_back("head.radius: " + num(scene.head_radius) +
-                             " m is far from a human head (about 0.1 m)");
-    scalp_owner = std::make_unique<SphereCapScalp>(scene.head_center, scene.head_radius,
-                                                   glm::radians(scene.cap_angle_deg));
-    head = std::make_shared<SphereBody>(scene.head_center, scene.head_radius);
-  } else {
-    TriangleMesh mesh;
-    auto body = meshBody(scene.head_mesh, "head", mesh);
-    rep.head_vertices = mesh.vertices.size();
-    rep.head_triangles = mesh.triangles.size();
-    const auto t0 = Clock::now();
-    ScalpCurves curves;
-    if (scene.scalp_kind == ScalpKind::Curves) {
-      for (std::size_t k = 0; k < 4; ++k) curves.control[k] = scene.scalp_curves[k];
-    } else {
-      curves = automaticScalpCurves(mesh, *body);
-    }
-    try {
-      auto ms = std::make_unique<MeshScalp>(mesh, *body, curves, scene.head_mesh.path);
-      rep.scalp_triangles = ms->report().triangles;
-      rep.scalp_area = ms->report().area;
-      rep.scalp_mean_value = ms->report().mean_value_weights;
-      scalp_owner = std::move(ms);
-    } catch (const MeshError& e) {
-      // what the mesh looked like may explain it
-      std::string notes;
-      for (const std::string& w : rep.warnings) notes += "\n  (" + w + ")";
-      throw SceneError(scene.source + ": scalp: " + e.what() + notes);
-    }
-    rep.seconds_scalp = since(t0);
-    head = body;
-  }
-  if (scene.has_torso) {
-    TriangleMesh mesh;
-    torso = meshBody(scene.torso_mesh, "torso", mesh);
-    rep.torso_triangles = mesh.triangles.size();
-  }
-  const ScalpSurface& scalp = *scalp_owner;
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells, &rep);
+  const std::shared_ptr<const Body> head = model.head();
+  const std::shared_ptr<const Body> torso = model.torso();
+  const ScalpSurface& scalp = model.scalp();
   // What the initial strands must stay out of: the head and, placed where
   // the head is at the start, the torso.
   auto start_bodies = std::make_shared<UnionBody>();

@@ -67,13 +67,10 @@ struct ObstacleSpec {
 enum class HeadKind { Sphere, Mesh };
 enum class ScalpKind { SphereCap, Auto, Curves };
 
-struct SceneDesc {
-  std::string source;  // file the scene came from (for messages)
-  std::string name;
-  std::uint64_t seed = 1;
-  int frames = 90;
-  double frame_rate = 30.0;  // output frames per simulated second
-  int substeps = 0;          // solver steps per frame; 0 = choose from the stable step
+/// The head a scene or a style grows hair on: the head (a sphere or a
+/// mesh), the torso below it and the scalp (SPEC §5, §6.1). Fields "head",
+/// "torso" and "scalp" of scene and style files.
+struct HeadDesc {
   HeadKind head_kind = HeadKind::Sphere;
   glm::vec3 head_center{0.0f};
   float head_radius = 0.1f;  // m
@@ -85,6 +82,17 @@ struct SceneDesc {
   /// Control points of the front, right, back and left trimming curves
   /// (scalp_kind == Curves), head frame (m).
   std::array<std::vector<glm::vec3>, 4> scalp_curves;
+  /// Same head, torso and scalp (paths compared as written, resolved).
+  bool sameAs(const HeadDesc& o) const;
+};
+
+struct SceneDesc : HeadDesc {
+  std::string source;  // file the scene came from (for messages)
+  std::string name;
+  std::uint64_t seed = 1;
+  int frames = 90;
+  double frame_rate = 30.0;  // output frames per simulated second
+  int substeps = 0;          // solver steps per frame; 0 = choose from the stable step
   std::vector<ObstacleSpec> obstacles;
   bool has_wind = false;
   WindParams wind;

@@ -1,0 +1,342 @@
+#include "loosehair/head_model.hpp"
+
+#include "head_orientation.hpp"
+#include "init/mesh_scalp.hpp"
+#include "init/scalp_surface.hpp"
+#include "json_checks.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace loosehair {
+namespace {
+
+std::string num(double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+TriangleMesh sphereMesh(glm::vec3 c, float r) {
+  TriangleMesh m;
+  const int rings = 24, sectors = 48;
+  for (int i = 0; i <= rings; ++i) {
+    const double th = std::numbers::pi * i / rings;
+    for (int j = 0; j < sectors; ++j) {
+      const double ph = 2.0 * std::numbers::pi * j / sectors;
+      m.vertices.push_back(c + r * glm::vec3(glm::dvec3(std::sin(th) * std::cos(ph), std::cos(th),
+                                                        std::sin(th) * std::sin(ph))));
+    }
+  }
+  auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * sectors + (j % sectors)); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      if (i > 0) m.triangles.emplace_back(at(i, j), at(i, j + 1), at(i + 1, j));
+      if (i + 1 < rings) m.triangles.emplace_back(at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+    }
+  return m;
+}
+
+// Closest point to p on triangle abc, as barycentric weights (Ericson's
+// region tests, written out).
+glm::vec3 closestBarycentric(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+  const glm::vec3 bp = p - b;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const float v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
+  const glm::vec3 cp = p - c;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const float w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
+  const float denom = 1.0f / (va + vb + vc);
+  const float v = vb * denom, w = vc * denom;
+  return {1 - v - w, v, w};
+}
+
+}  // namespace
+
+HeadModel::HeadModel() = default;
+HeadModel::HeadModel(HeadModel&&) noexcept = default;
+HeadModel& HeadModel::operator=(HeadModel&&) noexcept = default;
+HeadModel::~HeadModel() = default;
+
+HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, double max_sdf_cells,
+                           BuildReport* report) {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
+  BuildReport local;
+  BuildReport& rep = report ? *report : local;
+  HeadModel m;
+  m.desc_ = desc;
+  const std::string cache = GridSdfBody::defaultCacheDir();
+  auto meshBody = [&](const MeshSpec& spec, const std::string& field, TriangleMesh& mesh) {
+    auto t0 = Clock::now();
+    MeshReport mesh_report;
+    try {
+      mesh = loadMesh(spec.path, spec.load, &mesh_report);
+    } catch (const MeshError& e) {
+      throw SceneError(source + ": " + field + ".mesh: " + e.what());
+    }
+    rep.seconds_meshes += since(t0);
+    if (mesh_report.parts_dropped > 0)
+      rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
+                             " open part(s) besides the largest (" +
+                             std::to_string(mesh_report.triangles_dropped) +
+                             " triangles: eyes, teeth or helper geometry enclose no volume); the hair "
+                             "collides with the rest");
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& v : mesh.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+    const glm::vec3 extent = hi - lo;
+    const float size = std::max({extent.x, extent.y, extent.z});
+    auto metres = [](double v) {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "%.3g m", v);
+      return std::string(buf);
+    };
+    // A head or body of no size (a tiny scale) has no surface to hang hair on
+    if (!(size >= 1e-3f))
+      throw SceneError(source + ": " + field + ".scale: the mesh is " + metres(size) +
+                       " across after scaling (scale " + num(spec.load.scale) +
+                       "); a " + field + " is tenths of a metre: set " + field +
+                       ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
+    if (field == "head")
+      for (std::string& w : headOrientationWarnings(mesh, field)) rep.warnings.push_back(std::move(w));
+    // a whole body in metres (1.2-2.3 m tall, and taller than wide or deep)
+    // is a head with a body below it, not a head in the wrong unit
+    const bool whole_body = extent.y >= 1.2f && extent.y <= 2.3f && extent.y >= std::max(extent.x, extent.z);
+    if (field == "head" && (size < 0.08f || (size > 0.6f && !whole_body)))
+      rep.warnings.push_back(field + ": the mesh is " + metres(size) + " across, far from a human head (about 0.2 m); if its unit is not the metre, set " +
+                             field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
+    if (spec.sdf_voxel > 0.0f) {
+      double cells = 1;
+      for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
+      if (cells > max_sdf_cells)
+        throw SceneError(source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
+                         " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
+                         " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
+                         " GB), above the limit of " +
+                         std::to_string(static_cast<long long>(max_sdf_cells / 1e6)) +
+                         " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
+    }
+    t0 = Clock::now();
+    SdfBakeOptions opt;
+    opt.voxel_size = spec.sdf_voxel;
+    // 4 cm around a head, less around a tiny one (a mesh in the wrong unit):
+    // its automatic voxels are tiny too, and a 4 cm margin of them made a
+    // 2 cm head bake for a minute
+    opt.margin = std::min(opt.margin, 0.25f * size);
+    opt.cache_dir = cache;
+    bool cached = false;
+    std::shared_ptr<GridSdfBody> body;
+    try {
+      body = GridSdfBody::bake(mesh, opt, &cached);
+    } catch (const MeshError& e) {
+      throw SceneError(source + ": " + field + ".sdf_voxel: " + e.what());
+    } catch (const std::bad_alloc&) {
+      throw SceneError(source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
+    } catch (const std::exception& e) {
+      throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) + ")");
+    }
+    rep.sdf_from_cache = cached;
+    auto exact = std::make_shared<MeshBody>(mesh, body);
+    rep.seconds_sdf += since(t0);
+    return exact;
+  };
+  if (desc.head_kind == HeadKind::Sphere) {
+    if (desc.head_radius < 5e-4)
+      throw SceneError(source + ": head.radius: " + num(desc.head_radius) +
+                       " m has no surface to hang hair on; a human head is about 0.1 m");
+    if (desc.head_radius < 0.04 || desc.head_radius > 0.3)
+      rep.warnings.push_back("head.radius: " + num(desc.head_radius) +
+                             " m is far from a human head (about 0.1 m)");
+    m.scalp_ = std::make_unique<SphereCapScalp>(desc.head_center, desc.head_radius,
+                                                   glm::radians(desc.cap_angle_deg));
+    m.head_ = std::make_shared<SphereBody>(desc.head_center, desc.head_radius);
+    m.head_mesh_ = sphereMesh(desc.head_center, desc.head_radius);
+  } else {
+    TriangleMesh mesh;
+    auto body = meshBody(desc.head_mesh, "head", mesh);
+    rep.head_vertices = mesh.vertices.size();
+    rep.head_triangles = mesh.triangles.size();
+    const auto t0 = Clock::now();
+    ScalpCurves curves;
+    if (desc.scalp_kind == ScalpKind::Curves) {
+      for (std::size_t k = 0; k < 4; ++k) curves.control[k] = desc.scalp_curves[k];
+    } else {
+      curves = automaticScalpCurves(mesh, *body);
+    }
+    try {
+      auto ms = std::make_unique<MeshScalp>(mesh, *body, curves, desc.head_mesh.path);
+      rep.scalp_triangles = ms->report().triangles;
+      rep.scalp_area = ms->report().area;
+      rep.scalp_mean_value = ms->report().mean_value_weights;
+      m.scalp_ = std::move(ms);
+    } catch (const MeshError& e) {
+      // what the mesh looked like may explain it
+      std::string notes;
+      for (const std::string& w : rep.warnings) notes += "\n  (" + w + ")";
+      throw SceneError(source + ": scalp: " + e.what() + notes);
+    }
+    rep.seconds_scalp = since(t0);
+    m.head_ = body;
+    m.head_mesh_ = std::move(mesh);
+  }
+  if (desc.has_torso) {
+    TriangleMesh mesh;
+    m.torso_ = meshBody(desc.torso_mesh, "torso", mesh);
+    rep.torso_triangles = mesh.triangles.size();
+  }
+
+  // The scalp as triangles (picking, regions, nearest points).
+  ScalpTriangles& t = m.tris_;
+  if (const auto* ms = dynamic_cast<const MeshScalp*>(m.scalp_.get())) {
+    t.positions = ms->positions();
+    t.uvs = ms->uvs();
+    t.triangles = ms->triangles();
+  } else {
+    const int g = 48;
+    for (int i = 0; i <= g; ++i)
+      for (int j = 0; j <= g; ++j) {
+        const glm::vec2 uv(static_cast<float>(j) / g, static_cast<float>(i) / g);
+        t.uvs.push_back(uv);
+        t.positions.push_back(m.scalp_->point(uv));
+      }
+    for (int i = 0; i < g; ++i)
+      for (int j = 0; j < g; ++j) {
+        const auto a = static_cast<std::uint32_t>(i * (g + 1) + j);
+        // counter-clockwise in (u, v); outward on the cap as on the mesh scalp
+        t.triangles.emplace_back(a, a + 1, a + g + 2);
+        t.triangles.emplace_back(a, a + g + 2, a + g + 1);
+      }
+  }
+  for (const auto& tr : t.triangles)
+    t.areas.push_back(0.5 * glm::length(glm::cross(glm::dvec3(t.positions[tr.y] - t.positions[tr.x]),
+                                                   glm::dvec3(t.positions[tr.z] - t.positions[tr.x]))));
+  // uv buckets for scalpTriangleAt
+  m.buckets_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(t.triangles.size()) / 2.0)));
+  const int nb = m.buckets_;
+  std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(nb * nb));
+  for (std::uint32_t k = 0; k < t.triangles.size(); ++k) {
+    const auto tr = t.triangles[k];
+    const glm::vec2 lo = glm::min(t.uvs[tr.x], glm::min(t.uvs[tr.y], t.uvs[tr.z]));
+    const glm::vec2 hi = glm::max(t.uvs[tr.x], glm::max(t.uvs[tr.y], t.uvs[tr.z]));
+    const int x0 = std::clamp(static_cast<int>(lo.x * static_cast<float>(nb)), 0, nb - 1), x1 = std::clamp(static_cast<int>(hi.x * static_cast<float>(nb)), 0, nb - 1);
+    const int y0 = std::clamp(static_cast<int>(lo.y * static_cast<float>(nb)), 0, nb - 1), y1 = std::clamp(static_cast<int>(hi.y * static_cast<float>(nb)), 0, nb - 1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) lists[static_cast<std::size_t>(y * nb + x)].push_back(k);
+  }
+  m.bucket_start_.assign(1, 0);
+  for (const auto& l : lists) {
+    m.bucket_items_.insert(m.bucket_items_.end(), l.begin(), l.end());
+    m.bucket_start_.push_back(static_cast<std::uint32_t>(m.bucket_items_.size()));
+  }
+  float lo = INFINITY, hi = -INFINITY;
+  for (const glm::vec3& v : m.head_mesh_.vertices) {
+    lo = std::min(lo, v.x);
+    hi = std::max(hi, v.x);
+  }
+  m.mirror_x_ = 0.5f * (lo + hi);
+  return m;
+}
+
+glm::vec3 HeadModel::scalpPoint(glm::vec2 uv) const { return scalp_->point(uv); }
+glm::vec3 HeadModel::scalpNormal(glm::vec2 uv) const { return scalp_->normal(uv); }
+double HeadModel::scalpArea() const { return scalp_->area(); }
+
+glm::vec3 HeadModel::scalpTangentU(glm::vec2 uv) const {
+  const glm::vec3 n = scalpNormal(uv);
+  const float du = 2e-3f;
+  const float a = std::max(0.0f, uv.x - du), b = std::min(1.0f, uv.x + du);
+  glm::vec3 d = scalpPoint({b, uv.y}) - scalpPoint({a, uv.y});
+  d -= glm::dot(d, n) * n;
+  if (glm::length(d) < 1e-9f) {  // u does not move the point here (a pole of the map)
+    const float c = std::max(0.0f, uv.y - du), e = std::min(1.0f, uv.y + du);
+    const glm::vec3 dv = scalpPoint({uv.x, e}) - scalpPoint({uv.x, c});
+    d = glm::cross(dv, n);
+    d -= glm::dot(d, n) * n;
+  }
+  if (glm::length(d) < 1e-12f) {
+    d = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
+    d -= glm::dot(d, n) * n;
+  }
+  return glm::normalize(d);
+}
+
+glm::vec2 HeadModel::nearestScalpUv(glm::vec3 p, float* distance) const {
+  float best = INFINITY;
+  glm::vec2 uv(0.5f);
+  for (const auto& tr : tris_.triangles) {
+    const glm::vec3 a = tris_.positions[tr.x], b = tris_.positions[tr.y], c = tris_.positions[tr.z];
+    const glm::vec3 l = closestBarycentric(p, a, b, c);
+    const glm::vec3 q = l.x * a + l.y * b + l.z * c;
+    const float d = glm::length(q - p);
+    if (d < best) {
+      best = d;
+      uv = l.x * tris_.uvs[tr.x] + l.y * tris_.uvs[tr.y] + l.z * tris_.uvs[tr.z];
+    }
+  }
+  uv = glm::clamp(uv, glm::vec2(0.0f), glm::vec2(1.0f));
+  if (distance) *distance = glm::length(scalpPoint(uv) - p);
+  return uv;
+}
+
+std::uint32_t HeadModel::scalpTriangleAt(glm::vec2 uv) const {
+  uv = glm::clamp(uv, glm::vec2(0.0f), glm::vec2(1.0f));
+  const int x = std::clamp(static_cast<int>(uv.x * static_cast<float>(buckets_)), 0, buckets_ - 1);
+  const int y = std::clamp(static_cast<int>(uv.y * static_cast<float>(buckets_)), 0, buckets_ - 1);
+  const std::size_t b = static_cast<std::size_t>(y * buckets_ + x);
+  float best = -INFINITY;
+  std::uint32_t best_t = 0;
+  auto test = [&](std::uint32_t k) {
+    const auto tr = tris_.triangles[k];
+    const glm::vec2 a = tris_.uvs[tr.x], e1 = tris_.uvs[tr.y] - a, e2 = tris_.uvs[tr.z] - a, q = uv - a;
+    const float det = e1.x * e2.y - e1.y * e2.x;
+    if (!(det > 0.0f)) return false;
+    const float l1 = (q.x * e2.y - q.y * e2.x) / det, l2 = (e1.x * q.y - e1.y * q.x) / det;
+    const float worst = std::min({1.0f - l1 - l2, l1, l2});
+    if (worst > best) {
+      best = worst;
+      best_t = k;
+    }
+    return worst >= 0.0f;
+  };
+  for (std::uint32_t k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k)
+    if (test(bucket_items_[k])) return best_t;
+  if (best == -INFINITY)
+    for (std::uint32_t k = 0; k < tris_.triangles.size(); ++k) test(k);
+  return best_t;
+}
+
+float HeadModel::headDistance(glm::vec3 p) const {
+  float phi = 0;
+  glm::vec3 n;
+  head_->signedDistance(&p, 1, &phi, &n);
+  return phi;
+}
+
+}  // namespace loosehair
