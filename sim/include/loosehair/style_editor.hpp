@@ -1,0 +1,100 @@
+// Editing a style (SPEC §6.2): the operations the viewer, the command line
+// and the tests share, each undoable. Every operation checks its arguments
+// and either applies whole or throws StyleError leaving the style as it was.
+//
+//   StyleEditor ed(loadStyle("bob.json"), head);
+//   std::size_t w = ed.createWisp(region);
+//   ed.moveControlPoint(w, 2, StylingAxis::Normal, 0.01f);  // 1 cm off the scalp
+//   ed.undo();
+//   saveStyle(ed.style(), "bob.json");
+#pragma once
+
+#include "loosehair/style.hpp"
+
+#include <optional>
+#include <vector>
+
+namespace loosehair {
+
+/// The three styling directions at a control point (stylingDirections).
+enum class StylingAxis { Tangent = 0, Normal = 1, Binormal = 2 };
+
+class StyleEditor {
+ public:
+  /// `head` is the style's head, built from style.head; it must outlive the editor.
+  StyleEditor(Style style, const HeadModel& head);
+
+  const Style& style() const { return style_; }
+  const HeadModel& head() const { return head_; }
+
+  // ---- wisps --------------------------------------------------------------
+  /// A new wisp over `region`. Its key strand is `key` moved so that it
+  /// starts at the region's root (translated), or, if `key` is empty, a
+  /// strand of 0.15 m along the scalp normal with four control points.
+  /// Returns its index (the last).
+  std::size_t createWisp(const WispRegion& region, const WispParams& params = {},
+                         const std::vector<glm::vec3>& key = {}, const std::string& name = "");
+  void deleteWisp(std::size_t wisp);
+  /// A new region; the key strand moves to the new root keeping its shape
+  /// in the root's local frame.
+  void setRegion(std::size_t wisp, const WispRegion& region);
+  void setParams(std::size_t wisp, const WispParams& params);
+  void renameWisp(std::size_t wisp, const std::string& name);
+  /// A mirrored copy of the wisp on the other side of the head (through the
+  /// plane x = HeadModel::mirrorPlaneX()): triangles go to the triangles
+  /// under their mirrored centres, (u, v) polygons to u -> 1 - u, control
+  /// points to their mirror images. Returns the new wisp's index.
+  std::size_t mirrorWisp(std::size_t wisp);
+
+  // ---- control points (index 0 is the root: it follows the region) ------
+  /// Inserts a control point before index k (1 <= k <= count): at `point`
+  /// if given, else halfway along the spline between k-1 and k (so the
+  /// shape barely changes), or beyond the tip when k == count.
+  void addControlPoint(std::size_t wisp, std::size_t k, std::optional<glm::vec3> point = std::nullopt);
+  /// Removes control point k (k >= 1; a key strand keeps at least two).
+  void deleteControlPoint(std::size_t wisp, std::size_t k);
+  /// Moves control point k (k >= 1) by `distance` metres along one of its
+  /// styling directions as they are before the move.
+  void moveControlPoint(std::size_t wisp, std::size_t k, StylingAxis axis, float distance);
+  /// Puts control point k (k >= 1) at `point` (a free drag).
+  void setControlPoint(std::size_t wisp, std::size_t k, glm::vec3 point);
+
+  // ---- copy and paste of key strands ----------------------------------
+  /// Remembers the wisp's key strand in its root frame (not an edit).
+  void copyKeyStrand(std::size_t wisp);
+  bool hasClipboard() const { return clipboard_.has_value(); }
+  /// Replaces the wisp's key strand by the copied one, re-rooted at the
+  /// wisp's root with its shape kept in the root's local frame.
+  void pasteKeyStrand(std::size_t wisp);
+
+  // ---- ties and the style's own fields --------------------------------
+  std::size_t addTie(const HairTie& tie);
+  void deleteTie(std::size_t tie);
+  void setTie(std::size_t tie, const HairTie& value);
+  void setColour(glm::vec3 colour);
+  void setShapeKeeping(float hz);
+
+  // ---- history ---------------------------------------------------------
+  bool canUndo() const { return !undo_.empty(); }
+  bool canRedo() const { return !redo_.empty(); }
+  /// Back to the style before the last operation (false: nothing to undo).
+  bool undo();
+  /// Reapplies the last undone operation (false: nothing to redo).
+  bool redo();
+
+ private:
+  Wisp& wisp(std::size_t i, const char* what);
+  void checkPoint(std::size_t wisp, std::size_t k, glm::vec3 p) const;
+  /// Records the current style for undo and clears the redo list.
+  void record();
+  Style style_;
+  const HeadModel& head_;
+  std::vector<Style> undo_, redo_;
+  struct Clip {
+    std::vector<glm::vec3> key;
+    glm::vec2 root_uv;
+  };
+  std::optional<Clip> clipboard_;
+};
+
+}  // namespace loosehair

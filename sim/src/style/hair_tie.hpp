@@ -1,0 +1,26 @@
+// Hair ties (our addition to SPEC §6.2): where a key strand passes through a
+// tie's ring, and which points a tie holds.
+#pragma once
+
+#include "loosehair/style.hpp"
+
+#include <optional>
+#include <vector>
+
+namespace loosehair {
+
+struct TieCrossing {
+  float arc_length;     // along the polyline, where it crosses the ring's plane (m)
+  glm::vec3 point;      // the crossing point
+  float axis_distance;  // its distance from the ring's axis (m)
+};
+
+/// The first crossing of the polyline through the tie's ring (its plane,
+/// within the ring's radius), if any.
+std::optional<TieCrossing> crossTie(const std::vector<glm::vec3>& polyline, const HairTie& tie);
+
+/// Whether a point lies inside the ring: within its radius of the axis and
+/// half its width of the ring's plane.
+bool insideTie(const HairTie& tie, glm::vec3 p);
+
+}  // namespace loosehair

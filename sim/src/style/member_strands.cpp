@@ -1,0 +1,190 @@
+// Member strands of a wisp (SPEC §6.2; Zhang & Wünsche §3.2).
+//
+// Roots: Poisson-disc darts over the region's scalp triangles, drawn by area,
+// the region's root first. Shape: the key strand's dense Catmull-Rom
+// polyline K(s) with its rotation-minimising frame F(s); member m with root
+// r_m and a random vector d_m from the ball of radius offset_radius follows
+//
+//   P_m(s) = K(s) + (1 - g(s)) (r_m - K(0)) + (s / L) F(s) d_m  [+ curl]
+//
+// so the offset from the translated key strand grows linearly from 0 at the
+// root to |d_m| <= offset_radius at the tip (the paper's per-control-point
+// offsets, evaluated continuously along the curve). g = 0 without ties;
+// through a tie, g rises smoothly from 0 at the root to 1 where the key
+// strand crosses the ring, so the wisp's members converge onto the key
+// strand there (their offset bounded to stay inside the ring) and hang
+// together beyond it. Finally each member is cut to its length and pushed
+// out of the head and torso.
+#include "init/mesh_scalp.hpp"
+#include "loosehair/style.hpp"
+#include "random.hpp"
+#include "style/hair_tie.hpp"
+#include "style/rotation_minimizing_frame.hpp"
+#include "style/wisp_region.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+namespace loosehair {
+namespace {
+
+float smoothstep01(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
+
+glm::vec3 inBall(Random& rng, float radius) {
+  for (;;) {
+    const glm::vec3 q(static_cast<float>(rng.uniform(-1.0, 1.0)), static_cast<float>(rng.uniform(-1.0, 1.0)),
+                      static_cast<float>(rng.uniform(-1.0, 1.0)));
+    if (glm::dot(q, q) <= 1.0f) return radius * q;
+  }
+}
+
+std::int64_t cellKey(glm::ivec3 c) {
+  return (static_cast<std::int64_t>(c.x) * 73856093) ^ (static_cast<std::int64_t>(c.y) * 19349663) ^
+         (static_cast<std::int64_t>(c.z) * 83492791);
+}
+
+// Roots of a wisp's members in (u, v), the region's root first.
+std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, Random& rng) {
+  const ScalpTriangles& s = head.scalpTriangles();
+  const std::vector<std::uint32_t> tris = regionTriangles(w.region, head);
+  std::vector<glm::vec2> roots{regionRoot(w.region, head)};
+  if (tris.empty()) return roots;
+  const double area = regionArea(w.region, head);
+  const double wanted = w.params.strands > 0 ? static_cast<double>(w.params.strands)
+                                             : std::max(1.0, std::round(w.params.density * 1e4 * area));
+  const auto target = static_cast<std::size_t>(wanted);
+  if (target <= 1 || !(area > 0.0)) return roots;
+  const float radius = static_cast<float>(0.6 / std::sqrt(wanted / area));
+  std::vector<double> cdf;
+  double total = 0;
+  for (std::uint32_t t : tris) cdf.push_back(total += s.areas[t]);
+  std::unordered_map<std::int64_t, std::vector<glm::vec3>> grid;
+  auto cell = [&](glm::vec3 p) { return glm::ivec3(glm::floor(p / radius)); };
+  auto accept = [&](glm::vec3 p) {
+    const glm::ivec3 c = cell(p);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = grid.find(cellKey(c + glm::ivec3(dx, dy, dz)));
+          if (it == grid.end()) continue;
+          for (const glm::vec3& q : it->second)
+            if (glm::length(q - p) < radius) return false;
+        }
+    grid[cellKey(c)].push_back(p);
+    return true;
+  };
+  accept(head.scalpPoint(roots[0]));
+  const std::size_t tries = 40 * target + 64;
+  for (std::size_t k = 0; k < tries && roots.size() < target; ++k) {
+    const double x = rng.uniform() * total;
+    const std::size_t i = std::min(static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin()),
+                                   tris.size() - 1);
+    const auto tr = s.triangles[tris[i]];
+    const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
+    const glm::vec2 uv = static_cast<float>(1.0 - r1) * s.uvs[tr.x] + static_cast<float>(r1 * (1.0 - r2)) * s.uvs[tr.y] +
+                         static_cast<float>(r1 * r2) * s.uvs[tr.z];
+    if (!regionContains(w.region, head, uv)) continue;
+    if (accept(head.scalpPoint(uv))) roots.push_back(uv);
+  }
+  return roots;
+}
+
+}  // namespace
+
+StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing) {
+  StrandSet out;
+  out.first.push_back(0);
+  spacing = std::max(spacing, 1e-4f);
+  const float clearance = 1e-3f;
+  for (std::size_t wi = 0; wi < style.wisps.size(); ++wi) {
+    const Wisp& w = style.wisps[wi];
+    const WispParams& par = w.params;
+    if (w.key_strand.size() < 2) continue;
+    float longest = 0;
+    for (std::size_t k = 1; k < w.key_strand.size(); ++k)
+      longest = std::max(longest, glm::length(w.key_strand[k] - w.key_strand[k - 1]));
+    const int per = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 2, 256);
+    const std::vector<glm::vec3> key = catmullRom(w.key_strand, per);
+    std::vector<float> sk(key.size(), 0.0f);
+    for (std::size_t j = 1; j < key.size(); ++j) sk[j] = sk[j - 1] + glm::length(key[j] - key[j - 1]);
+    const float length = sk.back();
+    if (!(length > 0.0f)) continue;
+    const glm::vec2 root_uv = head.nearestScalpUv(key[0]);
+    const std::vector<CurveFrame> frame = rotationMinimizingFrames(key, head.scalpTangentU(root_uv));
+    // the first tie the key strand passes through
+    std::optional<TieCrossing> tie;
+    const HairTie* tie_ring = nullptr;
+    for (const HairTie& t : style.ties)
+      if (auto c = crossTie(key, t); c && (!tie || c->arc_length < tie->arc_length)) {
+        tie = c;
+        tie_ring = &t;
+      }
+    Random rng(par.seed);
+    const std::vector<glm::vec2> roots = memberRoots(w, head, rng);
+    Random shape(par.seed ^ 0x6a09e667f3bcc909ULL);
+    std::vector<glm::vec3> pts(key.size());
+    for (const glm::vec2 uv : roots) {
+      const glm::vec3 delta = head.scalpPoint(uv) - key[0];
+      glm::vec3 d = inBall(shape, par.offset_radius);
+      const float keep = 1.0f - par.length_variation * static_cast<float>(shape.uniform());
+      const float phase = static_cast<float>(2.0 * std::numbers::pi * shape.uniform());
+      if (tie) {  // inside the ring where the wisp passes through it
+        const float allowed = std::max(0.0f, 0.85f * tie_ring->radius - tie->axis_distance);
+        const float at_tie = glm::length(d) * tie->arc_length / length;
+        if (at_tie > allowed) d *= allowed / at_tie;
+      }
+      for (std::size_t j = 0; j < key.size(); ++j) {
+        const float s = sk[j];
+        const float g = tie ? (s < tie->arc_length ? smoothstep01(s / tie->arc_length) : 1.0f) : 0.0f;
+        const CurveFrame& f = frame[j];
+        glm::vec3 p = key[j] + (1.0f - g) * delta + (s / length) * (d.x * f.tangent + d.y * f.normal + d.z * f.binormal);
+        if (par.curl_radius > 0.0f) {
+          const float rho = par.curl_radius * smoothstep01(s / par.curl_period);
+          const float th = 2.0f * std::numbers::pi_v<float> * s / par.curl_period + phase;
+          p += rho * (std::cos(th) * f.normal + std::sin(th) * f.binormal);
+        }
+        pts[j] = p;
+      }
+      // cut to the member's length along its own arc
+      const float cut = keep * length;
+      std::size_t n = 1;
+      float s = 0;
+      for (; n < pts.size(); ++n) {
+        const float seg = glm::length(pts[n] - pts[n - 1]);
+        if (s + seg >= cut) {
+          const float t = seg > 0.0f ? (cut - s) / seg : 0.0f;
+          if (t > 1e-3f) pts[n] = pts[n - 1] + t * (pts[n] - pts[n - 1]), ++n;
+          break;
+        }
+        s += seg;
+      }
+      n = std::max<std::size_t>(n, 2);
+      // out of the head and torso (a translated copy may dip into a curved head)
+      std::vector<float> phi(n);
+      std::vector<glm::vec3> nrm(n);
+      const Body* bodies[2] = {head.head().get(), head.torso().get()};
+      for (const Body* b : bodies) {
+        if (!b) continue;
+        for (int pass = 0; pass < 2; ++pass) {
+          b->signedDistance(pts.data() + 1, n - 1, phi.data() + 1, nrm.data() + 1);
+          for (std::size_t j = 1; j < n; ++j)
+            if (phi[j] < clearance) pts[j] += (clearance - phi[j]) * nrm[j];
+        }
+      }
+      out.points.insert(out.points.end(), pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(n));
+      out.first.push_back(static_cast<std::uint32_t>(out.points.size()));
+      out.wisp.push_back(static_cast<std::uint32_t>(wi));
+      out.root_uv.push_back(uv);
+    }
+  }
+  return out;
+}
+
+}  // namespace loosehair

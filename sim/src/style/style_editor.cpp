@@ -1,0 +1,280 @@
+#include "loosehair/style_editor.hpp"
+
+#include "init/mesh_scalp.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace loosehair {
+namespace {
+
+std::string mm(double m) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f mm", m * 1e3);
+  return buf;
+}
+
+}  // namespace
+
+StyleEditor::StyleEditor(Style style, const HeadModel& head) : style_(std::move(style)), head_(head) {}
+
+Wisp& StyleEditor::wisp(std::size_t i, const char* what) {
+  if (i >= style_.wisps.size())
+    throw StyleError(std::string(what) + ": there is no wisp " + std::to_string(i) + " (the style has " +
+                     std::to_string(style_.wisps.size()) + ")");
+  return style_.wisps[i];
+}
+
+void StyleEditor::record() {
+  undo_.push_back(style_);
+  redo_.clear();
+}
+
+void StyleEditor::checkPoint(std::size_t w, std::size_t k, glm::vec3 p) const {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: not a finite point");
+  const float phi = head_.headDistance(p);
+  if (phi < -1e-3f)
+    throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: would lie " +
+                     mm(-phi) + " inside the head");
+}
+
+namespace {
+void checkRegion(const WispRegion& r, const HeadModel& head, const std::string& field) {
+  const std::size_t n = head.scalpTriangles().triangles.size();
+  for (std::uint32_t t : r.triangles)
+    if (t >= n) throw StyleError(field + ": triangle " + std::to_string(t) + " is off the scalp (" + std::to_string(n) + " triangles)");
+  for (const auto& poly : r.polygons) {
+    if (poly.size() < 3) throw StyleError(field + ": a polygon needs at least 3 points");
+    for (const glm::vec2 q : poly)
+      if (!(q.x >= 0 && q.x <= 1 && q.y >= 0 && q.y <= 1)) throw StyleError(field + ": a polygon point lies off the scalp square");
+  }
+  if (r.empty() || !(regionArea(r, head) > 0.0)) throw StyleError(field + ": covers no part of the scalp");
+}
+WispRegion normalised(WispRegion r) {
+  std::sort(r.triangles.begin(), r.triangles.end());
+  r.triangles.erase(std::unique(r.triangles.begin(), r.triangles.end()), r.triangles.end());
+  return r;
+}
+}  // namespace
+
+std::size_t StyleEditor::createWisp(const WispRegion& region_in, const WispParams& params,
+                                    const std::vector<glm::vec3>& key, const std::string& name) {
+  const WispRegion region = normalised(region_in);
+  const std::size_t index = style_.wisps.size();
+  checkRegion(region, head_, "createWisp: region");
+  const glm::vec2 uv = regionRoot(region, head_);
+  const glm::vec3 root = head_.scalpPoint(uv);
+  Wisp w;
+  w.name = name.empty() ? "wisp " + std::to_string(index) : name;
+  w.region = region;
+  w.params = params;
+  if (key.empty()) {
+    const glm::vec3 n = head_.scalpNormal(uv);
+    for (int k = 0; k < 4; ++k) w.key_strand.push_back(root + (0.05f * static_cast<float>(k)) * n);
+  } else {
+    if (key.size() < 2) throw StyleError("createWisp: a key strand needs at least two control points");
+    for (const glm::vec3& c : key) w.key_strand.push_back(c - key[0] + root);
+    w.key_strand[0] = root;
+  }
+  for (std::size_t k = 1; k < w.key_strand.size(); ++k) checkPoint(index, k, w.key_strand[k]);
+  record();
+  style_.wisps.push_back(std::move(w));
+  return index;
+}
+
+void StyleEditor::deleteWisp(std::size_t i) {
+  wisp(i, "deleteWisp");
+  record();
+  style_.wisps.erase(style_.wisps.begin() + static_cast<std::ptrdiff_t>(i));
+}
+
+void StyleEditor::setRegion(std::size_t i, const WispRegion& region_in) {
+  Wisp& w = wisp(i, "setRegion");
+  const WispRegion region = normalised(region_in);
+  checkRegion(region, head_, "setRegion: region");
+  const glm::vec2 from = regionRoot(w.region, head_), to = regionRoot(region, head_);
+  const std::vector<glm::vec3> key = reRootKeyStrand(w.key_strand, head_, from, head_, to);
+  for (std::size_t k = 1; k < key.size(); ++k) checkPoint(i, k, key[k]);
+  record();
+  Wisp& v = style_.wisps[i];
+  v.region = region;
+  v.key_strand = key;
+}
+
+void StyleEditor::setParams(std::size_t i, const WispParams& p) {
+  wisp(i, "setParams");
+  const std::string f = "wisps[" + std::to_string(i) + "]";
+  if (!(p.density > 0 && p.density <= 1e4)) throw StyleError(f + ".density: must be in (0, 1e4] strands per cm^2");
+  if (p.strands < 0) throw StyleError(f + ".strands: must not be negative");
+  if (!(p.offset_radius >= 0 && p.offset_radius <= 1)) throw StyleError(f + ".offset_radius: must be in [0, 1] m");
+  if (!(p.length_variation >= 0 && p.length_variation <= 0.9f)) throw StyleError(f + ".length_variation: must be in [0, 0.9]");
+  if (!(p.curl_radius >= 0 && p.curl_radius <= 0.2f)) throw StyleError(f + ".curl_radius: must be in [0, 0.2] m");
+  if (!(p.curl_period >= 1e-3f && p.curl_period <= 1)) throw StyleError(f + ".curl_period: must be in [0.001, 1] m");
+  record();
+  style_.wisps[i].params = p;
+}
+
+void StyleEditor::renameWisp(std::size_t i, const std::string& name) {
+  wisp(i, "renameWisp");
+  record();
+  style_.wisps[i].name = name;
+}
+
+std::size_t StyleEditor::mirrorWisp(std::size_t i) {
+  const Wisp& w = wisp(i, "mirrorWisp");
+  const float c = head_.mirrorPlaneX();
+  auto mirror = [c](glm::vec3 p) { return glm::vec3(c - (p.x - c), p.y, p.z); };
+  Wisp m = w;
+  m.name = w.name + " (mirrored)";
+  m.region.triangles.clear();
+  const ScalpTriangles& s = head_.scalpTriangles();
+  for (std::uint32_t t : w.region.triangles) {
+    const auto tr = s.triangles[t];
+    const glm::vec3 centre = (s.positions[tr.x] + s.positions[tr.y] + s.positions[tr.z]) / 3.0f;
+    m.region.triangles.push_back(head_.scalpTriangleAt(head_.nearestScalpUv(mirror(centre))));
+  }
+  m.region = normalised(m.region);
+  for (auto& poly : m.region.polygons) {
+    for (glm::vec2& q : poly) q.x = 1.0f - q.x;
+    std::reverse(poly.begin(), poly.end());
+  }
+  for (glm::vec3& p : m.key_strand) p = mirror(p);
+  m.key_strand[0] = head_.scalpPoint(regionRoot(m.region, head_));
+  const std::size_t index = style_.wisps.size();
+  for (std::size_t k = 1; k < m.key_strand.size(); ++k) checkPoint(index, k, m.key_strand[k]);
+  record();
+  style_.wisps.push_back(std::move(m));
+  return index;
+}
+
+void StyleEditor::addControlPoint(std::size_t i, std::size_t k, std::optional<glm::vec3> point) {
+  const Wisp& w = wisp(i, "addControlPoint");
+  const std::size_t n = w.key_strand.size();
+  if (k < 1 || k > n)
+    throw StyleError("addControlPoint: index " + std::to_string(k) + " must be in [1, " + std::to_string(n) +
+                     "] (the root stays first)");
+  glm::vec3 p;
+  if (point) {
+    p = *point;
+  } else if (k == n) {
+    p = w.key_strand[n - 1] + (w.key_strand[n - 1] - w.key_strand[n - 2]);
+  } else {
+    const std::vector<glm::vec3> dense = catmullRom(w.key_strand, 2);  // midpoints of the spans
+    p = dense[2 * (k - 1) + 1];
+  }
+  checkPoint(i, k, p);
+  record();
+  auto& key = style_.wisps[i].key_strand;
+  key.insert(key.begin() + static_cast<std::ptrdiff_t>(k), p);
+}
+
+void StyleEditor::deleteControlPoint(std::size_t i, std::size_t k) {
+  const Wisp& w = wisp(i, "deleteControlPoint");
+  if (k < 1 || k >= w.key_strand.size())
+    throw StyleError("deleteControlPoint: index " + std::to_string(k) + " must be in [1, " +
+                     std::to_string(w.key_strand.size() - 1) + "] (the root follows the region)");
+  if (w.key_strand.size() <= 2) throw StyleError("deleteControlPoint: a key strand keeps at least two control points");
+  record();
+  auto& key = style_.wisps[i].key_strand;
+  key.erase(key.begin() + static_cast<std::ptrdiff_t>(k));
+}
+
+void StyleEditor::moveControlPoint(std::size_t i, std::size_t k, StylingAxis axis, float distance) {
+  const Wisp& w = wisp(i, "moveControlPoint");
+  if (k < 1 || k >= w.key_strand.size())
+    throw StyleError("moveControlPoint: index " + std::to_string(k) + " must be in [1, " +
+                     std::to_string(w.key_strand.size() - 1) + "] (the root follows the region)");
+  if (!std::isfinite(distance)) throw StyleError("moveControlPoint: the distance is not finite");
+  const StylingDirections d = stylingDirections(w, k, head_);
+  setControlPoint(i, k, w.key_strand[k] + distance * d[static_cast<int>(axis)]);
+}
+
+void StyleEditor::setControlPoint(std::size_t i, std::size_t k, glm::vec3 p) {
+  const Wisp& w = wisp(i, "setControlPoint");
+  if (k < 1 || k >= w.key_strand.size())
+    throw StyleError("setControlPoint: index " + std::to_string(k) + " must be in [1, " +
+                     std::to_string(w.key_strand.size() - 1) + "] (the root follows the region)");
+  if (glm::length(p - w.key_strand[k - 1]) < 1e-5f)
+    throw StyleError("setControlPoint: the point would coincide with the previous control point");
+  checkPoint(i, k, p);
+  record();
+  style_.wisps[i].key_strand[k] = p;
+}
+
+void StyleEditor::copyKeyStrand(std::size_t i) {
+  const Wisp& w = wisp(i, "copyKeyStrand");
+  clipboard_ = Clip{w.key_strand, regionRoot(w.region, head_)};
+}
+
+void StyleEditor::pasteKeyStrand(std::size_t i) {
+  const Wisp& w = wisp(i, "pasteKeyStrand");
+  if (!clipboard_) throw StyleError("pasteKeyStrand: nothing was copied");
+  const std::vector<glm::vec3> key =
+      reRootKeyStrand(clipboard_->key, head_, clipboard_->root_uv, head_, regionRoot(w.region, head_));
+  for (std::size_t k = 1; k < key.size(); ++k) checkPoint(i, k, key[k]);
+  record();
+  style_.wisps[i].key_strand = key;
+}
+
+std::size_t StyleEditor::addTie(const HairTie& tie) {
+  if (!(tie.radius >= 1e-3f && tie.radius <= 0.2f) || !(tie.width >= 1e-3f && tie.width <= 0.2f) ||
+      !(glm::length(tie.axis) > 0.5f && glm::length(tie.axis) < 1.5f))
+    throw StyleError("addTie: radius and width must be in [0.001, 0.2] m and the axis a unit vector");
+  record();
+  HairTie t = tie;
+  t.axis = glm::normalize(t.axis);
+  if (t.name.empty()) t.name = "tie " + std::to_string(style_.ties.size());
+  style_.ties.push_back(t);
+  return style_.ties.size() - 1;
+}
+
+void StyleEditor::deleteTie(std::size_t j) {
+  if (j >= style_.ties.size()) throw StyleError("deleteTie: there is no tie " + std::to_string(j));
+  record();
+  style_.ties.erase(style_.ties.begin() + static_cast<std::ptrdiff_t>(j));
+}
+
+void StyleEditor::setTie(std::size_t j, const HairTie& value) {
+  if (j >= style_.ties.size()) throw StyleError("setTie: there is no tie " + std::to_string(j));
+  if (!(value.radius >= 1e-3f && value.radius <= 0.2f) || !(value.width >= 1e-3f && value.width <= 0.2f) ||
+      !(glm::length(value.axis) > 0.5f && glm::length(value.axis) < 1.5f))
+    throw StyleError("setTie: radius and width must be in [0.001, 0.2] m and the axis a unit vector");
+  record();
+  style_.ties[j] = value;
+  style_.ties[j].axis = glm::normalize(value.axis);
+}
+
+void StyleEditor::setColour(glm::vec3 c) {
+  if (!(c.x >= 0 && c.x <= 1 && c.y >= 0 && c.y <= 1 && c.z >= 0 && c.z <= 1))
+    throw StyleError("setColour: the colour must be linear RGB in [0, 1]");
+  record();
+  style_.colour = c;
+}
+
+void StyleEditor::setShapeKeeping(float hz) {
+  if (!(hz >= 0 && hz <= 100)) throw StyleError("setShapeKeeping: must be in [0, 100] Hz");
+  record();
+  style_.shape_keeping = hz;
+}
+
+bool StyleEditor::undo() {
+  if (undo_.empty()) return false;
+  redo_.push_back(std::move(style_));
+  style_ = std::move(undo_.back());
+  undo_.pop_back();
+  return true;
+}
+
+bool StyleEditor::redo() {
+  if (redo_.empty()) return false;
+  undo_.push_back(std::move(style_));
+  style_ = std::move(redo_.back());
+  redo_.pop_back();
+  return true;
+}
+
+}  // namespace loosehair
