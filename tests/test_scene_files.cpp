@@ -200,8 +200,11 @@ TEST(SolverInput, BadParticlesAreRejected) {
   bad.mass[1] = 0;
   EXPECT_THROW(Solver(SimParams{}, bad, body), std::invalid_argument);
   bad = p;
-  bad.is_root[1] = 1;  // a root with s > 0
+  bad.is_root[0] = 0;  // s < 0 (under the scalp) but not held
   EXPECT_THROW(Solver(SimParams{}, bad, body), std::invalid_argument);
+  bad = p;
+  bad.is_root[1] = 1;  // held further along, as a hair tie holds hair: allowed
+  EXPECT_NO_THROW(Solver(SimParams{}, bad, body));
   SimParams params;
   params.h2 = 1.0f;
   try {

@@ -83,6 +83,7 @@ std::vector<std::string> validate(const SimParams& p) {
   c.finite("gravity.z", p.gravity.z);
   c.nonNegative("body_friction", p.body_friction, "dimensionless");
   c.nonNegative("contact_thickness", p.contact_thickness, "m");
+  c.range("shape_keeping", p.shape_keeping, 0.0, 100.0);
   c.range("threads", p.threads, 0, 1024);
   return problems;
 }

@@ -62,9 +62,10 @@ void Particles::check() const {
     const float len = glm::length(direction[i]);
     if (!(std::abs(len - 1.0f) < 1e-3f))
       throw std::invalid_argument(at + "hair direction is not a unit vector");
-    if (!std::isfinite(arc_length[i]) || (is_root[i] != 0) != (arc_length[i] < 0.0f))
+    // roots have s < 0; a particle held by a hair tie is a root further along
+    if (!std::isfinite(arc_length[i]) || (arc_length[i] < 0.0f && is_root[i] == 0))
       throw std::invalid_argument(at + "root flag disagrees with arc length s = " +
-                                  std::to_string(arc_length[i]) + " (roots have s < 0)");
+                                  std::to_string(arc_length[i]) + " (particles with s < 0 are roots)");
   }
 }
 

@@ -11,6 +11,9 @@
 #include "loosehair/file_io.hpp"
 #include "loosehair/head_model.hpp"
 #include "json_fields.hpp"
+#include "loosehair/style.hpp"
+#include "style/hair_tie.hpp"
+#include "style/style_seeding.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -78,6 +81,10 @@ void readSolver(Fields f, SceneDesc& s) {
   p.air_drag = f.real("air_drag", p.air_drag, 0.0, 1e6);
   p.body_friction = f.real("body_friction", p.body_friction, 0.0, 100.0);
   p.contact_thickness = f.real("contact_thickness", p.contact_thickness, 0.0, 1.0);
+  if (f.has("shape_keeping")) {
+    p.shape_keeping = f.real("shape_keeping", p.shape_keeping, 0.0, 100.0);
+    s.shape_keeping_auto = false;
+  }
   f.finish();
 }
 
@@ -221,6 +228,14 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
     Fields hair = top.child("hair");
     HairSpec& h = s.hair;
     h.particles = static_cast<int>(hair.integer("particles", h.particles, 10, 20000000));
+    if (hair.has("style")) {
+      const std::string file = hair.text("style", "");
+      if (file.empty()) hair.fail("style", "must name a style file");
+      h.style = resolvePath(source, file);
+      for (const char* unused : {"length", "whorl", "w_t", "w_n", "bending_stiffness", "layering", "length_map"})
+        if (hair.object().contains(unused))
+          hair.fail(unused, "is not used with a style (the style's key strands shape the hair); remove it or the style");
+    }
     h.length = hair.real("length", h.length, 0.0, 10.0, true);
     // at least a milligram: lighter "hair" rounds to zero-mass particles
     h.mass = hair.real("mass", h.mass, 1e-6, 100.0);
@@ -311,6 +326,55 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
 
 namespace {
 
+// The particles of a styled scene (SPEC §6.2): the style's member strands,
+// on the scene's head (retargeted by (u, v) when the style was made on
+// another one), sampled by Poisson-disc darts; particles inside a tie are
+// held like roots.
+void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp,
+                   BuildReport& rep) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const HairSpec& hair = scene.hair;
+  Style style = hair.style_data ? *hair.style_data : loadStyle(hair.style);
+  if (!style.head.sameAs(scene)) {
+    BuildReport other;
+    const HeadModel from = HeadModel::build(style.head, style.source, scene.limits.max_sdf_cells, &other);
+    checkStyle(style, from);
+    style = retargetStyle(style, from, model);
+    rep.warnings.push_back("hair.style: the style was made on another head; its wisps were placed on this one by their scalp (u, v)");
+  } else {
+    checkStyle(style, model);
+  }
+  rep.shape_keeping = style.shape_keeping;
+  const StrandSet strands = buildMemberStrands(style, model);
+  if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
+  rep.style_wisps = style.wisps.size();
+  rep.style_strands = strands.size();
+  rep.style_points = strands.points.size();
+  rep.seconds_strands = std::chrono::duration<double>(Clock::now() - t0).count();
+  const auto t1 = Clock::now();
+  const StrandSeeding seeded = seedFromStrands(strands, hair.particles, scene.seed);
+  rep.seconds_sampling = std::chrono::duration<double>(Clock::now() - t1).count();
+  const std::size_t n = seeded.samples.size();
+  if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed on the style's strands");
+  rp = seeded.radius;
+  p.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const StrandSample& q = seeded.samples[k];
+    p.position[k] = q.position;
+    p.direction[k] = q.direction;
+    p.velocity[k] = glm::vec3(0.0f);
+    p.uv[k] = q.uv;
+    p.arc_length[k] = q.s;
+    p.root_point[k] = q.root;
+    p.mass[k] = hair.mass / static_cast<float>(n);
+    bool tied = false;
+    for (const HairTie& t : style.ties) tied = tied || insideTie(t, q.position);
+    p.is_root[k] = (q.s < 0.0f || tied) ? 1 : 0;
+    if (tied && q.s >= 0.0f) ++rep.tied_particles;
+  }
+}
+
 Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
@@ -327,70 +391,77 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   start_bodies->add(head);
   if (torso) start_bodies->add(std::make_shared<PlacedBody>(torso, scene.motion.pose(0.0)));
 
-  // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
-  LengthMap length_map;
-  if (!hair.length_map.empty()) {
-    try {
-      length_map = LengthMap(hair.length_map);
-    } catch (const std::exception& e) {
-      throw SceneError(scene.source + ": hair.length_map: " + e.what());
-    }
-  }
-  const float min_fraction = 0.02f;
-  auto length_at = [&](glm::vec2 uv) { return hair.length * std::max(length_map(uv), min_fraction); };
-  const float max_length = hair.length * std::max(length_map.maximum(), min_fraction);
-  PillarOptions popt;
-  popt.target_count = hair.particles;
-  popt.seed = scene.seed;
-  auto t_sampling = Clock::now();
-  const PillarResult pillar = samplePillar(scalp, length_at, max_length, popt);
-  rep.seconds_sampling = since(t_sampling);
-  const float rp = pillar.radius;
-  const std::size_t n = pillar.samples.size();
-  if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
-
-  // 2. Root directions from the whorl and cantilever strands (SPEC §6.1).
-  const glm::dmat3 r0 = scene.motion.pose(0.0).rotation;
-  glm::vec3 gdir(glm::transpose(r0) * glm::dvec3(scene.sim.gravity));
-  const bool has_gravity = glm::length(gdir) > 0.0f;
-  if (has_gravity) gdir = glm::normalize(gdir);
-  const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
   const float total_mass = hair.mass;
-  auto t_strands = Clock::now();
-
   Particles p;
-  p.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const PillarSample& smp = pillar.samples[k];
-    const glm::vec3 nrm = scalp.normal(smp.uv);
-    glm::vec3 away = -hair.whorl - glm::dot(-hair.whorl, nrm) * nrm;
-    const float away_len = glm::length(away);
-    glm::vec3 root_dir = hair.w_n * nrm;
-    if (away_len > 1e-6f) root_dir += hair.w_t * (away / away_len);
-    root_dir = glm::length(root_dir) > 1e-6f ? glm::normalize(root_dir) : nrm;
-
-    p.uv[k] = smp.uv;
-    p.arc_length[k] = smp.s;
-    p.root_point[k] = smp.point;
-    p.mass[k] = total_mass / static_cast<float>(n);
-    p.velocity[k] = glm::vec3(0.0f);
-    if (smp.s < 0.0f) {
-      p.is_root[k] = 1;
-      p.position[k] = smp.point + smp.s * root_dir;
-      p.direction[k] = root_dir;
-    } else {
-      p.is_root[k] = 0;
-      const float length = length_at(smp.uv);
-      const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
-      const CantileverStrand strand(smp.point, root_dir, has_gravity ? gdir : root_dir, length,
-                                    hair.bending_stiffness, start_bodies.get(), clearance,
-                                    hair.layering, segments);
-      p.position[k] = strand.position(smp.s);
-      p.direction[k] = strand.tangent(smp.s);
+  float rp = 0;
+  std::size_t n = 0;
+  if (hair.style_data || !hair.style.empty()) {
+    growFromStyle(scene, model, p, rp, rep);
+    n = p.size();
+  } else {
+    // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
+    LengthMap length_map;
+    if (!hair.length_map.empty()) {
+      try {
+        length_map = LengthMap(hair.length_map);
+      } catch (const std::exception& e) {
+        throw SceneError(scene.source + ": hair.length_map: " + e.what());
+      }
     }
-  }
+    const float min_fraction = 0.02f;
+    auto length_at = [&](glm::vec2 uv) { return hair.length * std::max(length_map(uv), min_fraction); };
+    const float max_length = hair.length * std::max(length_map.maximum(), min_fraction);
+    PillarOptions popt;
+    popt.target_count = hair.particles;
+    popt.seed = scene.seed;
+    auto t_sampling = Clock::now();
+    const PillarResult pillar = samplePillar(scalp, length_at, max_length, popt);
+    rep.seconds_sampling = since(t_sampling);
+    rp = pillar.radius;
+    n = pillar.samples.size();
+    if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
 
-  rep.seconds_strands = since(t_strands);
+    // 2. Root directions from the whorl and cantilever strands (SPEC §6.1).
+    const glm::dmat3 r0 = scene.motion.pose(0.0).rotation;
+    glm::vec3 gdir(glm::transpose(r0) * glm::dvec3(scene.sim.gravity));
+    const bool has_gravity = glm::length(gdir) > 0.0f;
+    if (has_gravity) gdir = glm::normalize(gdir);
+    const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
+    auto t_strands = Clock::now();
+
+    p.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const PillarSample& smp = pillar.samples[k];
+      const glm::vec3 nrm = scalp.normal(smp.uv);
+      glm::vec3 away = -hair.whorl - glm::dot(-hair.whorl, nrm) * nrm;
+      const float away_len = glm::length(away);
+      glm::vec3 root_dir = hair.w_n * nrm;
+      if (away_len > 1e-6f) root_dir += hair.w_t * (away / away_len);
+      root_dir = glm::length(root_dir) > 1e-6f ? glm::normalize(root_dir) : nrm;
+
+      p.uv[k] = smp.uv;
+      p.arc_length[k] = smp.s;
+      p.root_point[k] = smp.point;
+      p.mass[k] = total_mass / static_cast<float>(n);
+      p.velocity[k] = glm::vec3(0.0f);
+      if (smp.s < 0.0f) {
+        p.is_root[k] = 1;
+        p.position[k] = smp.point + smp.s * root_dir;
+        p.direction[k] = root_dir;
+      } else {
+        p.is_root[k] = 0;
+        const float length = length_at(smp.uv);
+        const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
+        const CantileverStrand strand(smp.point, root_dir, has_gravity ? gdir : root_dir, length,
+                                      hair.bending_stiffness, start_bodies.get(), clearance,
+                                      hair.layering, segments);
+        p.position[k] = strand.position(smp.s);
+        p.direction[k] = strand.tangent(smp.s);
+      }
+    }
+
+    rep.seconds_strands = since(t_strands);
+  }
 
   // 3. Order the particles along a Morton curve so that neighbours are near
   //    in memory (SPEC-independent; keeps the gather loops cache-friendly).
@@ -424,6 +495,10 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     mean_nn = count ? static_cast<float>(sum / static_cast<double>(count)) : rp;
   }
   SimParams params = scene.sim;
+  const bool styled = hair.style_data || !hair.style.empty();
+  if (styled && scene.shape_keeping_auto) params.shape_keeping = rep.shape_keeping;
+  if (!styled && scene.shape_keeping_auto) params.shape_keeping = 0.0f;
+  rep.shape_keeping = params.shape_keeping;
   if (scene.h1_auto) params.h1 = hair.h1_scale * rp;
   // h2 a little below the spacing of the placed hair (SPEC §9), and in any
   // case below h1: hair that hangs loosely is not denser than its sampling.

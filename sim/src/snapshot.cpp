@@ -140,6 +140,7 @@ struct SnapshotAccess {
         q.gravity.z, q.air_drag, q.body_friction, q.contact_thickness,
         static_cast<float>(s.world_bodies_.size())};
     mix(values);
+    if (q.shape_keeping > 0.0f) mix(std::vector<float>{q.shape_keeping});
     return h;
   }
 

@@ -12,6 +12,7 @@
 #include "pair_columns.hpp"
 #include "parallel.hpp"
 #include "solver_scratch.hpp"
+#include "shape_keeping.hpp"
 #include "tether.hpp"
 #include "thread_choice.hpp"
 
@@ -357,6 +358,11 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   report_.mean_degree =
       hair_count ? static_cast<double>(degree_sum) / static_cast<double>(hair_count) : 0.0;
   report_.stable_time_step = stableTimeStep();
+  if (params_.shape_keeping > 0.0f) {
+    const glm::dmat3 rt = glm::transpose(trajectory_.kinematics(time_).pose.rotation);
+    shape_ = std::make_unique<ShapeKeeping>(params_.shape_keeping, particles_.position, particles_.mass,
+                                            internalForces(), glm::vec3(rt * glm::dvec3(params_.gravity)));
+  }
 }
 
 void Solver::setTimeStep(double dt) {
@@ -1069,13 +1075,16 @@ void Solver::addExternalForces() {
   const glm::vec3 frame_vel(rt * head.velocity);        // R^T c'
   const glm::vec3 omega(head.angular_velocity), alpha(head.angular_acceleration);
   const float drag = params_.air_drag;
+  const ShapeKeeping* shape = shape_.get();
   parallel::forEach(threads_, static_cast<std::size_t>(n), [&](std::size_t i) {
     if (root[i]) return;
     const glm::vec3 r = x[i], u = v[i];
     const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
                                glm::cross(omega, glm::cross(omega, r));
     const glm::vec3 world_velocity = u + glm::cross(omega, r) + frame_vel;
-    force_[i] += m[i] * (gravity - inertial - drag * world_velocity);
+    glm::vec3 a = gravity - inertial - drag * world_velocity;
+    if (shape) a += shape->acceleration(i, r);
+    force_[i] += m[i] * a;
   });
 }
 

@@ -98,6 +98,15 @@ struct SimParams {
   /// (unit: m).
   float contact_thickness = 0.002f;
 
+  // ---- shape keeping (our addition; docs/design.md "Shape keeping") ----
+  /// Holds a styled shape (SPEC §6.2): each hair particle is pulled towards
+  /// its initial position in the head frame with the acceleration
+  /// (2 pi f)^2 (x0 - x), and the initial state is pre-stressed so that it
+  /// is at rest under gravity and the internal forces it starts with. f is
+  /// this value (unit: Hz): the natural frequency of the hold, independent
+  /// of particle count and time step. 0 (the default) is plain LCP.
+  float shape_keeping = 0.0f;
+
   // ---- execution -------------------------------------------------------
   /// Worker threads: 0 (the default) lets the solver choose between all the
   /// cores the process may use and one, whichever it measures to be faster

@@ -18,7 +18,7 @@ struct Particles {
   std::vector<glm::vec3> velocity;   // v_i, relative to the head frame (m/s)
   std::vector<glm::vec3> direction;  // t_i, unit hair direction, head frame
   std::vector<float> mass;           // m_i (kg)
-  std::vector<std::uint8_t> is_root; // 1: s_i < 0, attached to the head, never integrated
+  std::vector<std::uint8_t> is_root; // 1: attached to the head, never integrated: s_i < 0, or held by a hair tie
 
   // cold: constant after initialisation
   std::vector<glm::vec2> uv;         // (u_i, v_i) in the scalp domain [0,1]^2

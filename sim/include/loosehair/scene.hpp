@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -23,8 +24,16 @@ class SceneError : public std::runtime_error {
 };
 
 /// The hair to grow (SPEC §6.1).
+struct Style;  // loosehair/style.hpp
+
 struct HairSpec {
   int particles = 3000;        // target particle count, roots included
+  /// A style file (resolved path) whose member strands the hair is seeded
+  /// from instead of the cantilever placement (SPEC §6.2); `style_data`, if
+  /// set, is used instead of reading it. The cantilever fields below are
+  /// then unused.
+  std::string style;
+  std::shared_ptr<const Style> style_data;
   float length = 0.25f;        // hair length L (m)
   float mass = 0.06f;          // total hair mass (kg)
   glm::vec3 whorl{0, 1, 0};    // whorl normal n_w (head frame, unit)
@@ -99,6 +108,9 @@ struct SceneDesc : HeadDesc {
   HairSpec hair;
   SimParams sim;
   bool h1_auto = true, h2_auto = true;
+  /// solver.shape_keeping not given: a styled scene takes the style's own
+  /// strength, others 0.
+  bool shape_keeping_auto = true;
   HeadTrajectory motion = HeadTrajectory::still();
   /// What buildSolver refuses to start (not read from the file: the
   /// program's --allow-expensive lifts them).
@@ -134,6 +146,10 @@ struct BuildReport {
   /// Particles dropped after sampling because no particle nearer the root
   /// was within the springs' reach (they would hang on their tether alone).
   std::size_t stragglers_dropped = 0;
+  // styled scenes
+  std::size_t style_wisps = 0, style_strands = 0, style_points = 0;
+  std::size_t tied_particles = 0;  // held by a tie
+  float shape_keeping = 0;         // Hz, the strength used
 };
 
 /// Grows the hair of `scene` and returns a solver ready to step. Throws

@@ -31,6 +31,7 @@ namespace loosehair {
 class NeighborGrid;
 class AirSystem;
 class ThreadChoice;
+struct ShapeKeeping;
 
 /// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
 /// everything after integration that corrects positions: the strain limit,
@@ -272,6 +273,7 @@ class Solver {
   std::unique_ptr<Scratch> scratch_;
   struct Sliced;  // the connections in the layout of the connection passes
   std::unique_ptr<Sliced> sliced_;
+  std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
 
   StepStats stats_;
   InitReport report_;

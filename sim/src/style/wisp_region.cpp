@@ -94,6 +94,23 @@ double regionArea(const WispRegion& region, const HeadModel& head) {
     probe(head, t, [&](glm::vec2 uv) { in += regionContains(region, head, uv) ? 1 : 0; });
     area += s.areas[t] * in / kProbes;
   }
+  if (area == 0.0 && !region.polygons.empty()) {
+    // polygons smaller than the probe lattice: their (u, v) area scaled by
+    // the scalp's area per (u, v) area at each polygon's centre
+    for (const auto& poly : region.polygons) {
+      double a2 = 0;
+      glm::vec2 c(0.0f);
+      for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        a2 += static_cast<double>(poly[j].x) * poly[i].y - static_cast<double>(poly[i].x) * poly[j].y;
+        c += poly[i];
+      }
+      c /= static_cast<float>(poly.size());
+      const auto tr = s.triangles[head.scalpTriangleAt(c)];
+      const glm::vec2 e1 = s.uvs[tr.y] - s.uvs[tr.x], e2 = s.uvs[tr.z] - s.uvs[tr.x];
+      const double uv_area = 0.5 * std::abs(static_cast<double>(e1.x) * e2.y - static_cast<double>(e1.y) * e2.x);
+      if (uv_area > 0.0) area += 0.5 * std::abs(a2) * s.areas[head.scalpTriangleAt(c)] / uv_area;
+    }
+  }
   return area;
 }
 

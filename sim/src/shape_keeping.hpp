@@ -1,0 +1,44 @@
+// Shape keeping (our addition for styles, SPEC §6.2; docs/design.md): LCP
+// has no bending stiffness, so a styled shape sags under gravity. Each hair
+// particle is pulled towards its initial (styled) position x0 in the head
+// frame, and the initial state is pre-stressed to equilibrium: the force it
+// starts with (gravity in the head frame plus the springs and hair-hair
+// forces of the initial state) is cancelled by a constant acceleration b in
+// the head frame, so the styled state is at rest and the hold only acts on
+// what moves the hair away from it (head motion, wind, contact):
+//
+//   a_i += omega^2 (x0_i - x_i) + b_i,   omega = 2 pi f,   b_i = -F0_i / m_i
+//
+// f (Hz) is the natural frequency of the hold, a property of the hair, not of
+// the sampling or the step. Off (f = 0), the solver is plain LCP.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <numbers>
+#include <vector>
+
+namespace loosehair {
+
+struct ShapeKeeping {
+  float omega2 = 0;                 // (2 pi f)^2 (1/s^2)
+  std::vector<glm::vec3> target;    // x0_i, head frame (m)
+  std::vector<glm::vec3> prestress; // b_i (m/s^2)
+
+  /// `initial_force` is F0 (N), `gravity_head` gravity in the head frame at
+  /// the start (m/s^2). Roots get no term.
+  ShapeKeeping(float hz, const std::vector<glm::vec3>& position, const std::vector<float>& mass,
+               const std::vector<glm::vec3>& initial_force, glm::vec3 gravity_head)
+      : omega2(static_cast<float>(4.0 * std::numbers::pi * std::numbers::pi * hz * hz)),
+        target(position),
+        prestress(position.size()) {
+    for (std::size_t i = 0; i < position.size(); ++i)
+      prestress[i] = -(initial_force[i] / mass[i] + gravity_head);
+  }
+
+  glm::vec3 acceleration(std::size_t i, glm::vec3 x) const {
+    return omega2 * (target[i] - x) + prestress[i];
+  }
+};
+
+}  // namespace loosehair
