@@ -3,14 +3,17 @@
 //   loosehair simulate SCENE [--frames N] [--threads T] [--dump DIR] [--seed S]
 //   loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]
 //                          [--video FILE.mp4] [...]
+//   loosehair style STYLE [--strands OUT]   (or --import GROOM --head F --out STYLE)
 //
 // Runs the scene, shows progress on a terminal, prints per-stage timings and
 // ends with the line "state-hash: <hex>". Errors go to stderr with a
 // non-zero exit code (2 for bad usage, 1 for anything else).
+#include "cli_args.hpp"
 #include "headless_gl.hpp"
 #include "png.hpp"
 #include "process.hpp"
 #include "scene_bodies.hpp"
+#include "style_command.hpp"
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
@@ -36,6 +39,7 @@ constexpr const char* kSimulateUsage =
     "usage: loosehair simulate SCENE [--frames N] [--threads T] [--seed S]\n"
     "                            [--dump DIR [--overwrite]]\n"
     "                            [--save-state FILE [--save-every N]] [--resume FILE]\n"
+    "                            [--style STYLE.json] [--no-shape-keeping]\n"
     "\n"
     "  Runs SCENE (a JSON scene file) headless and prints the state hash.\n"
     "    --frames N       number of frames (default: the scene's \"frames\"); with\n"
@@ -50,13 +54,17 @@ constexpr const char* kSimulateUsage =
     "                     distance-grid cells (refused by default, with what to change)\n"
     "    --save-state F   write a snapshot of the whole state to F at the end (and\n"
     "                     every N frames with --save-every N); --resume F goes on\n"
-    "                     from it, bit-identically\n";
+    "                     from it, bit-identically\n"
+    "    --style STYLE    grow the hair from STYLE's wisps instead of the scene's hair\n"
+    "                     (on the scene's head; see data/styles/README.md)\n"
+    "    --no-shape-keeping  plain LCP: no pull towards the styled shape\n";
 
 constexpr const char* kRenderUsage =
     "usage: loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
     "                              [--overwrite] [--video FILE.mp4] [--threads T] [--seed S]\n"
     "                              [--color C] [--no-shadows] [--debug VIEW] [--yaw D]\n"
     "                              [--pitch D] [--distance M] [--fov D] [--light X,Y,Z]\n"
+    "                              [--style STYLE.json] [--no-shape-keeping]\n"
     "\n"
     "  Simulates SCENE and draws every frame to DIR/frame_00001.png ... with\n"
     "  software OpenGL (OSMesa: no display, no GPU).\n"
@@ -70,18 +78,42 @@ constexpr const char* kRenderUsage =
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
     "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
     "    --light X,Y,Z    direction towards the (parallel) light\n"
-    "    --frames, --threads, --seed, --allow-expensive   as for simulate\n";
+    "    --frames, --threads, --seed, --allow-expensive, --style,\n"
+    "    --no-shape-keeping   as for simulate\n";
 
 constexpr const char* kUsage =
     "usage: loosehair simulate SCENE [options]   run a scene headless, print its state hash\n"
     "       loosehair render SCENE [options]     simulate and draw frames (PNG, MP4)\n"
+    "       loosehair style STYLE [options]      build a style's strands, export them,\n"
+    "                                            or import a groom as a style\n"
     "       loosehair COMMAND --help             the options of a command\n"
     "       loosehair --version\n";
 
-struct UsageError {
-  std::string message;
-  const char* usage = kUsage;
-};
+using loosehair::app::UsageError;
+using loosehair::app::parseInteger;
+using loosehair::app::parseReal;
+
+// --style and --no-shape-keeping of simulate and render: the style's member
+// strands replace the scene's hair (on the scene's head, retargeted by
+// (u, v) when the style was made on another one).
+void overrideHair(loosehair::SceneDesc& scene, const std::string& style, bool no_shape_keeping) {
+  if (!style.empty()) {
+    scene.hair.style = style;
+    scene.hair.style_data.reset();
+  }
+  if (no_shape_keeping) {
+    scene.sim.shape_keeping = 0.0f;
+    scene.shape_keeping_auto = false;
+  }
+}
+
+void printStyle(const loosehair::BuildReport& b, const std::string& style_file) {
+  if (b.style_strands == 0) return;
+  std::printf("style: %s: %zu wisps, %zu member strands, %zu points; %zu particles held by ties; "
+              "shape keeping %s\n",
+              style_file.c_str(), b.style_wisps, b.style_strands, b.style_points, b.tied_particles,
+              b.shape_keeping > 0 ? (std::to_string(b.shape_keeping) + " Hz").c_str() : "off");
+}
 
 // --allow-expensive: buildSolver starts whatever the scene costs.
 void liftCostLimits(loosehair::SceneDesc& scene) {
@@ -126,24 +158,13 @@ void prepareOutputDirectory(const std::string& dir, bool overwrite, const char* 
   }
 }
 
-long long parseInteger(const std::string& flag, const std::string& value, long long lo,
-                       long long hi) {
-  char* end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(value.c_str(), &end, 10);
-  if (value.empty() || *end != '\0' || errno != 0 || v < lo || v > hi)
-    throw UsageError{flag + " needs an integer in [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "], got '" + value + "'"};
-  return v;
-}
-
 struct Options {
   std::string scene;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
-  std::string dump_dir, save_state, resume;
+  std::string dump_dir, save_state, resume, style;
   int save_every = 0;
-  bool overwrite = false, allow_expensive = false;
+  bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
 };
 
 Options parseSimulate(const std::vector<std::string>& args) {
@@ -172,6 +193,10 @@ Options parseSimulate(const std::vector<std::string>& args) {
       o.save_every = static_cast<int>(parseInteger(a, value(), 1, 10000000));
     else if (a == "--resume")
       o.resume = value();
+    else if (a == "--style")
+      o.style = value();
+    else if (a == "--no-shape-keeping")
+      o.no_shape_keeping = true;
     else if (!a.empty() && a[0] == '-')
       throw UsageError{"unknown option " + a, kSimulateUsage};
     else if (o.scene.empty())
@@ -200,6 +225,7 @@ int simulate(const Options& o) {
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
   if (o.allow_expensive) liftCostLimits(scene);
+  overrideHair(scene, o.style, o.no_shape_keeping);
 
   const auto t_init = std::chrono::steady_clock::now();
   BuildReport build;
@@ -226,6 +252,7 @@ int simulate(const Options& o) {
   std::printf("time step %.4f ms x %d per frame (stable limit %.4f ms), %d threads, init %.2f s\n",
               build.time_step * 1e3, build.substeps, r.stable_time_step * 1e3,
               solver.threadCount(), init_seconds);
+  printStyle(build, scene.hair.style);
   for (const std::string& w : build.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (r.unanchored > 0)
     std::fprintf(stderr,
@@ -313,19 +340,10 @@ int simulate(const Options& o) {
 }
 
 // ---- render -------------------------------------------------------------------
-double parseReal(const std::string& flag, const std::string& value, double lo, double hi) {
-  char* end = nullptr;
-  const double v = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
-    throw UsageError{flag + " needs a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
-                     value + "'"};
-  return v;
-}
-
 struct RenderOptions {
   std::optional<double> yaw, pitch, distance, fov;
-  std::string scene, out_dir = "render-out", video, camera = "three-quarter";
-  bool overwrite = false, allow_expensive = false;
+  std::string scene, out_dir = "render-out", video, camera = "three-quarter", style;
+  bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
   int width = 640, height = 480;
@@ -348,6 +366,8 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       else if (a == "--overwrite") o.overwrite = true;
       else if (a == "--allow-expensive") o.allow_expensive = true;
       else if (a == "--video") o.video = value();
+      else if (a == "--style") o.style = value();
+      else if (a == "--no-shape-keeping") o.no_shape_keeping = true;
       else if (a == "--camera") {
         o.camera = value();
         (void)loosehair::render::Camera::preset(o.camera);
@@ -433,6 +453,7 @@ int renderScene(const RenderOptions& o) {
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
   if (o.allow_expensive) liftCostLimits(scene);
+  overrideHair(scene, o.style, o.no_shape_keeping);
   const int frames = o.frames.value_or(scene.frames);
   std::string ffmpeg;
   if (!o.video.empty()) {
@@ -450,6 +471,8 @@ int renderScene(const RenderOptions& o) {
 
   BuildReport build;
   Solver solver = buildSolver(scene, &build);
+  printStyle(build, scene.hair.style);
+  for (const std::string& w : build.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   prepareOutputDirectory(o.out_dir, o.overwrite, "--out");
   app::HeadlessGL gl(o.width, o.height);
   render::Renderer renderer;
@@ -521,11 +544,19 @@ int main(int argc, char** argv) {
       if (help) return std::fputs(kRenderUsage, stdout) < 0 ? 1 : 0;
       return renderScene(parseRender(rest));
     }
+    if (args[0] == "style") {
+      if (help) return std::fputs(loosehair::app::kStyleUsage, stdout) < 0 ? 1 : 0;
+      return loosehair::app::styleCommand(rest);
+    }
     throw UsageError{"unknown command '" + args[0] + "'"};
   } catch (const UsageError& e) {
     const char* usage = e.usage;
-    if (usage == kUsage && !args.empty())
-      usage = args[0] == "simulate" ? kSimulateUsage : args[0] == "render" ? kRenderUsage : kUsage;
+    if (!usage && !args.empty())
+      usage = args[0] == "simulate" ? kSimulateUsage
+              : args[0] == "render" ? kRenderUsage
+              : args[0] == "style"  ? loosehair::app::kStyleUsage
+                                    : kUsage;
+    if (!usage) usage = kUsage;
     std::fprintf(stderr, "loosehair: %s\n\n%s", e.message.c_str(), usage);
     return 2;
   } catch (const std::exception& e) {

@@ -1,0 +1,138 @@
+#include "style_command.hpp"
+
+#include "cli_args.hpp"
+#include "loosehair/file_io.hpp"
+#include "loosehair/groom_import.hpp"
+#include "loosehair/strand_files.hpp"
+#include "loosehair/style.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+
+namespace loosehair::app {
+
+const char* const kStyleUsage =
+    "usage: loosehair style STYLE.json [--strands OUT] [--spacing MM]\n"
+    "       loosehair style --import GROOM --head FILE.json --out STYLE.json\n"
+    "                       [--scale S] [--max-root-distance MM] [--strands OUT]\n"
+    "\n"
+    "  Builds a style's member strands, checks the style against its head and\n"
+    "  prints its wisp, strand and point counts.\n"
+    "    --strands OUT    write the strands as polylines, head frame in metres:\n"
+    "                     OUT.obj (v and l elements), OUT.ply (vertex and edge\n"
+    "                     elements) or OUT.hair (cyHair binary), by extension\n"
+    "    --spacing MM     distance between the points of a strand (default 4 mm)\n"
+    "\n"
+    "  --import reads a groom made elsewhere (.hair, or OBJ/PLY polylines) and\n"
+    "  writes a style with one wisp a strand, rooted on the head of FILE.json\n"
+    "  (a scene or a style file), ready for \"hair\": {\"style\": ...} in a scene\n"
+    "  or for simulate --style.\n"
+    "    --scale S        multiply the groom's coordinates by S first (e.g. 0.01\n"
+    "                     for centimetres); default 1 (metres, head frame)\n"
+    "    --max-root-distance MM  leave out strands whose root is farther than\n"
+    "                     this from the scalp (default 20 mm)\n";
+
+namespace {
+
+struct StyleOptions {
+  std::string style, groom, head, out, strands;
+  double spacing_mm = 4.0, scale = 1.0, max_root_mm = 20.0;
+};
+
+StyleOptions parse(const std::vector<std::string>& args) {
+  StyleOptions o;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& a = args[k];
+    auto value = [&]() -> const std::string& {
+      if (k + 1 >= args.size()) throw UsageError{a + " needs a value", kStyleUsage};
+      return args[++k];
+    };
+    if (a == "--strands") o.strands = value();
+    else if (a == "--spacing") o.spacing_mm = parseReal(a, value(), 0.1, 100.0, kStyleUsage);
+    else if (a == "--import") o.groom = value();
+    else if (a == "--head") o.head = value();
+    else if (a == "--out") o.out = value();
+    else if (a == "--scale") o.scale = parseReal(a, value(), 1e-6, 1e6, kStyleUsage);
+    else if (a == "--max-root-distance") o.max_root_mm = parseReal(a, value(), 0.01, 1000.0, kStyleUsage);
+    else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a, kStyleUsage};
+    else if (o.style.empty()) o.style = a;
+    else throw UsageError{"more than one style given: '" + o.style + "' and '" + a + "'", kStyleUsage};
+  }
+  if (!o.groom.empty()) {
+    if (!o.style.empty())
+      throw UsageError{"--import makes a style: give it --out STYLE.json, not '" + o.style + "'", kStyleUsage};
+    if (o.head.empty()) throw UsageError{"--import needs --head FILE.json (a scene or style file)", kStyleUsage};
+    if (o.out.empty()) throw UsageError{"--import needs --out STYLE.json", kStyleUsage};
+  } else {
+    if (o.style.empty()) throw UsageError{"style needs a style file (or --import GROOM)", kStyleUsage};
+    for (const char* flag : {"--head", "--out"})
+      if (!(flag == std::string("--head") ? o.head : o.out).empty())
+        throw UsageError{std::string(flag) + " is for --import", kStyleUsage};
+  }
+  return o;
+}
+
+// The head of a scene or style file: a style file is the one with "wisps".
+HeadDesc headOf(const std::string& path) {
+  const std::string text = readRegularFile(path, kMaxTextFileBytes);
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_object() && j.contains("wisps")) return loadStyle(path).head;
+  return loadScene(path);
+}
+
+void report(const Style& style, const StrandSet& strands, double seconds) {
+  std::size_t ties = style.ties.size();
+  std::printf("style: %s (%s)\n", style.name.c_str(), style.source.c_str());
+  std::printf("wisps: %zu, ties: %zu, strands: %zu, points: %zu (built in %.2f s)\n", style.wisps.size(), ties,
+              strands.size(), strands.points.size(), seconds);
+}
+
+void writeOut(const StrandSet& strands, const std::string& path) {
+  writeStrands(strands, path);
+  std::printf("strands written: %s\n", path.c_str());
+}
+
+}  // namespace
+
+int styleCommand(const std::vector<std::string>& args) {
+  const StyleOptions o = parse(args);
+  using Clock = std::chrono::steady_clock;
+  const float spacing = static_cast<float>(o.spacing_mm * 1e-3);
+  if (o.groom.empty()) {
+    const Style style = loadStyle(o.style);
+    const HeadModel head = HeadModel::build(style.head, style.source);
+    checkStyle(style, head);
+    const auto t0 = Clock::now();
+    const StrandSet strands = buildMemberStrands(style, head, spacing);
+    report(style, strands, std::chrono::duration<double>(Clock::now() - t0).count());
+    if (!o.strands.empty()) writeOut(strands, o.strands);
+    return 0;
+  }
+  const HeadDesc desc = headOf(o.head);
+  const HeadModel head = HeadModel::build(desc, o.head);
+  const Polylines groom = readPolylines(o.groom);
+  GroomImportOptions opt;
+  opt.scale = static_cast<float>(o.scale);
+  opt.max_root_distance = static_cast<float>(o.max_root_mm * 1e-3);
+  GroomImportReport rep;
+  Style style = importGroom(groom, desc, head, o.groom, opt, &rep);
+  std::printf("groom: %s: %zu strands read, %zu kept (root up to %.1f mm from the scalp)", o.groom.c_str(),
+              rep.strands_read, rep.strands_kept, rep.largest_root_distance * 1e3);
+  if (rep.skipped_far) std::printf(", %zu left out (root too far from the scalp)", rep.skipped_far);
+  if (rep.skipped_short) std::printf(", %zu left out (fewer than two points)", rep.skipped_short);
+  if (rep.reversed) std::printf(", %zu stored tip first", rep.reversed);
+  std::printf("\n");
+  checkStyle(style, head);
+  saveStyle(style, o.out);
+  style.source = o.out;
+  const auto t0 = Clock::now();
+  const StrandSet strands = buildMemberStrands(style, head, spacing);
+  report(style, strands, std::chrono::duration<double>(Clock::now() - t0).count());
+  std::printf("style written: %s\n", o.out.c_str());
+  if (!o.strands.empty()) writeOut(strands, o.strands);
+  return 0;
+}
+
+}  // namespace loosehair::app
