@@ -66,9 +66,10 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
     }
     float d0 = 0, d1 = 0;
     glm::vec2 uv = head.nearestScalpUv(line.front(), &d0);
-    if (d0 > opt.max_root_distance) {
+    {
+      // the root is the end nearer the scalp (the first on a tie within 1 mm)
       const glm::vec2 uv1 = head.nearestScalpUv(line.back(), &d1);
-      if (d1 <= opt.max_root_distance) {
+      if (d1 <= opt.max_root_distance && d1 + 1e-3f < d0) {
         std::reverse(line.begin(), line.end());
         uv = uv1;
         d0 = d1;

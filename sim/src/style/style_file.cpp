@@ -93,7 +93,8 @@ HairTie readTie(Fields f, std::size_t index) {
   t.center = glm::vec3(f.vec3("center", glm::dvec3(0.0), 100.0));
   const glm::dvec3 axis = f.vec3("axis", glm::dvec3(t.axis), 1e6);
   if (!(glm::length(axis) > 1e-9)) f.fail("axis", "must be a non-zero direction");
-  t.axis = glm::vec3(glm::normalize(axis));
+  // kept as written when it is a unit vector already, so save then load is exact
+  t.axis = std::abs(glm::length(axis) - 1.0) < 1e-6 ? glm::vec3(axis) : glm::vec3(glm::normalize(axis));
   t.radius = f.real("radius", t.radius, 1e-3, 0.2);
   t.width = f.real("width", t.width, 1e-3, 0.2);
   f.finish();
