@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -358,6 +359,22 @@ void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p,
   const std::size_t n = seeded.samples.size();
   if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed on the style's strands");
   rp = seeded.radius;
+  // Beyond a tie the ring is the hair's new root: a particle there measures
+  // its arc length from where its strand crosses the ring, and its tether
+  // (|x - r| <= s) runs to that point. (Measured from the scalp, strands of
+  // the wisps gathered into one tail would have very different s side by
+  // side, and the connections, made between neighbours in order of s, would
+  // not hang the tail from the tie.)
+  std::vector<std::optional<TieCrossing>> crossing(strands.size());
+  if (!style.ties.empty()) {
+    std::vector<glm::vec3> line;
+    for (std::size_t k = 0; k < strands.size(); ++k) {
+      line.assign(strands.points.begin() + strands.first[k], strands.points.begin() + strands.first[k + 1]);
+      for (const HairTie& t : style.ties)
+        if (auto c = crossTie(line, t); c && (!crossing[k] || c->arc_length < crossing[k]->arc_length))
+          crossing[k] = c;
+    }
+  }
   p.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const StrandSample& q = seeded.samples[k];
@@ -370,6 +387,11 @@ void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p,
     p.mass[k] = hair.mass / static_cast<float>(n);
     bool tied = false;
     for (const HairTie& t : style.ties) tied = tied || insideTie(t, q.position);
+    const std::optional<TieCrossing>& c = crossing[q.strand];
+    if (c && q.s >= c->arc_length) {
+      p.arc_length[k] = q.s - c->arc_length;
+      p.root_point[k] = c->point;
+    }
     p.is_root[k] = (q.s < 0.0f || tied) ? 1 : 0;
     if (tied && q.s >= 0.0f) ++rep.tied_particles;
   }

@@ -359,6 +359,9 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
       hair_count ? static_cast<double>(degree_sum) / static_cast<double>(hair_count) : 0.0;
   report_.stable_time_step = stableTimeStep();
   if (params_.shape_keeping > 0.0f) {
+    // the pressure terms with the rest density just set (the first
+    // computeDensity ran before it was known)
+    computeDensity();
     const glm::dmat3 rt = glm::transpose(trajectory_.kinematics(time_).pose.rotation);
     shape_ = std::make_unique<ShapeKeeping>(params_.shape_keeping, particles_.position, particles_.mass,
                                             internalForces(), glm::vec3(rt * glm::dvec3(params_.gravity)));

@@ -1,0 +1,145 @@
+// Bundled styles simulated on the bundled head (SPEC §6.2): each holds its
+// shape on a still head and still swings when the head shakes; the
+// ponytail's tail swings while the hair above the tie stays on the head.
+#include "loosehair/style.hpp"
+#include "test_support.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+using namespace loosehair;
+
+namespace {
+
+constexpr int kParticles = 3000;
+
+SceneDesc styled(const std::string& scene, const std::string& style, bool keep_shape = true) {
+  SceneDesc s = loadScene(lhtest::sourceDir() + "/data/scenes/" + scene + ".json");
+  s.hair.particles = kParticles;
+  s.hair.style = lhtest::sourceDir() + "/data/styles/" + style + ".json";
+  if (!keep_shape) {
+    s.sim.shape_keeping = 0.0f;
+    s.shape_keeping_auto = false;
+  }
+  return s;
+}
+
+float longestHair(const Solver& solver) {
+  float l = 0;
+  for (float s : solver.particles().arc_length) l = std::max(l, s);
+  return l;
+}
+
+struct Watch {
+  float worst_stretch = -1, deepest = 1;
+  bool finite = true;
+};
+
+template <class F>
+Watch run(Solver& solver, double until, float longest, F each_frame) {
+  Watch w;
+  const int per_frame = std::max(1, static_cast<int>(std::lround(1.0 / 30.0 / solver.params().time_step)));
+  std::vector<glm::vec3> hair;
+  std::vector<float> phi;
+  int step = 0;
+  while (solver.time() < until - 1e-9) {
+    solver.step();
+    ++step;
+    if (step % 4 != 0 && solver.time() < until - 1e-9) continue;  // the invariants every 4th step
+    const auto& p = solver.particles();
+    hair.clear();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (!p.is_root[i]) hair.push_back(p.position[i]);
+    solver.bodyDistance(hair, solver.time(), phi);
+    for (float d : phi) w.deepest = std::min(w.deepest, d);
+    w.worst_stretch = std::max(w.worst_stretch, lhtest::maxStretch(solver, longest));
+    w.finite = w.finite && lhtest::allFinite(solver);
+    if (!w.finite) break;
+    if (step % per_frame == 0) each_frame();
+  }
+  return w;
+}
+
+// Distances of the hair particles from their styled positions (head frame).
+std::vector<float> shapeErrors(const Solver& solver, const std::vector<glm::vec3>& styled_positions) {
+  std::vector<float> e;
+  const auto& p = solver.particles();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_root[i]) e.push_back(glm::length(p.position[i] - styled_positions[i]));
+  std::sort(e.begin(), e.end());
+  return e;
+}
+
+float quantile(const std::vector<float>& sorted, double q) {
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))];
+}
+
+struct ShapeFigures {
+  float median, p95;
+};
+
+ShapeFigures holdStill(const std::string& style, bool keep_shape, Watch* watch = nullptr) {
+  Solver solver = buildSolver(styled("hang", style, keep_shape));
+  const std::vector<glm::vec3> start = solver.particles().position;
+  const Watch w = run(solver, 3.0, longestHair(solver), [] {});
+  if (watch) *watch = w;
+  const std::vector<float> e = shapeErrors(solver, start);
+  return {quantile(e, 0.5), quantile(e, 0.95)};
+}
+
+lhtest::GainLag shake(const std::string& style, Watch* watch) {
+  Solver solver = buildSolver(styled("head-shake", style));
+  std::vector<glm::vec3> start;
+  solver.worldPositions(start);
+  const float min_arc = std::min(0.12f, 0.5f * longestHair(solver));
+  std::vector<double> t, head, hair;
+  *watch = run(solver, 3.0, longestHair(solver), [&] {
+    t.push_back(solver.time());
+    head.push_back(lhtest::headYaw(solver));
+    hair.push_back(lhtest::hairYaw(solver, start, min_arc));
+  });
+  return lhtest::fitGainAndLag(t, head, hair, 0.6, 2.5);
+}
+
+void expectInvariants(const Watch& w, const std::string& what) {
+  EXPECT_TRUE(w.finite) << what;
+  EXPECT_GE(w.deepest, -1e-5f) << what << ": a particle inside the head or torso";
+  EXPECT_LE(w.worst_stretch, 0.02f) << what << ": stretch beyond 2% of the longest hair";
+}
+
+class BundledStyle : public ::testing::TestWithParam<const char*> {};
+
+}  // namespace
+
+TEST_P(BundledStyle, HoldsItsShapeStillAndSwingsWhenTheHeadShakes) {
+  const std::string style = GetParam();
+  Watch still;
+  const ShapeFigures kept = holdStill(style, true, &still);
+  expectInvariants(still, style + " still");
+  const ShapeFigures plain = holdStill(style, false);
+  Watch moving;
+  const lhtest::GainLag gl = shake(style, &moving);
+  expectInvariants(moving, style + " shaking");
+  std::printf("%s: still 3 s, distance from the styled shape: median %.1f mm, p95 %.1f mm "
+              "(without shape keeping %.1f / %.1f mm); head shake: gain %.2f, lag %.0f ms; "
+              "stretch %.4f / %.4f, deepest %.1e / %.1e m\n",
+              style.c_str(), kept.median * 1e3, kept.p95 * 1e3, plain.median * 1e3, plain.p95 * 1e3, gl.gain,
+              gl.lag * 1e3, still.worst_stretch, moving.worst_stretch, still.deepest, moving.deepest);
+  EXPECT_LT(kept.median, 0.01f) << style;
+  EXPECT_LT(kept.p95, 0.03f) << style;
+  EXPECT_GT(plain.median, kept.median) << style << ": shape keeping must make a difference";
+  EXPECT_LT(gl.gain, 0.95) << style << ": the hair lags the head";
+  EXPECT_GT(gl.lag, 0.05) << style;
+}
+
+INSTANTIATE_TEST_SUITE_P(Styles, BundledStyle,
+                         ::testing::Values("long-straight", "bob", "side-swept", "swept-back", "wavy", "ponytail"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
