@@ -1,0 +1,65 @@
+// Styling (SPEC §6.2): member-strand generation at about 10k and 100k
+// strands, seeding 10k and 50k particles from a style's strands, and the
+// cost of the shape-keeping term in a step (the bob on the bundled head,
+// 6,000 particles, with and without shape keeping).
+//
+//   build/release/benchmarks/loosehair_bench_style
+#include "loosehair/loosehair.hpp"
+#include "loosehair/style.hpp"
+#include "style/style_seeding.hpp"
+
+#include <benchmark/benchmark.h>
+
+namespace {
+
+using namespace loosehair;
+
+const std::string kStyles = LOOSEHAIR_SOURCE_DIR "/data/styles";
+
+const Style& bob() {
+  static const Style s = loadStyle(kStyles + "/bob.json");
+  return s;
+}
+
+const HeadModel& bobHead() {
+  static const HeadModel h = HeadModel::build(bob().head, bob().source);
+  return h;
+}
+
+// The bob (about 10.5k strands at its own density) and at ten times it.
+void BM_MemberStrands(benchmark::State& state) {
+  Style s = bob();
+  for (Wisp& w : s.wisps) w.params.density *= static_cast<float>(state.range(0));
+  StrandSet strands;
+  for (auto _ : state) strands = buildMemberStrands(s, bobHead());
+  state.counters["strands"] = static_cast<double>(strands.size());
+  state.counters["points"] = static_cast<double>(strands.points.size());
+}
+BENCHMARK(BM_MemberStrands)->Arg(1)->Arg(10)->ArgName("density_x")->Unit(benchmark::kMillisecond);
+
+void BM_SeedParticles(benchmark::State& state) {
+  static const StrandSet strands = buildMemberStrands(bob(), bobHead());
+  StrandSeeding seeded;
+  for (auto _ : state) seeded = seedFromStrands(strands, static_cast<int>(state.range(0)), 1);
+  state.counters["particles"] = static_cast<double>(seeded.samples.size());
+}
+BENCHMARK(BM_SeedParticles)->Arg(10000)->Arg(50000)->Unit(benchmark::kMillisecond);
+
+// One solver step of the bob on a still head, shape keeping on (1 Hz) or
+// off: the difference is the term's cost.
+void BM_StepShapeKeeping(benchmark::State& state) {
+  SceneDesc scene = loadScene(LOOSEHAIR_SOURCE_DIR "/data/scenes/hang.json");
+  scene.hair.style = kStyles + "/bob.json";
+  scene.sim.shape_keeping = state.range(0) ? 1.0f : 0.0f;
+  scene.shape_keeping_auto = false;
+  scene.sim.threads = 2;
+  Solver solver = buildSolver(scene);
+  for (int k = 0; k < 10; ++k) solver.step();
+  for (auto _ : state) solver.step();
+  state.counters["particles"] = static_cast<double>(solver.particles().size());
+}
+BENCHMARK(BM_StepShapeKeeping)->Arg(0)->Arg(1)->ArgName("shape_keeping")->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+}  // namespace
+
+BENCHMARK_MAIN();
