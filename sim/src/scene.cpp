@@ -331,8 +331,23 @@ namespace {
 // on the scene's head (retargeted by (u, v) when the style was made on
 // another one), sampled by Poisson-disc darts; particles inside a tie are
 // held like roots.
+struct TieTethers {
+  std::vector<glm::vec3> point;
+  std::vector<float> reach;  // < 0: none
+  /// The entries of the particles `which` (as Particles::select).
+  void select(const std::vector<std::uint32_t>& which) {
+    if (reach.empty()) return;
+    TieTethers t;
+    for (std::uint32_t k : which) {
+      t.point.push_back(point[k]);
+      t.reach.push_back(reach[k]);
+    }
+    *this = std::move(t);
+  }
+};
+
 void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp,
-                   BuildReport& rep) {
+                   BuildReport& rep, TieTethers& tethers) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
@@ -391,6 +406,13 @@ void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p,
     if (c && q.s >= c->arc_length) {
       p.arc_length[k] = q.s - c->arc_length;
       p.root_point[k] = c->point;
+    } else if (c && q.s >= 0.0f) {  // between scalp and tie: held from both ends
+      if (tethers.reach.empty()) {
+        tethers.point.assign(n, glm::vec3(0.0f));
+        tethers.reach.assign(n, -1.0f);
+      }
+      tethers.point[k] = c->point;
+      tethers.reach[k] = c->arc_length - q.s;
     }
     p.is_root[k] = (q.s < 0.0f || tied) ? 1 : 0;
     if (tied && q.s >= 0.0f) ++rep.tied_particles;
@@ -417,8 +439,9 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   Particles p;
   float rp = 0;
   std::size_t n = 0;
+  TieTethers tie_tethers;
   if (hair.style_data || !hair.style.empty()) {
-    growFromStyle(scene, model, p, rp, rep);
+    growFromStyle(scene, model, p, rp, rep, tie_tethers);
     n = p.size();
   } else {
     // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
@@ -495,6 +518,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
     p = p.select(order);
+    tie_tethers.select(order);
   }
 
   // 4. Smoothing lengths from the sampling (SPEC §9).
@@ -555,6 +579,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     const std::vector<std::uint32_t> kept = anchorableParticles(p, 1.8f * params.h1);
     if (kept.size() < before) {
       p = p.select(kept);
+      tie_tethers.select(kept);
       for (float& m : p.mass) m = total_mass / static_cast<float>(kept.size());
     }
     rep.stragglers_dropped = before - kept.size();
@@ -568,6 +593,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                                         "leave it out to have it set from the sampling") + ")");
   }
   Solver solver(params, std::move(p), head, scene.motion);
+  if (!tie_tethers.reach.empty()) solver.setTieTethers(std::move(tie_tethers.point), std::move(tie_tethers.reach));
   // Hair that hangs on nothing: no roots, no connections, or most of the
   // hair unable to reach a root through its connections (a scalp too small
   // for the sampling, a smoothing length below the particle spacing).

@@ -1292,6 +1292,21 @@ void Solver::applyTethers(std::size_t b, std::size_t e) {
   const float scale = 1.0f + params_.tether_slack;
   for (std::size_t i = b; i < e; ++i)
     if (!root[i]) x[i] = tether::within(x[i], rp[i], scale * sarc[i]);
+  if (!tie_reach_.empty())
+    for (std::size_t i = b; i < e; ++i)
+      if (!root[i] && tie_reach_[i] >= 0.0f) x[i] = tether::within(x[i], tie_point_[i], scale * tie_reach_[i]);
+}
+
+void Solver::setTieTethers(std::vector<glm::vec3> point, std::vector<float> reach) {
+  const std::size_t n = particles_.size();
+  if (point.size() != n || reach.size() != n)
+    throw std::invalid_argument("setTieTethers: " + std::to_string(point.size()) + " points and " +
+                                std::to_string(reach.size()) + " reaches for " + std::to_string(n) + " particles");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(point[i].x + point[i].y + point[i].z) || !std::isfinite(reach[i]))
+      throw std::invalid_argument("setTieTethers: particle " + std::to_string(i) + ": not a finite tether");
+  tie_point_ = std::move(point);
+  tie_reach_ = std::move(reach);
 }
 
 // The tethers, then: project what is still inside the body to its surface

@@ -119,6 +119,13 @@ class Solver {
                     double begin = -INFINITY, double end = INFINITY, bool obstacle = false);
   std::size_t worldBodyCount() const { return world_bodies_.size(); }
 
+  /// Tethers towards a hair tie (SPEC §6.2, docs/design.md): particle i may
+  /// be no farther than (1 + tether_slack) reach[i] from point[i] (head
+  /// frame), besides its root tether; reach[i] < 0 means none. Hair between
+  /// the scalp and a tie is held from both ends, as a tie holds it taut.
+  /// Throws std::invalid_argument unless both have one finite entry a particle.
+  void setTieTethers(std::vector<glm::vec3> point, std::vector<float> reach);
+
   /// Turns on wind (SPEC §5): fills the air box at the current time.
   /// Throws std::invalid_argument with every problem of `wind`.
   void setWind(const WindParams& wind);
@@ -273,7 +280,9 @@ class Solver {
   std::unique_ptr<Scratch> scratch_;
   struct Sliced;  // the connections in the layout of the connection passes
   std::unique_ptr<Sliced> sliced_;
-  std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
+  std::unique_ptr<ShapeKeeping> shape_;
+  std::vector<glm::vec3> tie_point_;  // setTieTethers; empty: none
+  std::vector<float> tie_reach_;  // params_.shape_keeping > 0
 
   StepStats stats_;
   InitReport report_;
