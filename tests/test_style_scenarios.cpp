@@ -143,3 +143,51 @@ INSTANTIATE_TEST_SUITE_P(Styles, BundledStyle,
                            std::replace(n.begin(), n.end(), '-', '_');
                            return n;
                          });
+
+// DISABLED: fails today (the hair above the tie moves 61 mm, p95, during
+// the shake, against 15 mm asserted): connections across the ring let the
+// swinging tail pull the hair above it. Issue 15 keeps it open; enable it
+// once the connections stop at the tie.
+TEST(StyleScenario, DISABLED_PonytailTailSwingsWhileTheHairAboveTheTieStaysOnTheHead) {
+  const SceneDesc scene = styled("head-shake", "ponytail");
+  const Style style = loadStyle(scene.hair.style);
+  ASSERT_EQ(style.ties.size(), 1u);
+  const HairTie& tie = style.ties[0];
+  Solver solver = buildSolver(scene);
+  const std::vector<glm::vec3> x0 = solver.particles().position;
+  const auto& p = solver.particles();
+  // beyond the tie: along its axis past the ring; above: the other side
+  std::vector<std::size_t> tail, above;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_root[i]) continue;
+    const float along = glm::dot(x0[i] - tie.center, tie.axis);
+    if (along > tie.width + 0.02f) tail.push_back(i);
+    else if (along < -tie.width) above.push_back(i);
+  }
+  ASSERT_GT(tail.size(), 200u);
+  ASSERT_GT(above.size(), 200u);
+  float tail_swing = 0, above_drift = 0, above_off_head = 0;
+  const Watch w = run(solver, 3.0, longestHair(solver), [&] {
+    const auto& x = solver.particles().position;
+    double tail_sum = 0;
+    for (std::size_t i : tail) tail_sum += glm::length(x[i] - x0[i]);
+    tail_swing = std::max(tail_swing, static_cast<float>(tail_sum / static_cast<double>(tail.size())));
+    std::vector<float> drift;
+    for (std::size_t i : above) drift.push_back(glm::length(x[i] - x0[i]));
+    std::sort(drift.begin(), drift.end());
+    above_drift = std::max(above_drift, quantile(drift, 0.95));
+  });
+  expectInvariants(w, "ponytail shaking");
+  std::vector<float> phi;
+  std::vector<glm::vec3> hair;
+  for (std::size_t i : above) hair.push_back(solver.particles().position[i]);
+  solver.bodyDistance(hair, solver.time(), phi);
+  std::sort(phi.begin(), phi.end());
+  above_off_head = quantile(phi, 0.95);
+  std::printf("ponytail: the tail moves %.1f mm on average in the head frame at most, the hair above the tie "
+              "%.1f mm (95th percentile), which ends within %.1f mm of the head (95th percentile)\n",
+              tail_swing * 1e3, above_drift * 1e3, above_off_head * 1e3);
+  EXPECT_GT(tail_swing, 0.03f) << "the tail swings";
+  EXPECT_LT(above_drift, 0.015f) << "the hair between scalp and tie stays where it was styled";
+  EXPECT_LT(above_off_head, 0.025f) << "and on the head";
+}
