@@ -109,10 +109,11 @@ void overrideHair(loosehair::SceneDesc& scene, const std::string& style, bool no
 
 void printStyle(const loosehair::BuildReport& b, const std::string& style_file) {
   if (b.style_strands == 0) return;
+  char keeping[32] = "off";
+  if (b.shape_keeping > 0) std::snprintf(keeping, sizeof keeping, "%.3g Hz", b.shape_keeping);
   std::printf("style: %s: %zu wisps, %zu member strands, %zu points; %zu particles held by ties; "
               "shape keeping %s\n",
-              style_file.c_str(), b.style_wisps, b.style_strands, b.style_points, b.tied_particles,
-              b.shape_keeping > 0 ? (std::to_string(b.shape_keeping) + " Hz").c_str() : "off");
+              style_file.c_str(), b.style_wisps, b.style_strands, b.style_points, b.tied_particles, keeping);
 }
 
 // --allow-expensive: buildSolver starts whatever the scene costs.

@@ -67,9 +67,8 @@ StyleOptions parse(const std::vector<std::string>& args) {
     if (o.out.empty()) throw UsageError{"--import needs --out STYLE.json", kStyleUsage};
   } else {
     if (o.style.empty()) throw UsageError{"style needs a style file (or --import GROOM)", kStyleUsage};
-    for (const char* flag : {"--head", "--out"})
-      if (!(flag == std::string("--head") ? o.head : o.out).empty())
-        throw UsageError{std::string(flag) + " is for --import", kStyleUsage};
+    if (!o.head.empty() || !o.out.empty())
+      throw UsageError{std::string(o.head.empty() ? "--out" : "--head") + " is for --import", kStyleUsage};
   }
   return o;
 }
@@ -83,9 +82,9 @@ HeadDesc headOf(const std::string& path) {
 }
 
 void report(const Style& style, const StrandSet& strands, double seconds) {
-  std::size_t ties = style.ties.size();
   std::printf("style: %s (%s)\n", style.name.c_str(), style.source.c_str());
-  std::printf("wisps: %zu, ties: %zu, strands: %zu, points: %zu (built in %.2f s)\n", style.wisps.size(), ties,
+  std::printf("wisps: %zu, ties: %zu, strands: %zu, points: %zu (built in %.2f s)\n", style.wisps.size(),
+              style.ties.size(),
               strands.size(), strands.points.size(), seconds);
 }
 

@@ -2,6 +2,7 @@
 // §8): each runs at least 3 simulated seconds and checks, at the end of every
 // step, that nothing is non-finite, inside the head or torso, or stretched.
 // These are the slowest tests; they have their own label ("scenario").
+#include "scenario_watch.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
@@ -23,52 +24,13 @@ SceneDesc bundled(const std::string& name, int particles) {
   return s;
 }
 
-// Penetration is measured against the exact triangles (MeshBody, tested
-// against brute force in test_mesh_body.cpp); the projection puts particles
-// 1 um outside, so only rounding and the crease between head and torso,
-// where pushing out of one body can push into the other, remain.
-constexpr float kInsideTolerance = 1e-5f;  // m
-
-struct Watch {
-  float worst_stretch = -1;  // max (|x - r| - s) / L_max
-  float deepest = 1;         // min signed distance to the bodies (m)
-  bool finite = true;
-};
-
-// Steps to `until` seconds, checking the invariants after every step;
-// `each_frame` is called every 1/30 s.
-template <class F>
-Watch run(Solver& solver, double until, float max_length, F each_frame) {
-  Watch w;
-  const int per_frame = std::max(1, static_cast<int>(std::lround(1.0 / 30.0 / solver.params().time_step)));
-  std::vector<glm::vec3> hair;
-  std::vector<float> phi;
-  int step = 0;
-  while (solver.time() < until - 1e-9) {
-    solver.step();
-    ++step;
-    const auto& p = solver.particles();
-    hair.clear();
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (!p.is_root[i]) hair.push_back(p.position[i]);
-    solver.bodyDistance(hair, solver.time(), phi);
-    for (float d : phi) w.deepest = std::min(w.deepest, d);
-    w.worst_stretch = std::max(w.worst_stretch, lhtest::maxStretch(solver, max_length));
-    w.finite = w.finite && lhtest::allFinite(solver);
-    if (!w.finite) break;
-    if (step % per_frame == 0) each_frame();
-  }
-  return w;
-}
+using lhtest::expectInvariants;
+using lhtest::kInsideTolerance;
+using lhtest::run;
+using lhtest::Watch;
 
 float maxLength(const SceneDesc& s) { return s.hair.length; }  // the length map peaks at 1
 
-void expectInvariants(const Watch& w, const char* what) {
-  EXPECT_TRUE(w.finite) << what;
-  EXPECT_GE(w.deepest, -kInsideTolerance) << what << ": a particle ended a step inside the body";
-  EXPECT_LE(w.worst_stretch, 0.02f) << what << ": |x_i - r_i| <= s_i + 2% of the longest hair";
-  std::printf("%s: deepest %.2e m, worst stretch %.4f\n", what, w.deepest, w.worst_stretch);
-}
 
 }  // namespace
 

@@ -70,6 +70,23 @@ Style twoWispStyle() {
   return out;
 }
 
+// One wisp of a small region whose key strand rises from near the crown
+// (translated copies stay off the sphere), without length variation.
+Style upwardWisp(float offset_radius, int strands) {
+  const HeadModel& h = sphereModel();
+  Style s = twoWispStyle();
+  s.wisps.resize(1);
+  Wisp& w = s.wisps[0];
+  w.params.offset_radius = offset_radius;
+  w.params.length_variation = 0.0f;
+  w.params.strands = strands;
+  const glm::vec2 uv = regionRoot(w.region, h);
+  w.region = square(uv - glm::vec2(0.02f), uv + glm::vec2(0.02f));
+  const glm::vec3 r = h.scalpPoint(regionRoot(w.region, h));
+  w.key_strand = {r, r + glm::vec3(0, 0.05f, 0), r + glm::vec3(0.01f, 0.1f, 0.0f)};
+  return s;
+}
+
 std::filesystem::path tempDir() {
   auto d = std::filesystem::temp_directory_path() /
            ("loosehair-style-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
@@ -137,21 +154,18 @@ TEST(StyleFrames, NoFlipWhereTheCurvatureVanishes) {
 // ---- member strands -----------------------------------------------------------
 TEST(StyleStrands, OffsetZeroReproducesTheKeyStrandAtEachRoot) {
   const HeadModel& h = sphereModel();
-  Style s = twoWispStyle();
-  s.wisps.resize(1);
-  s.wisps[0].params.offset_radius = 0.0f;
-  s.wisps[0].params.length_variation = 0.0f;
-  s.wisps[0].params.strands = 25;
-  // straight up from near the crown: translated copies stay off the sphere
-  const glm::vec2 uv = regionRoot(s.wisps[0].region, h);
-  const glm::vec3 r = h.scalpPoint(uv);
-  s.wisps[0].key_strand = {r, r + glm::vec3(0, 0.05f, 0), r + glm::vec3(0.01f, 0.1f, 0.0f)};
-  s.wisps[0].region = square(uv - glm::vec2(0.02f), uv + glm::vec2(0.02f));
-  s.wisps[0].key_strand[0] = h.scalpPoint(regionRoot(s.wisps[0].region, h));
+  const Style s = upwardWisp(0.0f, 25);
   const StrandSet strands = buildMemberStrands(s, h);
   ASSERT_GE(strands.size(), 10u);
   const std::size_t n0 = strands.pointCount(0);
   const glm::vec3* key = &strands.points[strands.first[0]];
+  // the first member starts at the region's root: it is the key strand's
+  // spline itself, through every control point
+  for (const glm::vec3& c : s.wisps[0].key_strand) {
+    float nearest = INFINITY;
+    for (std::size_t j = 0; j < n0; ++j) nearest = std::min(nearest, glm::length(key[j] - c));
+    EXPECT_LT(nearest, 1e-6f) << "the key strand misses a control point";
+  }
   for (std::size_t k = 0; k < strands.size(); ++k) {
     ASSERT_EQ(strands.pointCount(k), n0);
     const glm::vec3* m = &strands.points[strands.first[k]];
@@ -163,15 +177,7 @@ TEST(StyleStrands, OffsetZeroReproducesTheKeyStrandAtEachRoot) {
 
 TEST(StyleStrands, OffsetsStayWithinABoundGrowingLinearlyAlongTheStrand) {
   const HeadModel& h = sphereModel();
-  Style s = twoWispStyle();
-  s.wisps.resize(1);
-  s.wisps[0].params.length_variation = 0.0f;
-  s.wisps[0].params.offset_radius = 0.012f;
-  const glm::vec2 uv = regionRoot(s.wisps[0].region, h);
-  const glm::vec3 r = h.scalpPoint(uv);
-  s.wisps[0].key_strand = {r, r + glm::vec3(0, 0.05f, 0), r + glm::vec3(0.01f, 0.1f, 0.0f)};
-  s.wisps[0].region = square(uv - glm::vec2(0.02f), uv + glm::vec2(0.02f));
-  s.wisps[0].key_strand[0] = h.scalpPoint(regionRoot(s.wisps[0].region, h));
+  const Style s = upwardWisp(0.012f, 0);
   const StrandSet strands = buildMemberStrands(s, h);
   // the same roots without offsets: the key strand translated to each root
   Style plain = s;

@@ -2,6 +2,7 @@
 // shape on a still head and still swings when the head shakes; the
 // ponytail's tail swings while the hair above the tie stays on the head.
 #include "loosehair/style.hpp"
+#include "scenario_watch.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
@@ -12,6 +13,9 @@
 #include <cstdio>
 
 using namespace loosehair;
+using lhtest::expectInvariants;
+using lhtest::run;
+using lhtest::Watch;
 
 namespace {
 
@@ -32,36 +36,6 @@ float longestHair(const Solver& solver) {
   float l = 0;
   for (float s : solver.particles().arc_length) l = std::max(l, s);
   return l;
-}
-
-struct Watch {
-  float worst_stretch = -1, deepest = 1;
-  bool finite = true;
-};
-
-template <class F>
-Watch run(Solver& solver, double until, float longest, F each_frame) {
-  Watch w;
-  const int per_frame = std::max(1, static_cast<int>(std::lround(1.0 / 30.0 / solver.params().time_step)));
-  std::vector<glm::vec3> hair;
-  std::vector<float> phi;
-  int step = 0;
-  while (solver.time() < until - 1e-9) {
-    solver.step();
-    ++step;
-    if (step % 4 != 0 && solver.time() < until - 1e-9) continue;  // the invariants every 4th step
-    const auto& p = solver.particles();
-    hair.clear();
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (!p.is_root[i]) hair.push_back(p.position[i]);
-    solver.bodyDistance(hair, solver.time(), phi);
-    for (float d : phi) w.deepest = std::min(w.deepest, d);
-    w.worst_stretch = std::max(w.worst_stretch, lhtest::maxStretch(solver, longest));
-    w.finite = w.finite && lhtest::allFinite(solver);
-    if (!w.finite) break;
-    if (step % per_frame == 0) each_frame();
-  }
-  return w;
 }
 
 // Distances of the hair particles from their styled positions (head frame).
@@ -85,7 +59,7 @@ struct ShapeFigures {
 ShapeFigures holdStill(const std::string& style, bool keep_shape, Watch* watch = nullptr) {
   Solver solver = buildSolver(styled("hang", style, keep_shape));
   const std::vector<glm::vec3> start = solver.particles().position;
-  const Watch w = run(solver, 3.0, longestHair(solver), [] {});
+  const Watch w = run(solver, 3.0, longestHair(solver), [] {}, 4);
   if (watch) *watch = w;
   const std::vector<float> e = shapeErrors(solver, start);
   return {quantile(e, 0.5), quantile(e, 0.95)};
@@ -101,15 +75,10 @@ lhtest::GainLag shake(const std::string& style, Watch* watch) {
     t.push_back(solver.time());
     head.push_back(lhtest::headYaw(solver));
     hair.push_back(lhtest::hairYaw(solver, start, min_arc));
-  });
+  }, 4);
   return lhtest::fitGainAndLag(t, head, hair, 0.6, 2.5);
 }
 
-void expectInvariants(const Watch& w, const std::string& what) {
-  EXPECT_TRUE(w.finite) << what;
-  EXPECT_GE(w.deepest, -1e-5f) << what << ": a particle inside the head or torso";
-  EXPECT_LE(w.worst_stretch, 0.02f) << what << ": stretch beyond 2% of the longest hair";
-}
 
 class BundledStyle : public ::testing::TestWithParam<const char*> {};
 

@@ -30,6 +30,17 @@ namespace {
 
 using namespace loosehair;
 
+// Member settings of a style's wisps: density (strands per cm^2), largest
+// tip offset (m), length variation.
+WispParams memberParams(float density, float offset_radius, float length_variation) {
+  WispParams p;
+  p.density = density;
+  p.offset_radius = offset_radius;
+  p.length_variation = length_variation;
+  return p;
+}
+
+
 struct Drape {
   float length = 0.3f;   // m
   float step = 0.02f;    // m between marched points
@@ -132,10 +143,7 @@ Style ponytail(const HeadModel& head) {
   base.shape_keeping = 0.5f;
   StyleEditor ed(base, head);
   const int nu = 5, nv = 4;
-  WispParams params;
-  params.density = 18.0f;
-  params.offset_radius = 0.012f;
-  params.length_variation = 0.12f;
+  WispParams params = memberParams(18.0f, 0.012f, 0.12f);
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       const WispRegion r = cell(i, j, nu, nv);
@@ -196,19 +204,13 @@ int main(int argc, char** argv) {
     };
     std::vector<std::pair<std::string, Style>> styles;
     {
-      WispParams p;
-      p.density = 20.0f;
-      p.offset_radius = 0.008f;
-      p.length_variation = 0.08f;
+      WispParams p = memberParams(20.0f, 0.008f, 0.08f);
       Drape d;
       d.length = 0.42f;
       styles.emplace_back("long-straight", gridStyle(head, "long-straight", 6, 5, p, d, parted(0.5f, 0.6f)));
     }
     {
-      WispParams p;
-      p.density = 22.0f;
-      p.offset_radius = 0.006f;
-      p.length_variation = 0.05f;
+      WispParams p = memberParams(22.0f, 0.006f, 0.05f);
       Drape d;
       d.length = 0.17f;
       d.bend = 0.3f;
@@ -222,10 +224,7 @@ int main(int argc, char** argv) {
       styles.emplace_back("bob", s);
     }
     {
-      WispParams p;
-      p.density = 20.0f;
-      p.offset_radius = 0.01f;
-      p.length_variation = 0.1f;
+      WispParams p = memberParams(20.0f, 0.01f, 0.1f);
       Drape d;
       d.length = 0.3f;
       // everything right of the parting at u = 0.3 is swept over to the right
@@ -237,10 +236,7 @@ int main(int argc, char** argv) {
       styles.emplace_back("side-swept", gridStyle(head, "side-swept", 6, 5, p, d, over));
     }
     {
-      WispParams p;
-      p.density = 20.0f;
-      p.offset_radius = 0.008f;
-      p.length_variation = 0.1f;
+      WispParams p = memberParams(20.0f, 0.008f, 0.1f);
       Drape d;
       d.length = 0.28f;
       d.bend = 0.2f;
@@ -248,10 +244,7 @@ int main(int argc, char** argv) {
       styles.emplace_back("swept-back", gridStyle(head, "swept-back", 6, 5, p, d, back));
     }
     {
-      WispParams p;
-      p.density = 18.0f;
-      p.offset_radius = 0.01f;
-      p.length_variation = 0.1f;
+      WispParams p = memberParams(18.0f, 0.01f, 0.1f);
       p.curl_radius = 0.012f;
       p.curl_period = 0.045f;
       Drape d;

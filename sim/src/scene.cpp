@@ -327,10 +327,8 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
 
 namespace {
 
-// The particles of a styled scene (SPEC §6.2): the style's member strands,
-// on the scene's head (retargeted by (u, v) when the style was made on
-// another one), sampled by Poisson-disc darts; particles inside a tie are
-// held like roots.
+// Tethers of the hair between the scalp and a tie, towards the tie (see
+// Solver::setTieTethers), per particle.
 struct TieTethers {
   std::vector<glm::vec3> point;
   std::vector<float> reach;  // < 0: none
@@ -346,8 +344,13 @@ struct TieTethers {
   }
 };
 
-void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp,
-                   BuildReport& rep, TieTethers& tethers) {
+// The particles of a styled scene (SPEC §6.2): the style's member strands,
+// on the scene's head (retargeted by (u, v) when the style was made on
+// another one), sampled by Poisson-disc darts; particles inside a tie are
+// held like roots.
+// Returns the style's own shape-keeping strength (Hz).
+float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp,
+                    BuildReport& rep, TieTethers& tethers) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
@@ -361,7 +364,6 @@ void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p,
   } else {
     checkStyle(style, model);
   }
-  rep.shape_keeping = style.shape_keeping;
   const StrandSet strands = buildMemberStrands(style, model);
   if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
   rep.style_wisps = style.wisps.size();
@@ -417,96 +419,107 @@ void growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p,
     p.is_root[k] = (q.s < 0.0f || tied) ? 1 : 0;
     if (tied && q.s >= 0.0f) ++rep.tied_particles;
   }
+  return style.shape_keeping;
+}
+
+// The particles of a scene without a style (SPEC §6.1): Poisson-disc
+// samples of the hair pillar in (u, v, s), hung by cantilever strands from
+// root directions given by the whorl.
+void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp, BuildReport& rep) {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
+  const HairSpec& hair = scene.hair;
+  const ScalpSurface& scalp = model.scalp();
+  // What the initial strands must stay out of: the head and, placed where
+  // the head is at the start, the torso.
+  UnionBody start_bodies;
+  start_bodies.add(model.head());
+  if (model.torso()) start_bodies.add(std::make_shared<PlacedBody>(model.torso(), scene.motion.pose(0.0)));
+  // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
+  LengthMap length_map;
+  if (!hair.length_map.empty()) {
+    try {
+      length_map = LengthMap(hair.length_map);
+    } catch (const std::exception& e) {
+      throw SceneError(scene.source + ": hair.length_map: " + e.what());
+    }
+  }
+  const float min_fraction = 0.02f;
+  auto length_at = [&](glm::vec2 uv) { return hair.length * std::max(length_map(uv), min_fraction); };
+  const float max_length = hair.length * std::max(length_map.maximum(), min_fraction);
+  PillarOptions popt;
+  popt.target_count = hair.particles;
+  popt.seed = scene.seed;
+  auto t_sampling = Clock::now();
+  const PillarResult pillar = samplePillar(scalp, length_at, max_length, popt);
+  rep.seconds_sampling = since(t_sampling);
+  rp = pillar.radius;
+  const std::size_t n = pillar.samples.size();
+  if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
+
+  // 2. Root directions from the whorl and cantilever strands (SPEC §6.1).
+  const glm::dmat3 r0 = scene.motion.pose(0.0).rotation;
+  glm::vec3 gdir(glm::transpose(r0) * glm::dvec3(scene.sim.gravity));
+  const bool has_gravity = glm::length(gdir) > 0.0f;
+  if (has_gravity) gdir = glm::normalize(gdir);
+  const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
+  auto t_strands = Clock::now();
+
+  p.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const PillarSample& smp = pillar.samples[k];
+    const glm::vec3 nrm = scalp.normal(smp.uv);
+    glm::vec3 away = -hair.whorl - glm::dot(-hair.whorl, nrm) * nrm;
+    const float away_len = glm::length(away);
+    glm::vec3 root_dir = hair.w_n * nrm;
+    if (away_len > 1e-6f) root_dir += hair.w_t * (away / away_len);
+    root_dir = glm::length(root_dir) > 1e-6f ? glm::normalize(root_dir) : nrm;
+
+    p.uv[k] = smp.uv;
+    p.arc_length[k] = smp.s;
+    p.root_point[k] = smp.point;
+    p.mass[k] = hair.mass / static_cast<float>(n);
+    p.velocity[k] = glm::vec3(0.0f);
+    if (smp.s < 0.0f) {
+      p.is_root[k] = 1;
+      p.position[k] = smp.point + smp.s * root_dir;
+      p.direction[k] = root_dir;
+    } else {
+      p.is_root[k] = 0;
+      const float length = length_at(smp.uv);
+      const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
+      const CantileverStrand strand(smp.point, root_dir, has_gravity ? gdir : root_dir, length,
+                                    hair.bending_stiffness, &start_bodies, clearance,
+                                    hair.layering, segments);
+      p.position[k] = strand.position(smp.s);
+      p.direction[k] = strand.tangent(smp.s);
+    }
+  }
+
+  rep.seconds_strands = since(t_strands);
 }
 
 Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep) {
-  using Clock = std::chrono::steady_clock;
-  auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   const HairSpec& hair = scene.hair;
 
   // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells, &rep);
   const std::shared_ptr<const Body> head = model.head();
   const std::shared_ptr<const Body> torso = model.torso();
-  const ScalpSurface& scalp = model.scalp();
-  // What the initial strands must stay out of: the head and, placed where
-  // the head is at the start, the torso.
-  auto start_bodies = std::make_shared<UnionBody>();
-  start_bodies->add(head);
-  if (torso) start_bodies->add(std::make_shared<PlacedBody>(torso, scene.motion.pose(0.0)));
 
+  // 1-2. The particles: from a style's strands (SPEC §6.2) or hung by
+  //      cantilever strands (SPEC §6.1).
   const float total_mass = hair.mass;
+  const bool styled = hair.style_data || !hair.style.empty();
   Particles p;
   float rp = 0;
-  std::size_t n = 0;
+  float style_shape_keeping = 0;
   TieTethers tie_tethers;
-  if (hair.style_data || !hair.style.empty()) {
-    growFromStyle(scene, model, p, rp, rep, tie_tethers);
-    n = p.size();
-  } else {
-    // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
-    LengthMap length_map;
-    if (!hair.length_map.empty()) {
-      try {
-        length_map = LengthMap(hair.length_map);
-      } catch (const std::exception& e) {
-        throw SceneError(scene.source + ": hair.length_map: " + e.what());
-      }
-    }
-    const float min_fraction = 0.02f;
-    auto length_at = [&](glm::vec2 uv) { return hair.length * std::max(length_map(uv), min_fraction); };
-    const float max_length = hair.length * std::max(length_map.maximum(), min_fraction);
-    PillarOptions popt;
-    popt.target_count = hair.particles;
-    popt.seed = scene.seed;
-    auto t_sampling = Clock::now();
-    const PillarResult pillar = samplePillar(scalp, length_at, max_length, popt);
-    rep.seconds_sampling = since(t_sampling);
-    rp = pillar.radius;
-    n = pillar.samples.size();
-    if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
-
-    // 2. Root directions from the whorl and cantilever strands (SPEC §6.1).
-    const glm::dmat3 r0 = scene.motion.pose(0.0).rotation;
-    glm::vec3 gdir(glm::transpose(r0) * glm::dvec3(scene.sim.gravity));
-    const bool has_gravity = glm::length(gdir) > 0.0f;
-    if (has_gravity) gdir = glm::normalize(gdir);
-    const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
-    auto t_strands = Clock::now();
-
-    p.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const PillarSample& smp = pillar.samples[k];
-      const glm::vec3 nrm = scalp.normal(smp.uv);
-      glm::vec3 away = -hair.whorl - glm::dot(-hair.whorl, nrm) * nrm;
-      const float away_len = glm::length(away);
-      glm::vec3 root_dir = hair.w_n * nrm;
-      if (away_len > 1e-6f) root_dir += hair.w_t * (away / away_len);
-      root_dir = glm::length(root_dir) > 1e-6f ? glm::normalize(root_dir) : nrm;
-
-      p.uv[k] = smp.uv;
-      p.arc_length[k] = smp.s;
-      p.root_point[k] = smp.point;
-      p.mass[k] = total_mass / static_cast<float>(n);
-      p.velocity[k] = glm::vec3(0.0f);
-      if (smp.s < 0.0f) {
-        p.is_root[k] = 1;
-        p.position[k] = smp.point + smp.s * root_dir;
-        p.direction[k] = root_dir;
-      } else {
-        p.is_root[k] = 0;
-        const float length = length_at(smp.uv);
-        const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
-        const CantileverStrand strand(smp.point, root_dir, has_gravity ? gdir : root_dir, length,
-                                      hair.bending_stiffness, start_bodies.get(), clearance,
-                                      hair.layering, segments);
-        p.position[k] = strand.position(smp.s);
-        p.direction[k] = strand.tangent(smp.s);
-      }
-    }
-
-    rep.seconds_strands = since(t_strands);
-  }
+  if (styled)
+    style_shape_keeping = growFromStyle(scene, model, p, rp, rep, tie_tethers);
+  else
+    growCantilever(scene, model, p, rp, rep);
+  const std::size_t n = p.size();
 
   // 3. Order the particles along a Morton curve so that neighbours are near
   //    in memory (SPEC-independent; keeps the gather loops cache-friendly).
@@ -541,9 +554,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     mean_nn = count ? static_cast<float>(sum / static_cast<double>(count)) : rp;
   }
   SimParams params = scene.sim;
-  const bool styled = hair.style_data || !hair.style.empty();
-  if (styled && scene.shape_keeping_auto) params.shape_keeping = rep.shape_keeping;
-  if (!styled && scene.shape_keeping_auto) params.shape_keeping = 0.0f;
+  if (scene.shape_keeping_auto) params.shape_keeping = styled ? style_shape_keeping : 0.0f;
   rep.shape_keeping = params.shape_keeping;
   if (scene.h1_auto) params.h1 = hair.h1_scale * rp;
   // h2 a little below the spacing of the placed hair (SPEC §9), and in any

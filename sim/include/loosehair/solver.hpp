@@ -280,9 +280,9 @@ class Solver {
   std::unique_ptr<Scratch> scratch_;
   struct Sliced;  // the connections in the layout of the connection passes
   std::unique_ptr<Sliced> sliced_;
-  std::unique_ptr<ShapeKeeping> shape_;
-  std::vector<glm::vec3> tie_point_;  // setTieTethers; empty: none
-  std::vector<float> tie_reach_;  // params_.shape_keeping > 0
+  std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
+  std::vector<glm::vec3> tie_point_;     // setTieTethers; both empty: none
+  std::vector<float> tie_reach_;
 
   StepStats stats_;
   InitReport report_;
