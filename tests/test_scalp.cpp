@@ -5,6 +5,7 @@
 #include "init/length_map.hpp"
 #include "init/mesh_scalp.hpp"
 #include "init/poisson_pillar.hpp"
+#include "nearest_triangle.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
@@ -302,4 +303,47 @@ TEST(LengthMap, PngAndPgmGiveTheSameLengths) {
   std::ofstream(dir / "bad.pgm") << "P2\n4 2\n255\n0 1 2\n";
   EXPECT_THROW(LengthMap((dir / "bad.pgm").string()), std::runtime_error);
   fs::remove_all(dir);
+}
+
+// The nearest-triangle search (nearestScalpUv, groom import) answers what
+// trying every triangle answers, bit for bit, near the surface and far from
+// it, with repeated triangles (ties) in the soup.
+TEST(NearestTriangle, AgreesWithTryingEveryTriangle) {
+  std::vector<glm::vec3> pos;
+  std::vector<glm::u32vec3> tris;
+  std::uint64_t state = 12345;
+  auto uniform = [&]() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<float>(state >> 40) / static_cast<float>(1u << 24);
+  };
+  const int g = 40;  // a wavy sheet, 20 cm square, jittered
+  for (int i = 0; i <= g; ++i)
+    for (int j = 0; j <= g; ++j) {
+      const float x = 0.2f * static_cast<float>(j) / g + 0.002f * uniform();
+      const float z = 0.2f * static_cast<float>(i) / g + 0.002f * uniform();
+      pos.emplace_back(x, 0.02f * std::sin(30.0f * x) * std::cos(20.0f * z), z);
+    }
+  for (int i = 0; i < g; ++i)
+    for (int j = 0; j < g; ++j) {
+      const auto a = static_cast<std::uint32_t>(i * (g + 1) + j);
+      tris.emplace_back(a, a + 1, a + g + 2);
+      tris.emplace_back(a, a + g + 2, a + g + 1);
+    }
+  tris.push_back(tris[100]);  // a repeat: the lower id must win
+  const NearestTriangle search(pos, tris);
+  for (int q = 0; q < 3000; ++q) {
+    const float spread = q % 3 == 0 ? 2.0f : 0.25f;  // far and near
+    const glm::vec3 p(spread * (uniform() - 0.4f), spread * (uniform() - 0.5f), spread * (uniform() - 0.4f));
+    NearestTriangle::Hit brute;
+    for (std::uint32_t k = 0; k < tris.size(); ++k) {
+      const glm::vec3 a = pos[tris[k].x], b = pos[tris[k].y], c = pos[tris[k].z];
+      const glm::vec3 l = closestBarycentric(p, a, b, c);
+      const float d = glm::length(l.x * a + l.y * b + l.z * c - p);
+      if (d < brute.distance) brute = {k, l, d};
+    }
+    const NearestTriangle::Hit hit = search.nearest(p);
+    ASSERT_EQ(hit.triangle, brute.triangle) << "query " << q;
+    ASSERT_EQ(hit.distance, brute.distance) << "query " << q;
+  }
+  EXPECT_FALSE(std::isfinite(NearestTriangle({}, {}).nearest(glm::vec3(0.0f)).distance));
 }

@@ -4,6 +4,7 @@
 #include "init/mesh_scalp.hpp"
 #include "init/scalp_surface.hpp"
 #include "json_checks.hpp"
+#include "nearest_triangle.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -41,38 +42,6 @@ TriangleMesh sphereMesh(glm::vec3 c, float r) {
       if (i + 1 < rings) m.triangles.emplace_back(at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
     }
   return m;
-}
-
-// Closest point to p on triangle abc, as barycentric weights (Ericson's
-// region tests, written out).
-glm::vec3 closestBarycentric(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
-  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-  const glm::vec3 bp = p - b;
-  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const float v = d1 / (d1 - d3);
-    return {1 - v, v, 0};
-  }
-  const glm::vec3 cp = p - c;
-  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const float w = d2 / (d2 - d6);
-    return {1 - w, 0, w};
-  }
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {0, 1 - w, w};
-  }
-  const float denom = 1.0f / (va + vb + vc);
-  const float v = vb * denom, w = vc * denom;
-  return {1 - v - w, v, w};
 }
 
 }  // namespace
@@ -237,6 +206,7 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, doub
   for (const auto& tr : t.triangles)
     t.areas.push_back(0.5 * glm::length(glm::cross(glm::dvec3(t.positions[tr.y] - t.positions[tr.x]),
                                                    glm::dvec3(t.positions[tr.z] - t.positions[tr.x]))));
+  m.nearest_ = std::make_unique<NearestTriangle>(t.positions, t.triangles);
   // uv buckets for scalpTriangleAt
   m.buckets_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(t.triangles.size()) / 2.0)));
   const int nb = m.buckets_;
@@ -288,15 +258,12 @@ glm::vec3 HeadModel::scalpTangentU(glm::vec2 uv) const {
 }
 
 glm::vec2 HeadModel::nearestScalpUv(glm::vec3 p, float* distance) const {
-  float best = INFINITY;
   glm::vec2 uv(0.5f);
-  for (const auto& tr : tris_.triangles) {
-    const glm::vec3 a = tris_.positions[tr.x], b = tris_.positions[tr.y], c = tris_.positions[tr.z];
-    const glm::vec3 l = closestBarycentric(p, a, b, c);
-    const glm::vec3 q = l.x * a + l.y * b + l.z * c;
-    const float d = glm::length(q - p);
-    if (d < best) {
-      best = d;
+  if (nearest_) {
+    const NearestTriangle::Hit h = nearest_->nearest(p);
+    if (std::isfinite(h.distance)) {
+      const auto tr = tris_.triangles[h.triangle];
+      const glm::vec3 l = h.barycentric;
       uv = l.x * tris_.uvs[tr.x] + l.y * tris_.uvs[tr.y] + l.z * tris_.uvs[tr.z];
     }
   }
@@ -330,6 +297,23 @@ std::uint32_t HeadModel::scalpTriangleAt(glm::vec2 uv) const {
   if (best == -INFINITY)
     for (std::uint32_t k = 0; k < tris_.triangles.size(); ++k) test(k);
   return best_t;
+}
+
+std::vector<std::uint32_t> HeadModel::scalpTrianglesNear(glm::vec2 lo, glm::vec2 hi) const {
+  std::vector<std::uint32_t> out;
+  if (!(lo.x <= hi.x && lo.y <= hi.y)) return out;
+  const float nb = static_cast<float>(buckets_);
+  auto bucket = [&](float c) { return std::clamp(static_cast<int>(std::floor(c * nb)), 0, buckets_ - 1); };
+  // a triangle is listed in every bucket its box overlaps, and the boxes
+  // overlap in a point whose bucket is in this range
+  for (int y = bucket(lo.y); y <= bucket(hi.y); ++y)
+    for (int x = bucket(lo.x); x <= bucket(hi.x); ++x) {
+      const std::size_t b = static_cast<std::size_t>(y * buckets_ + x);
+      out.insert(out.end(), bucket_items_.begin() + bucket_start_[b], bucket_items_.begin() + bucket_start_[b + 1]);
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 float HeadModel::headDistance(glm::vec3 p) const {

@@ -30,6 +30,8 @@ struct ScalpTriangles {
   std::vector<double> areas;  // m^2, per triangle
 };
 
+class NearestTriangle;
+
 class HeadModel {
  public:
   /// Loads and checks the meshes, bakes their distance fields and builds the
@@ -57,6 +59,9 @@ class HeadModel {
   /// The scalp triangle holding (u, v) (the nearest one outside the square).
   std::uint32_t scalpTriangleAt(glm::vec2 uv) const;
   const ScalpTriangles& scalpTriangles() const { return tris_; }
+  /// Every scalp triangle whose (u, v) box overlaps the box [lo, hi] (and
+  /// perhaps a few more nearby), sorted, without repeats.
+  std::vector<std::uint32_t> scalpTrianglesNear(glm::vec2 lo, glm::vec2 hi) const;
   double scalpArea() const;
   /// The head frame's left/right plane is x = mirrorPlaneX() (the middle of
   /// the head mesh's extent in x).
@@ -73,6 +78,7 @@ class HeadModel {
   std::unique_ptr<ScalpSurface> scalp_;
   TriangleMesh head_mesh_;
   ScalpTriangles tris_;
+  std::unique_ptr<NearestTriangle> nearest_;  // the scalp triangles, for nearestScalpUv
   std::vector<std::uint32_t> bucket_start_, bucket_items_;  // uv buckets of triangles
   int buckets_ = 1;
   float mirror_x_ = 0.0f;

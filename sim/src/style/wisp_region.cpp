@@ -33,28 +33,25 @@ std::vector<std::uint32_t> regionTriangles(const WispRegion& region, const HeadM
   std::vector<std::uint32_t> out;
   for (std::uint32_t t : region.triangles)
     if (t < s.triangles.size()) out.push_back(t);
-  if (!region.polygons.empty()) {
-    for (std::uint32_t t = 0; t < s.triangles.size(); ++t) {
+  for (const auto& polygon : region.polygons) {
+    if (polygon.empty()) continue;
+    glm::vec2 lo = polygon.front(), hi = polygon.front();
+    for (const glm::vec2 q : polygon) {
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+    // a triangle that meets the polygon overlaps its box
+    for (std::uint32_t t : head.scalpTrianglesNear(lo, hi)) {
       const auto tr = s.triangles[t];
       const glm::vec2 a = s.uvs[tr.x], b = s.uvs[tr.y], c = s.uvs[tr.z];
-      bool hit = false;
-      for (const auto& poly : region.polygons) {
-        if (polygonContains(poly, a) || polygonContains(poly, b) || polygonContains(poly, c) ||
-            polygonContains(poly, (a + b + c) / 3.0f)) {
-          hit = true;
-          break;
-        }
-        for (const glm::vec2 q : poly) {  // a corner of a small polygon inside the triangle
-          const glm::vec2 e1 = b - a, e2 = c - a, d = q - a;
-          const float det = e1.x * e2.y - e1.y * e2.x;
-          if (det == 0.0f) continue;
-          const float l1 = (d.x * e2.y - d.y * e2.x) / det, l2 = (e1.x * d.y - e1.y * d.x) / det;
-          if (l1 >= 0 && l2 >= 0 && l1 + l2 <= 1) {
-            hit = true;
-            break;
-          }
-        }
-        if (hit) break;
+      bool hit = polygonContains(polygon, a) || polygonContains(polygon, b) || polygonContains(polygon, c) ||
+                 polygonContains(polygon, (a + b + c) / 3.0f);
+      for (std::size_t k = 0; k < polygon.size() && !hit; ++k) {  // a corner of a small polygon inside the triangle
+        const glm::vec2 e1 = b - a, e2 = c - a, d = polygon[k] - a;
+        const float det = e1.x * e2.y - e1.y * e2.x;
+        if (det == 0.0f) continue;
+        const float l1 = (d.x * e2.y - d.y * e2.x) / det, l2 = (e1.x * d.y - e1.y * d.x) / det;
+        hit = l1 >= 0 && l2 >= 0 && l1 + l2 <= 1;
       }
       if (hit) out.push_back(t);
     }
