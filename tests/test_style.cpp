@@ -7,6 +7,7 @@
 #include "loosehair/style_editor.hpp"
 #include "style/rotation_minimizing_frame.hpp"
 #include "style/style_seeding.hpp"
+#include "style_fixtures.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
@@ -19,73 +20,9 @@
 #include <fstream>
 
 using namespace loosehair;
+using namespace lhtest::styles;
 
 namespace {
-
-HeadDesc sphereHead() {
-  HeadDesc h;
-  h.head_kind = HeadKind::Sphere;
-  h.head_center = glm::vec3(0.0f);
-  h.head_radius = 0.1f;
-  h.scalp_kind = ScalpKind::SphereCap;
-  h.cap_angle_deg = 100.0f;
-  return h;
-}
-
-const HeadModel& sphereModel() {
-  static const HeadModel m = HeadModel::build(sphereHead(), "sphere-test");
-  return m;
-}
-
-WispRegion square(glm::vec2 lo, glm::vec2 hi) {
-  WispRegion r;
-  r.polygons.push_back({lo, {hi.x, lo.y}, hi, {lo.x, hi.y}});
-  return r;
-}
-
-// A strand from the root outwards along the normal, then away from the
-// crown and down, clear of the sphere.
-std::vector<glm::vec3> hangingKey(const HeadModel& h, glm::vec2 uv) {
-  const glm::vec3 r = h.scalpPoint(uv), n = h.scalpNormal(uv);
-  glm::vec3 out(n.x, 0.0f, n.z);
-  out = glm::length(out) > 0.1f ? glm::normalize(out) : glm::vec3(1, 0, 0);
-  return {r, r + 0.02f * n, r + 0.03f * n + 0.05f * out, r + 0.03f * n + 0.1f * out + glm::vec3(0, -0.06f, 0)};
-}
-
-Style twoWispStyle() {
-  const HeadModel& h = sphereModel();
-  Style s;
-  s.source = "test-style";
-  s.name = "two";
-  s.head = sphereHead();
-  StyleEditor ed(s, h);
-  WispParams p;
-  p.density = 15.0f;
-  p.offset_radius = 0.008f;
-  ed.createWisp(square({0.15f, 0.3f}, {0.35f, 0.6f}), p);
-  ed.createWisp(square({0.45f, 0.45f}, {0.6f, 0.7f}), p);
-  Style out = ed.style();
-  out.wisps[0].key_strand = hangingKey(h, regionRoot(out.wisps[0].region, h));
-  out.wisps[1].key_strand = hangingKey(h, regionRoot(out.wisps[1].region, h));
-  return out;
-}
-
-// One wisp of a small region whose key strand rises from near the crown
-// (translated copies stay off the sphere), without length variation.
-Style upwardWisp(float offset_radius, int strands) {
-  const HeadModel& h = sphereModel();
-  Style s = twoWispStyle();
-  s.wisps.resize(1);
-  Wisp& w = s.wisps[0];
-  w.params.offset_radius = offset_radius;
-  w.params.length_variation = 0.0f;
-  w.params.strands = strands;
-  const glm::vec2 uv = regionRoot(w.region, h);
-  w.region = square(uv - glm::vec2(0.02f), uv + glm::vec2(0.02f));
-  const glm::vec3 r = h.scalpPoint(regionRoot(w.region, h));
-  w.key_strand = {r, r + glm::vec3(0, 0.05f, 0), r + glm::vec3(0.01f, 0.1f, 0.0f)};
-  return s;
-}
 
 std::filesystem::path tempDir() {
   auto d = std::filesystem::temp_directory_path() /
@@ -321,7 +258,7 @@ TEST(StyleFiles, SaveThenLoadGivesAnIdenticalStyle) {
   s.wisps[1].params.curl_radius = 0.0031f;
   s.colour = glm::vec3(0.1f, 0.2f, 0.3f);
   s.ties.push_back(HairTie{"tie", glm::vec3(0.01f, -0.15f, -0.12f), glm::normalize(glm::vec3(0.1f, -1, 0.2f)),
-                           0.0151f, 0.0123f});
+                           0.0151f, 0.0123f, 2.75f});
   const std::string path = (dir / "a.json").string();
   saveStyle(s, path);
   const Style back = loadStyle(path);
@@ -364,6 +301,9 @@ TEST(StyleFiles, BadStylesAreRejectedNamingTheField) {
   t = good;
   t.replace(t.find("\"density\": 15.0"), 15, "\"density\": -3.0");
   expectError(t, "density", false);
+  s = twoWispStyle();
+  s.ties.push_back(HairTie{"t", glm::vec3(0.3f, 0.3f, 0.3f), glm::vec3(0, -1, 0), 0.01f, 0.01f, -1.0f});
+  expectError(styleText(s), "ties[0].hold", false);
   expectError("{\"wisps\": []", "bad.json", false);
 }
 

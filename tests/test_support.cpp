@@ -61,12 +61,13 @@ double headYaw(const loosehair::Solver& s) {
   return std::atan2(z.x, z.z);
 }
 
-double hairYaw(const loosehair::Solver& s, const std::vector<glm::vec3>& start, float min_arc_length) {
+double hairYaw(const loosehair::Solver& s, const std::vector<glm::vec3>& start, float min_arc_length,
+               const std::vector<std::uint8_t>& only) {
   std::vector<glm::vec3> w;
   s.worldPositions(w);
   double sum = 0, weight = 0;
   for (std::size_t i = 0; i < w.size(); ++i) {
-    if (s.particles().arc_length[i] < min_arc_length) continue;
+    if (s.particles().arc_length[i] < min_arc_length || (!only.empty() && !only[i])) continue;
     const double r = std::hypot(w[i].x, w[i].z);
     double d = std::atan2(w[i].x, w[i].z) - std::atan2(start[i].x, start[i].z);
     while (d > std::numbers::pi) d -= 2 * std::numbers::pi;

@@ -30,8 +30,9 @@ double headYaw(const loosehair::Solver& solver);
 /// Mean world yaw about the vertical axis of the particles with arc length
 /// >= min_arc_length (the part near the scalp turns with it), relative to
 /// `start` (world positions), weighted by the distance from the axis (rad).
+/// Only the particles i with only[i] != 0 when `only` is not empty.
 double hairYaw(const loosehair::Solver& solver, const std::vector<glm::vec3>& start,
-               float min_arc_length);
+               float min_arc_length, const std::vector<std::uint8_t>& only = {});
 /// Least-squares fit hair(t) ~ gain head(t) - lag head'(t) over samples with
 /// from <= t <= to: a follower delayed by lag is head(t - lag) ~ head - lag head'.
 struct GainLag {

@@ -136,11 +136,8 @@ Style ponytail(const HeadModel& head) {
   Style base;
   base.name = "ponytail";
   base.head = head.desc();
-  // The tail below the tie is a pendulum of about 1 Hz; a hold of 1 Hz on
-  // top of it would put it in resonance with a 1 Hz head shake (the tail
-  // then swings further than the head turns). Half that keeps the shape at
-  // rest (the prestress does that at any strength) and lets the tail swing.
-  base.shape_keeping = 0.5f;
+  // The style's default hold (1 Hz) for the tail; the hair between scalp
+  // and tie is held at the tie's own, stronger hold (HairTie::hold).
   StyleEditor ed(base, head);
   const int nu = 5, nv = 4;
   WispParams params = memberParams(18.0f, 0.012f, 0.12f);

@@ -1,6 +1,7 @@
 #include "loosehair/params.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <string>
 
@@ -84,6 +85,12 @@ std::vector<std::string> validate(const SimParams& p) {
   c.nonNegative("body_friction", p.body_friction, "dimensionless");
   c.nonNegative("contact_thickness", p.contact_thickness, "m");
   c.range("shape_keeping", p.shape_keeping, 0.0, 100.0);
+  // the hold is a spring of angular frequency 2 pi f; symplectic Euler is
+  // stable below omega dt = 2, and accurate well below it
+  if (std::isfinite(p.shape_keeping) && std::isfinite(p.time_step) &&
+      2.0 * std::numbers::pi * p.shape_keeping * p.time_step > kMaxHoldPhasePerStep)
+    c.fail("shape_keeping = " + num(p.shape_keeping) + " Hz is too strong for time_step = " + num(p.time_step) +
+           " s (2 pi shape_keeping time_step must stay below " + num(kMaxHoldPhasePerStep) + ")");
   c.range("threads", p.threads, 0, 1024);
   return problems;
 }

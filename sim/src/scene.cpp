@@ -327,11 +327,13 @@ Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
 
 namespace {
 
-// Tethers of the hair between the scalp and a tie, towards the tie (see
-// Solver::setTieTethers), per particle.
+// The hair between the scalp and a tie, per particle: its tether towards
+// the tie (Solver::setTieTethers) and the tie's hold (HairTie::hold, given
+// to Solver::setShapeKeepingStrengths).
 struct TieTethers {
   std::vector<glm::vec3> point;
   std::vector<float> reach;  // < 0: none
+  std::vector<float> hold;   // Hz; 0 where reach < 0
   /// The entries of the particles `which` (as Particles::select).
   void select(const std::vector<std::uint32_t>& which) {
     if (reach.empty()) return;
@@ -339,6 +341,7 @@ struct TieTethers {
     for (std::uint32_t k : which) {
       t.point.push_back(point[k]);
       t.reach.push_back(reach[k]);
+      t.hold.push_back(hold[k]);
     }
     *this = std::move(t);
   }
@@ -383,13 +386,16 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   // side, and the connections, made between neighbours in order of s, would
   // not hang the tail from the tie.)
   std::vector<std::optional<TieCrossing>> crossing(strands.size());
+  std::vector<float> crossing_hold(strands.size(), 0.0f);
   if (!style.ties.empty()) {
     std::vector<glm::vec3> line;
     for (std::size_t k = 0; k < strands.size(); ++k) {
       line.assign(strands.points.begin() + strands.first[k], strands.points.begin() + strands.first[k + 1]);
       for (const HairTie& t : style.ties)
-        if (auto c = crossTie(line, t); c && (!crossing[k] || c->arc_length < crossing[k]->arc_length))
+        if (auto c = crossTie(line, t); c && (!crossing[k] || c->arc_length < crossing[k]->arc_length)) {
           crossing[k] = c;
+          crossing_hold[k] = t.hold;
+        }
     }
   }
   p.resize(n);
@@ -412,9 +418,11 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
       if (tethers.reach.empty()) {
         tethers.point.assign(n, glm::vec3(0.0f));
         tethers.reach.assign(n, -1.0f);
+        tethers.hold.assign(n, 0.0f);
       }
       tethers.point[k] = c->point;
       tethers.reach[k] = c->arc_length - q.s;
+      tethers.hold[k] = crossing_hold[q.strand];
     }
     p.is_root[k] = (q.s < 0.0f || tied) ? 1 : 0;
     if (tied && q.s >= 0.0f) ++rep.tied_particles;
@@ -604,7 +612,17 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                                         "leave it out to have it set from the sampling") + ")");
   }
   Solver solver(params, std::move(p), head, scene.motion);
-  if (!tie_tethers.reach.empty()) solver.setTieTethers(std::move(tie_tethers.point), std::move(tie_tethers.reach));
+  if (!tie_tethers.reach.empty()) {
+    if (params.shape_keeping > 0.0f) {
+      try {
+        solver.setShapeKeepingStrengths(tie_tethers.hold);
+      } catch (const std::invalid_argument& e) {
+        throw SceneError(scene.source + ": hair.style: a tie's hold is too strong for the time step (" +
+                         std::string(e.what()) + "): lower ties[].hold or raise substeps");
+      }
+    }
+    solver.setTieTethers(std::move(tie_tethers.point), std::move(tie_tethers.reach));
+  }
   // Hair that hangs on nothing: no roots, no connections, or most of the
   // hair unable to reach a root through its connections (a scalp too small
   // for the sampling, a smoothing length below the particle spacing).

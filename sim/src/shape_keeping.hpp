@@ -10,18 +10,23 @@
 //   a_i += omega^2 (x0_i - x_i) + b_i,   omega = 2 pi f,   b_i = -F0_i / m_i
 //
 // f (Hz) is the natural frequency of the hold, a property of the hair, not of
-// the sampling or the step. Off (f = 0), the solver is plain LCP.
+// the sampling or the step; it may differ between particles (the hair a tie
+// pulls taut is held harder). Off (f = 0), the solver is plain LCP.
 #pragma once
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <vector>
 
 namespace loosehair {
 
+inline float holdRate(double hz) { return static_cast<float>(4.0 * std::numbers::pi * std::numbers::pi * hz * hz); }
+
 struct ShapeKeeping {
-  float omega2 = 0;                 // (2 pi f)^2 (1/s^2)
+  std::vector<float> omega2;        // (2 pi f_i)^2 (1/s^2)
   std::vector<glm::vec3> target;    // x0_i, head frame (m)
   std::vector<glm::vec3> prestress; // b_i (m/s^2)
 
@@ -29,15 +34,22 @@ struct ShapeKeeping {
   /// the start (m/s^2). Roots get no term.
   ShapeKeeping(float hz, const std::vector<glm::vec3>& position, const std::vector<float>& mass,
                const std::vector<glm::vec3>& initial_force, glm::vec3 gravity_head)
-      : omega2(static_cast<float>(4.0 * std::numbers::pi * std::numbers::pi * hz * hz)),
+      : omega2(position.size(), holdRate(hz)),
         target(position),
         prestress(position.size()) {
     for (std::size_t i = 0; i < position.size(); ++i)
       prestress[i] = -(initial_force[i] / mass[i] + gravity_head);
   }
 
+  /// The largest omega_i (rad/s).
+  double fastest() const {
+    float w2 = 0;
+    for (float w : omega2) w2 = std::max(w2, w);
+    return std::sqrt(static_cast<double>(w2));
+  }
+
   glm::vec3 acceleration(std::size_t i, glm::vec3 x) const {
-    return omega2 * (target[i] - x) + prestress[i];
+    return omega2[i] * (target[i] - x) + prestress[i];
   }
 };
 

@@ -28,6 +28,7 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -373,6 +374,9 @@ void Solver::setTimeStep(double dt) {
   p.time_step = dt;
   const auto problems = validate(p);
   if (!problems.empty()) throw std::invalid_argument(problems.front());
+  if (shape_ && shape_->fastest() * dt > kMaxHoldPhasePerStep)
+    throw std::invalid_argument("time_step = " + std::to_string(dt) + " s is too long for a shape-keeping hold of " +
+                                std::to_string(shape_->fastest() / (2.0 * std::numbers::pi)) + " Hz");
   params_ = p;
 }
 
@@ -1295,6 +1299,23 @@ void Solver::applyTethers(std::size_t b, std::size_t e) {
   if (!tie_reach_.empty())
     for (std::size_t i = b; i < e; ++i)
       if (!root[i] && tie_reach_[i] >= 0.0f) x[i] = tether::within(x[i], tie_point_[i], scale * tie_reach_[i]);
+}
+
+void Solver::setShapeKeepingStrengths(const std::vector<float>& hz) {
+  if (!shape_) throw std::logic_error("setShapeKeepingStrengths: shape keeping is off (solver.shape_keeping = 0)");
+  if (hz.size() != particles_.size())
+    throw std::invalid_argument("setShapeKeepingStrengths: " + std::to_string(hz.size()) + " strengths for " +
+                                std::to_string(particles_.size()) + " particles");
+  for (std::size_t i = 0; i < hz.size(); ++i) {
+    if (!(std::isfinite(hz[i]) && hz[i] >= 0.0f))
+      throw std::invalid_argument("setShapeKeepingStrengths: particle " + std::to_string(i) + ": strength " +
+                                  std::to_string(hz[i]) + " Hz is not a finite value >= 0");
+    if (2.0 * std::numbers::pi * hz[i] * params_.time_step > kMaxHoldPhasePerStep)
+      throw std::invalid_argument("setShapeKeepingStrengths: particle " + std::to_string(i) + ": " +
+                                  std::to_string(hz[i]) + " Hz is too strong for time_step = " +
+                                  std::to_string(params_.time_step) + " s");
+  }
+  for (std::size_t i = 0; i < hz.size(); ++i) shape_->omega2[i] = std::max(shape_->omega2[i], holdRate(hz[i]));
 }
 
 void Solver::setTieTethers(std::vector<glm::vec3> point, std::vector<float> reach) {

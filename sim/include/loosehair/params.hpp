@@ -105,6 +105,7 @@ struct SimParams {
   /// is at rest under gravity and the internal forces it starts with. f is
   /// this value (unit: Hz): the natural frequency of the hold, independent
   /// of particle count and time step. 0 (the default) is plain LCP.
+  /// 2 pi f time_step must stay below kMaxHoldPhasePerStep.
   float shape_keeping = 0.0f;
 
   // ---- execution -------------------------------------------------------
@@ -114,6 +115,10 @@ struct SimParams {
   /// Results do not depend on it.
   int threads = 0;
 };
+
+/// The largest 2 pi f dt a shape-keeping hold may have (symplectic Euler is
+/// stable below 2; this keeps it accurate).
+inline constexpr double kMaxHoldPhasePerStep = 0.5;
 
 /// Every problem with `p`, one sentence each naming the parameter and its
 /// value; empty when the parameters are usable.

@@ -126,6 +126,14 @@ class Solver {
   /// Throws std::invalid_argument unless both have one finite entry a particle.
   void setTieTethers(std::vector<glm::vec3> point, std::vector<float> reach);
 
+  /// Per-particle shape-keeping strengths (Hz, SimParams::shape_keeping):
+  /// particle i is held at the stronger of hz[i] and the solver's own
+  /// strength; the prestress, and so the rest state, is unchanged. Used for
+  /// the hair a tie pulls taut (HairTie::hold). Throws std::logic_error when
+  /// shape keeping is off (plain LCP has no such term), std::invalid_argument
+  /// unless hz has one finite entry >= 0 a particle.
+  void setShapeKeepingStrengths(const std::vector<float>& hz);
+
   /// Turns on wind (SPEC §5): fills the air box at the current time.
   /// Throws std::invalid_argument with every problem of `wind`.
   void setWind(const WindParams& wind);

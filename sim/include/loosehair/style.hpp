@@ -87,6 +87,12 @@ struct HairTie {
   glm::vec3 axis{0, -1, 0};     // the ring's axis (unit; hair runs along it)
   float radius = 0.015f;        // inner radius of the ring (m)
   float width = 0.012f;         // extent along the axis (m)
+  /// Shape-keeping strength (Hz) of the hair the tie gathers, between the
+  /// scalp and the ring: a tie pulls that hair taut against the head, which
+  /// LCP, without bending or tension, cannot represent (docs/design.md).
+  /// Applies when shape keeping is on; the stronger of this and the style's
+  /// strength holds that hair.
+  float hold = 4.0f;
   bool operator==(const HairTie&) const = default;
 };
 

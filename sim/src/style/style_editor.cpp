@@ -220,10 +220,18 @@ void StyleEditor::pasteKeyStrand(std::size_t i) {
   style_.wisps[i].key_strand = key;
 }
 
-std::size_t StyleEditor::addTie(const HairTie& tie) {
+namespace {
+// The ranges of a tie's numbers, as the style file has them.
+void checkTieValues(const char* operation, const HairTie& tie) {
   if (!(tie.radius >= 1e-3f && tie.radius <= 0.2f) || !(tie.width >= 1e-3f && tie.width <= 0.2f) ||
-      !(glm::length(tie.axis) > 0.5f && glm::length(tie.axis) < 1.5f))
-    throw StyleError("addTie: radius and width must be in [0.001, 0.2] m and the axis a unit vector");
+      !(glm::length(tie.axis) > 0.5f && glm::length(tie.axis) < 1.5f) || !(tie.hold >= 0.0f && tie.hold <= 50.0f))
+    throw StyleError(std::string(operation) +
+                     ": radius and width must be in [0.001, 0.2] m, the axis a unit vector and the hold in [0, 50] Hz");
+}
+}  // namespace
+
+std::size_t StyleEditor::addTie(const HairTie& tie) {
+  checkTieValues("addTie", tie);
   record();
   HairTie t = tie;
   t.axis = glm::normalize(t.axis);
@@ -240,9 +248,7 @@ void StyleEditor::deleteTie(std::size_t j) {
 
 void StyleEditor::setTie(std::size_t j, const HairTie& value) {
   if (j >= style_.ties.size()) throw StyleError("setTie: there is no tie " + std::to_string(j));
-  if (!(value.radius >= 1e-3f && value.radius <= 0.2f) || !(value.width >= 1e-3f && value.width <= 0.2f) ||
-      !(glm::length(value.axis) > 0.5f && glm::length(value.axis) < 1.5f))
-    throw StyleError("setTie: radius and width must be in [0.001, 0.2] m and the axis a unit vector");
+  checkTieValues("setTie", value);
   record();
   style_.ties[j] = value;
   style_.ties[j].axis = glm::normalize(value.axis);

@@ -97,6 +97,7 @@ HairTie readTie(Fields f, std::size_t index) {
   t.axis = std::abs(glm::length(axis) - 1.0) < 1e-6 ? glm::vec3(axis) : glm::vec3(glm::normalize(axis));
   t.radius = f.real("radius", t.radius, 1e-3, 0.2);
   t.width = f.real("width", t.width, 1e-3, 0.2);
+  t.hold = f.real("hold", t.hold, 0.0, 50.0);
   f.finish();
   return t;
 }
@@ -204,7 +205,7 @@ std::string styleText(const Style& s, const std::string& path) {
     json ties = json::array();
     for (const HairTie& t : s.ties)
       ties.push_back({{"name", t.name}, {"center", vec(t.center)}, {"axis", vec(t.axis)},
-                      {"radius", t.radius}, {"width", t.width}});
+                      {"radius", t.radius}, {"width", t.width}, {"hold", t.hold}});
     out["ties"] = ties;
   }
   return out.dump(1) + "\n";
