@@ -19,6 +19,7 @@ packages=(
   libbenchmark-dev      # benchmarks
   ffmpeg                # video encoding of rendered frames
   xvfb xauth            # running the windowed viewer without a display
+  python3-open3d assimp-utils  # independent readers of strand files in the tests
   libgl1-mesa-dri libglx-mesa0  # OpenGL in a window on the software renderer
 )
 

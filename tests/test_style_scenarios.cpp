@@ -1,6 +1,9 @@
 // Bundled styles simulated on the bundled head (SPEC §6.2): each holds its
 // shape on a still head and still swings when the head shakes; the
 // ponytail's tail swings while the hair above the tie stays on the head.
+#include "loosehair/groom_import.hpp"
+#include "loosehair/head_model.hpp"
+#include "loosehair/strand_files.hpp"
 #include "loosehair/style.hpp"
 #include "scenario_watch.hpp"
 #include "test_support.hpp"
@@ -11,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <memory>
 
 using namespace loosehair;
 using lhtest::expectInvariants;
@@ -182,4 +187,42 @@ TEST(StyleScenario, PonytailTailSwingsWhileTheHairAboveTheTieStaysOnTheHead) {
   EXPECT_GT(tail_swing, 0.03f) << "the tail swings";
   EXPECT_LT(above_drift, 0.015f) << "the hair between scalp and tie stays where it was styled";
   EXPECT_LT(above_lifted, 0.005f) << "and on the head";
+}
+
+// A groom made elsewhere, as a user brings one: the wavy style's strands
+// written as a .hair file, read back, imported onto the head (one wisp a
+// strand), and simulated still and shaking.
+TEST(StyleScenario, AnImportedHairGroomSimulatesAndKeepsItsShape) {
+  SceneDesc scene = styled("head-shake", "wavy");
+  const Style wavy = loadStyle(scene.hair.style);
+  const HeadModel head = HeadModel::build(wavy.head, wavy.source);
+  const StrandSet strands = buildMemberStrands(wavy, head);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("loosehair-groom-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::create_directories(dir);
+  const std::string file = (dir / "wavy.hair").string();
+  writeStrands(strands, file);
+  GroomImportReport rep;
+  const Style groom = importGroom(readPolylines(file), wavy.head, head, file, {}, &rep);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(rep.strands_kept, strands.size());
+  EXPECT_EQ(groom.wisps.size(), strands.size());
+  scene.hair.style.clear();
+  scene.hair.style_data = std::make_shared<const Style>(groom);
+
+  SceneDesc still = scene;
+  still.motion = HeadTrajectory::still();
+  Solver rest = buildSolver(still);
+  const std::vector<glm::vec3> start = rest.particles().position;
+  const Watch w_still = run(rest, 2.0, longestHair(rest), [] {}, 4);
+  expectInvariants(w_still, "imported groom still");
+  const std::vector<float> e = shapeErrors(rest, start);
+  Solver shaken = buildSolver(scene);
+  const Watch w_shake = run(shaken, 2.0, longestHair(shaken), [] {}, 4);
+  expectInvariants(w_shake, "imported groom shaking");
+  std::printf("imported groom: %zu strands, %zu particles; still 2 s: median %.1f mm, p95 %.1f mm from the "
+              "groom\n", groom.wisps.size(), rest.particles().size(), quantile(e, 0.5) * 1e3,
+              quantile(e, 0.95) * 1e3);
+  EXPECT_LT(quantile(e, 0.5), 0.01f);
+  EXPECT_LT(quantile(e, 0.95), 0.03f);
 }

@@ -2,11 +2,24 @@
 
 #include "loosehair/mesh.hpp"
 
+#include <filesystem>
+
 namespace loosehair {
+
+namespace {
+// The same file, however the path was spelled ("scenes/../meshes/h.ply" from
+// a scene, "/abs/data/meshes/h.ply" from a style elsewhere).
+bool sameFile(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  std::error_code ea, eb;
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+  return !ea && !eb && ca == cb;
+}
+}  // namespace
 
 bool HeadDesc::sameAs(const HeadDesc& o) const {
   auto sameMesh = [](const MeshSpec& a, const MeshSpec& b) {
-    return a.path == b.path && a.load.scale == b.load.scale && a.load.up == b.load.up &&
+    return sameFile(a.path, b.path) && a.load.scale == b.load.scale && a.load.up == b.load.up &&
            a.load.front == b.load.front && a.load.offset == b.load.offset &&
            a.load.drop_open_parts == b.load.drop_open_parts && a.sdf_voxel == b.sdf_voxel;
   };
