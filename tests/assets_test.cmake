@@ -11,3 +11,16 @@ foreach(f meshes/head.ply meshes/torso.ply maps/hair_length.png)
                         "regenerate with: build/release/data/loosehair_make_assets data")
   endif()
 endforeach()
+# The bundled styles, made on the regenerated head (identical to data/'s).
+execute_process(COMMAND ${STYLE_GENERATOR} ${OUT} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the style generator failed (${rc}): ${err}")
+endif()
+foreach(s long-straight bob side-swept swept-back wavy ponytail)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${DATA}/styles/${s}.json ${OUT}/styles/${s}.json
+                  RESULT_VARIABLE diff)
+  if(NOT diff EQUAL 0)
+    message(FATAL_ERROR "data/styles/${s}.json differs from what data/generators/make_styles.cpp makes; "
+                        "regenerate with: build/release/data/loosehair_make_styles data")
+  endif()
+endforeach()

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 using namespace loosehair;
@@ -126,6 +127,91 @@ TEST_P(BundledStyle, HoldsItsShapeStillAndSwingsWhenTheHeadShakes) {
   EXPECT_GT(plain.median, kept.median) << style << ": shape keeping must make a difference";
   EXPECT_LT(gl.gain, 0.95) << style << ": the hair lags the head";
   EXPECT_GT(gl.lag, 0.05) << style;
+}
+
+// No style is tuned to the bundled head: its wisps go onto another head by
+// their scalp (u, v). Two others: the bundled mesh made longer, narrower and
+// taller, saved Z-up in millimetres without a torso, as a user might bring
+// one; and a sphere with a cap scalp. On each the hair grows from the new
+// scalp, starts outside the head and holds its shape for a second.
+TEST_P(BundledStyle, LoadsOntoOtherHeadsByScalpCoordinates) {
+  const std::string style = GetParam();
+  const std::string dir = ::testing::TempDir() + "loosehair-style-head-" + style;
+  std::filesystem::create_directories(dir);
+  TriangleMesh h = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
+  for (auto& p : h.vertices) p = 1000.0f * glm::vec3(0.92f * p.x, -1.12f * p.z, 1.06f * p.y);
+  writeObj(h, dir + "/long_head.obj");
+  const std::string style_path = lhtest::sourceDir() + "/data/styles/" + style + ".json";
+  const std::vector<std::string> heads = {
+      R"("head": {"type": "mesh", "mesh": "long_head.obj", "scale": 0.001, "up": "+z", "front": "-y"})",
+      R"("head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "scalp": {"type": "sphere-cap", "cap_angle_deg": 110})"};
+  // How the hair lies on a head: how much it hangs down from its roots
+  // (mean of the downward component of x - root, unit) and how far its
+  // first 10 cm stand off the scalp (95th percentile of the distance).
+  struct Lie {
+    float down, off;
+  };
+  auto lie = [](const Solver& solver, const SceneDesc& scene) {
+    const HeadModel model = HeadModel::build(scene, scene.source);
+    const Particles& p = solver.particles();
+    double down = 0;
+    std::size_t n = 0;
+    std::vector<float> off;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.is_root[i] || p.arc_length[i] < 0.02f) continue;
+      const glm::vec3 d = p.position[i] - p.root_point[i];
+      if (glm::length(d) < 1e-4f) continue;
+      down += -glm::normalize(d).y;
+      ++n;
+      if (p.arc_length[i] > 0.1f) continue;
+      float to_scalp = 0;
+      (void)model.nearestScalpUv(p.position[i], &to_scalp);
+      off.push_back(to_scalp);
+    }
+    std::sort(off.begin(), off.end());
+    return Lie{static_cast<float>(down / static_cast<double>(n)), quantile(off, 0.95)};
+  };
+  SceneDesc bundled = styled("hang", style);
+  bundled.hair.particles = 2000;
+  const Lie original = lie(buildSolver(bundled), bundled);
+  for (const std::string& head : heads) {
+    std::ofstream(dir + "/scene.json") << R"({"name": "other head", "substeps": "auto", )" << head
+                                       << R"(, "hair": {"particles": 2000, "mass": 0.06, "style": ")" << style_path
+                                       << R"("}})";
+    const SceneDesc scene = loadScene(dir + "/scene.json");
+    BuildReport report;
+    Solver solver = buildSolver(scene, &report);
+    bool warned = false;
+    for (const std::string& w : report.warnings) warned = warned || w.find("another head") != std::string::npos;
+    EXPECT_TRUE(warned) << style << " on " << head;
+    EXPECT_GT(report.style_strands, 1000u) << style << " on " << head;
+    const Particles& p = solver.particles();
+    std::vector<glm::vec3> roots;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.arc_length[i] < 0.0f) roots.push_back(p.root_point[i]);  // under the scalp
+    std::vector<float> phi;
+    solver.bodyDistance(roots, 0.0, phi);
+    std::sort(phi.begin(), phi.end());
+    EXPECT_LT(std::max(std::abs(phi.front()), std::abs(quantile(phi, 0.99))), 2e-3f)
+        << style << ": the roots lie on the new head";
+    // the style looks as it does on the bundled head: hanging as much, as
+    // close to the head
+    const Lie here = lie(solver, scene);
+    std::printf("%s: hangs down %.2f (bundled head %.2f), its first 10 cm stand off the scalp %.1f mm (%.1f mm), p95\n",
+                style.c_str(), here.down, original.down, here.off * 1e3, original.off * 1e3);
+    EXPECT_NEAR(here.down, original.down, 0.2f) << style << " on " << head;
+    EXPECT_LT(here.off, 1.5f * original.off + 0.005f) << style << " on " << head;
+    const std::vector<glm::vec3> start = p.position;
+    const Watch w = run(solver, 1.0, longestHair(solver), [] {}, 4);
+    expectInvariants(w, style + " on another head");
+    const std::vector<float> e = shapeErrors(solver, start);
+    std::printf("%s on %s: %zu strands, %zu particles, 1 s still: median %.1f mm, p95 %.1f mm\n", style.c_str(),
+                head.substr(0, 40).c_str(), report.style_strands, p.size(), quantile(e, 0.5) * 1e3,
+                quantile(e, 0.95) * 1e3);
+    EXPECT_LT(quantile(e, 0.5), 0.01f) << style;
+    EXPECT_LT(quantile(e, 0.95), 0.03f) << style;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Styles, BundledStyle,

@@ -20,6 +20,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -140,7 +141,7 @@ Style ponytail(const HeadModel& head) {
   // and tie is held at the tie's own, stronger hold (HairTie::hold).
   StyleEditor ed(base, head);
   const int nu = 5, nv = 4;
-  WispParams params = memberParams(18.0f, 0.012f, 0.12f);
+  WispParams params = memberParams(18.0f, 0.02f, 0.12f);
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       const WispRegion r = cell(i, j, nu, nv);
@@ -159,7 +160,10 @@ Style ponytail(const HeadModel& head) {
       }
       key.push_back(before);
       key.push_back(tie.center);
-      glm::vec3 p = tie.center, dir = tie.axis;
+      // below the ring the tail fans out a little: each wisp towards the
+      // side of the head it comes from
+      const float side = std::clamp((root.x - tie.center.x) / 0.06f, -1.0f, 1.0f);
+      glm::vec3 p = tie.center, dir = glm::normalize(tie.axis + glm::vec3(0.35f * side, 0, 0));
       for (int k = 1; k <= 5; ++k) {
         dir = glm::normalize(dir + 0.25f * glm::vec3(0, -1, 0));
         p = pushOff(head, p + 0.05f * dir, 0.01f);
@@ -233,7 +237,9 @@ int main(int argc, char** argv) {
       styles.emplace_back("side-swept", gridStyle(head, "side-swept", 6, 5, p, d, over));
     }
     {
-      WispParams p = memberParams(20.0f, 0.008f, 0.1f);
+      // fuller wisps than the others: swept back, neighbouring key strands
+      // part over the sides of the head, and narrow wisps show as stripes
+      WispParams p = memberParams(20.0f, 0.016f, 0.1f);
       Drape d;
       d.length = 0.28f;
       d.bend = 0.2f;

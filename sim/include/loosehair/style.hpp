@@ -179,9 +179,11 @@ struct StrandSet {
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing = 0.004f);
 
 /// Re-roots every wisp on another head by (u, v): triangle regions become
-/// the (u, v) polygons of their triangles, and each key strand keeps its
-/// shape in the local frame of its root (as paste does). The result uses
-/// `to`'s head description.
+/// the (u, v) polygons of their triangles, and each key strand leaves its
+/// new root as it left the old one (in the root's local frame, as paste
+/// does), turning over its first 5 cm to hang in the head frame as it did
+/// on the old head, draped over the new one with the clearance it had.
+/// Segment lengths are kept. The result uses `to`'s head description.
 Style retargetStyle(const Style& style, const HeadModel& from, const HeadModel& to);
 
 }  // namespace loosehair

@@ -10,8 +10,9 @@ SphereCapScalp::SphereCapScalp(glm::vec3 center, float radius, float cap_angle)
     : center_(center), radius_(radius), cap_angle_(cap_angle) {}
 
 glm::vec3 SphereCapScalp::normal(glm::vec2 uv) const {
-  // concentric square -> disc
-  const double a = 2.0 * uv.x - 1.0, b = 2.0 * uv.y - 1.0;
+  // concentric square -> disc; u = 1 right (+x), v = 0 front (+z), as on
+  // a mesh scalp, so that styles and length maps mean the same on both
+  const double a = 2.0 * uv.x - 1.0, b = 1.0 - 2.0 * uv.y;
   const double quarter = std::numbers::pi / 4.0;
   double rho = 0, phi = 0;
   if (a == 0.0 && b == 0.0) {
