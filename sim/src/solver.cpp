@@ -369,6 +369,15 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   }
 }
 
+void Solver::setTrajectory(HeadTrajectory trajectory) {
+  const HeadKinematics k = trajectory.kinematics(time_);
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(k.pose.center[a]) || !std::isfinite(k.angular_velocity[a]) ||
+        !std::isfinite(k.angular_acceleration[a]) || !std::isfinite(k.acceleration[a]))
+      throw std::invalid_argument("setTrajectory: the head's motion is not finite at t = " + std::to_string(time_));
+  trajectory_ = std::move(trajectory);
+}
+
 void Solver::setTimeStep(double dt) {
   SimParams p = params_;
   p.time_step = dt;

@@ -11,6 +11,7 @@
 #include "loosehair/connections.hpp"
 #include "loosehair/file_io.hpp"
 #include "loosehair/head_motion.hpp"
+#include "loosehair/live_head.hpp"
 #include "loosehair/mesh.hpp"
 #include "loosehair/params.hpp"
 #include "loosehair/particles.hpp"

@@ -172,6 +172,11 @@ class Solver {
   const StepStats& stats() const { return stats_; }
   const InitReport& initReport() const { return report_; }
   const HeadTrajectory& trajectory() const { return trajectory_; }
+  /// Replaces the head's trajectory from now on (LiveHead: a head moved by
+  /// hand). The caller keeps it equal to the old one up to time(): the
+  /// solver keeps nothing of the past but the state. Throws
+  /// std::invalid_argument if its pose now is not finite.
+  void setTrajectory(HeadTrajectory trajectory);
   const Body& headBody() const { return *head_; }
   /// The most threads a step runs on. Unless a count was set ("threads"
   /// > 0 or setThreadCount), a step runs on this many or on one, whichever
