@@ -1,24 +1,31 @@
-// loosehair-view: plays a scene in a window (GLFW, OpenGL 3.3 core).
+// loosehair-view: plays a scene in a window (GLFW, OpenGL 3.3 core) with a
+// panel (Dear ImGui) to run it, move the head and change the picture.
 //
-//   loosehair-view SCENE [--size WxH] [--camera PRESET] [--color C] [--threads T]
-//                        [--seed S] [--paused] [--frames N [--screenshot FILE.png]]
+//   loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]
+//                  [--seed S] [--paused] [--frames N [--screenshot FILE.png]]
 //
-// Each displayed frame advances the simulation by one scene frame (the
-// scene's substeps), so playback runs as fast as the machine simulates; the
-// title shows frames/s and how that compares with real time. Links GLFW and
-// libGL as the GL provider, never OSMesa (SPEC §7.4).
-//
-// Mouse: left drag orbits, scroll zooms. Keys: see kControls.
+// The simulation runs on its own thread (viewer/simulation_thread.hpp) at
+// the scene's fixed step, paced to real time; the window draws the newest
+// finished frame and handles input every displayed frame however slow the
+// simulation is. Links GLFW and libGL as the GL provider, never OSMesa
+// (SPEC §7.4).
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
 #include "png.hpp"
 #include "scene_bodies.hpp"
+#include "viewer/head_drag.hpp"
+#include "viewer/panel.hpp"
+#include "viewer/simulation_thread.hpp"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <GL/gl.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -28,6 +35,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -36,23 +44,20 @@ namespace {
 using namespace loosehair;
 
 constexpr const char* kUsage =
-    "usage: loosehair-view SCENE [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
-    "                            [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
+    "usage: loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
+    "                              [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
     "\n"
-    "Plays SCENE in a window, one scene frame per displayed frame.\n"
+    "Plays SCENE (default: the bundled data/scenes/hang.json) in a window with a\n"
+    "panel, in real time at most (the panel sets the speed).\n"
     "  --size WxH          window size (default 960x720)\n"
     "  --camera PRESET     front, side, back, three-quarter (default three-quarter)\n"
     "  --color C           black, brown, blonde, red (default brown)\n"
     "  --threads T         simulation threads (default: all cores)\n"
     "  --seed S            sampling seed (default: the scene's)\n"
     "  --paused            start paused\n"
-    "  --frames N          close after N displayed frames (for scripts and tests)\n"
-    "  --screenshot FILE   with --frames: save the last frame as a PNG\n";
-
-constexpr const char* kControls =
-    "controls: left drag orbit, scroll zoom | space play/pause, N (or right arrow) one frame,\n"
-    "          R restart, S shadows, C hair colour, D debug view, 1-4 camera presets,\n"
-    "          L light from the camera, P screenshot, H this help, Esc or Q quit\n";
+    "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
+    "  --screenshot FILE   with --frames: save that frame as a PNG\n"
+    "\n";
 
 struct UsageError {
   std::string message;
@@ -82,6 +87,14 @@ long long parseInteger(const std::string& what, const std::string& text, long lo
     throw UsageError{what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                      "], got '" + text + "'"};
   return v;
+}
+
+// The bundled default scene: data/scenes/hang.json under the working
+// directory, else in the source tree the program was built from.
+std::string defaultScene() {
+  const std::string here = "data/scenes/hang.json";
+  if (std::filesystem::exists(here)) return here;
+  return LOOSEHAIR_DEFAULT_SCENE;
 }
 
 ViewOptions parseOptions(const std::vector<std::string>& args) {
@@ -125,7 +138,7 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
       throw UsageError{a + ": " + e.what()};
     }
   }
-  if (o.scene.empty()) throw UsageError{"loosehair-view needs a scene file"};
+  if (o.scene.empty()) o.scene = defaultScene();
   if (!o.screenshot.empty() && !o.frames) throw UsageError{"--screenshot needs --frames N"};
   return o;
 }
@@ -159,75 +172,54 @@ double drawnFraction(const std::vector<std::uint8_t>& rgba, glm::vec3 background
   return rgba.empty() ? 0.0 : static_cast<double>(drawn) / static_cast<double>(rgba.size() / 4);
 }
 
-// Everything the window's callbacks change.
-struct ViewState {
-  render::Camera camera;
-  render::RenderSettings settings;
-  bool paused = false, step_once = false, restart = false, screenshot = false;
-  bool light_from_camera = false;
-  bool dragging = false;
+struct GlfwSession {
+  GlfwSession() {
+    glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
+    if (!glfwInit()) throw std::runtime_error("cannot open a window: GLFW could not initialise (no display?)");
+  }
+  ~GlfwSession() { glfwTerminate(); }
+};
+
+// What the callbacks need: the view, the head drag and the simulation.
+struct Window {
+  viewer::ViewState view;
+  viewer::HeadDrag head;
+  viewer::SimulationThread* sim = nullptr;
+  bool orbiting = false, turning = false;
   double last_x = 0, last_y = 0;
 };
+
+Window& of(GLFWwindow* w) { return *static_cast<Window*>(glfwGetWindowUserPointer(w)); }
 
 template <class E>
 E next(E value, E last) {
   return static_cast<E>((static_cast<int>(value) + 1) % (static_cast<int>(last) + 1));
 }
 
-const char* colorName(render::HairColor c) {
-  switch (c) {
-    case render::HairColor::Black: return "black";
-    case render::HairColor::Brown: return "brown";
-    case render::HairColor::Blonde: return "blonde";
-    case render::HairColor::Red: return "red";
-  }
-  return "?";
-}
-
-const char* debugName(render::DebugView d) {
-  switch (d) {
-    case render::DebugView::None: return "none (hair)";
-    case render::DebugView::Density: return "density";
-    case render::DebugView::Speed: return "speed";
-    case render::DebugView::Connections: return "connections";
-    case render::DebugView::Directions: return "directions";
-  }
-  return "?";
-}
-
 void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
   if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
-  auto& s = *static_cast<ViewState*>(glfwGetWindowUserPointer(window));
+  if (ImGui::GetIO().WantCaptureKeyboard) return;
+  Window& w = of(window);
+  viewer::ViewState& v = w.view;
   switch (key) {
     case GLFW_KEY_ESCAPE:
-    case GLFW_KEY_Q: glfwSetWindowShouldClose(window, GLFW_TRUE); break;
-    case GLFW_KEY_SPACE: s.paused = !s.paused; break;
+    case GLFW_KEY_Q: v.quit = true; break;
+    case GLFW_KEY_SPACE: w.sim->setPaused(!w.sim->paused()); break;
     case GLFW_KEY_N:
-    case GLFW_KEY_RIGHT: s.paused = true, s.step_once = true; break;
-    case GLFW_KEY_R: s.restart = true; break;
-    case GLFW_KEY_S:
-      s.settings.shadows = !s.settings.shadows;
-      std::printf("shadows %s\n", s.settings.shadows ? "on" : "off");
-      break;
-    case GLFW_KEY_C:
-      s.settings.color = next(s.settings.color, render::HairColor::Red);
-      std::printf("hair colour %s\n", colorName(s.settings.color));
-      break;
-    case GLFW_KEY_D:
-      s.settings.debug = next(s.settings.debug, render::DebugView::Directions);
-      std::printf("debug view %s\n", debugName(s.settings.debug));
-      break;
-    case GLFW_KEY_L:
-      s.light_from_camera = !s.light_from_camera;
-      std::printf("light %s\n", s.light_from_camera ? "from the camera" : "fixed");
-      break;
-    case GLFW_KEY_P: s.screenshot = true; break;
-    case GLFW_KEY_H: std::fputs(kControls, stdout); break;
+    case GLFW_KEY_RIGHT: w.sim->stepOnce(); break;
+    case GLFW_KEY_R: w.sim->restart(w.sim->scene()); break;
+    case GLFW_KEY_S: v.settings.shadows = !v.settings.shadows; break;
+    case GLFW_KEY_C: v.settings.color = next(v.settings.color, render::HairColor::Red); break;
+    case GLFW_KEY_D: v.settings.debug = next(v.settings.debug, render::DebugView::Directions); break;
+    case GLFW_KEY_L: v.light_from_camera = !v.light_from_camera; break;
+    case GLFW_KEY_P: v.screenshot = true; break;
+    case GLFW_KEY_TAB: v.show_panel = !v.show_panel; break;
+    case GLFW_KEY_H: std::fputs(viewer::kShortcuts, stdout); break;
     case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4: {
       static const char* presets[] = {"front", "side", "back", "three-quarter"};
       const render::Camera p = render::Camera::preset(presets[key - GLFW_KEY_1]);
-      s.camera.yaw_deg = p.yaw_deg;
-      s.camera.pitch_deg = p.pitch_deg;
+      v.camera.yaw_deg = p.yaw_deg;
+      v.camera.pitch_deg = p.pitch_deg;
       break;
     }
     default: break;
@@ -235,31 +227,50 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods
 }
 
 void onMouseButton(GLFWwindow* window, int button, int action, int /*mods*/) {
-  auto& s = *static_cast<ViewState*>(glfwGetWindowUserPointer(window));
-  if (button != GLFW_MOUSE_BUTTON_LEFT) return;
-  s.dragging = action == GLFW_PRESS;
-  glfwGetCursorPos(window, &s.last_x, &s.last_y);
+  Window& w = of(window);
+  if (action == GLFW_PRESS && ImGui::GetIO().WantCaptureMouse) return;
+  glfwGetCursorPos(window, &w.last_x, &w.last_y);
+  if (button == GLFW_MOUSE_BUTTON_LEFT) w.orbiting = action == GLFW_PRESS;
+  if (button == GLFW_MOUSE_BUTTON_RIGHT) w.turning = action == GLFW_PRESS;
 }
 
 void onCursor(GLFWwindow* window, double x, double y) {
-  auto& s = *static_cast<ViewState*>(glfwGetWindowUserPointer(window));
-  if (!s.dragging) return;
-  s.camera.yaw_deg -= static_cast<float>(x - s.last_x) * 0.4f;
-  s.camera.pitch_deg = std::clamp(s.camera.pitch_deg + static_cast<float>(y - s.last_y) * 0.4f, -85.0f, 85.0f);
-  s.last_x = x, s.last_y = y;
+  Window& w = of(window);
+  const double dx = x - w.last_x, dy = y - w.last_y;
+  w.last_x = x, w.last_y = y;
+  if (w.orbiting) {
+    w.view.camera.yaw_deg -= static_cast<float>(dx) * 0.4f;
+    w.view.camera.pitch_deg = std::clamp(w.view.camera.pitch_deg + static_cast<float>(dy) * 0.4f, -85.0f, 85.0f);
+  }
+  if (w.turning) {
+    const bool move = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                      glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    w.head.drag(dx, dy, move, w.view.camera);
+    w.sim->setHeadTarget(w.head.pose());
+  }
 }
 
 void onScroll(GLFWwindow* window, double /*dx*/, double dy) {
-  auto& s = *static_cast<ViewState*>(glfwGetWindowUserPointer(window));
-  s.camera.distance = std::clamp(s.camera.distance * static_cast<float>(std::pow(0.9, dy)), 0.1f, 5.0f);
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  Window& w = of(window);
+  w.view.camera.distance = std::clamp(w.view.camera.distance * static_cast<float>(std::pow(0.9, dy)), 0.1f, 5.0f);
 }
 
-struct GlfwSession {
-  GlfwSession() {
-    glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
-    if (!glfwInit()) throw std::runtime_error("cannot open a window: GLFW could not initialise (no display?)");
+// Dear ImGui on the window, for the lifetime of this object.
+struct ImGuiSession {
+  explicit ImGuiSession(GLFWwindow* window) {
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working directory
+    ImGui::StyleColorsLight();
+    ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains the callbacks set before
+    ImGui_ImplOpenGL3_Init("#version 330 core");
   }
-  ~GlfwSession() { glfwTerminate(); }
+  ~ImGuiSession() {
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
 };
 
 int run(const ViewOptions& o) {
@@ -283,82 +294,92 @@ int run(const ViewOptions& o) {
   render::Renderer renderer;
   renderer.setBodies(&bodies.head, bodies.torso ? &*bodies.torso : nullptr);
 
-  ViewState state;
-  state.camera = render::Camera::preset(o.camera);
-  state.settings = o.settings;
-  state.paused = o.paused;
-  glfwSetWindowUserPointer(window.get(), &state);
+  // --frames: run exactly to that frame, then draw it and stop
+  viewer::SimulationThread sim(scene, o.paused || o.frames.has_value());
+  if (o.frames) {
+    sim.setSpeed(0.0);
+    sim.runUntil(*o.frames);
+  }
+  Window w{viewer::ViewState{}, viewer::HeadDrag(viewer::neckPivot(bodies.head)), &sim};
+  w.view.camera = render::Camera::preset(o.camera);
+  w.view.settings = o.settings;
+  {
+    const glm::vec3 l = glm::normalize(o.settings.light_direction);
+    w.view.light_yaw_deg = glm::degrees(std::atan2(l.x, l.z));
+    w.view.light_pitch_deg = glm::degrees(std::asin(l.y));
+  }
+  glfwSetWindowUserPointer(window.get(), &w);
   glfwSetKeyCallback(window.get(), onKey);
   glfwSetMouseButtonCallback(window.get(), onMouseButton);
   glfwSetCursorPosCallback(window.get(), onCursor);
   glfwSetScrollCallback(window.get(), onScroll);
+  ImGuiSession imgui(window.get());
+  viewer::Panel panel(sim, w.head);
 
-  BuildReport build;
-  auto solver = std::make_unique<Solver>(buildSolver(scene, &build));
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),
-              solver->particles().size(), build.substeps, scene.frame_rate,
+              sim.latest()->particles, sim.buildReport().substeps, scene.frame_rate,
               reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
-  std::fputs(kControls, stdout);
+  std::fputs(viewer::kShortcuts, stdout);
 
-  const glm::vec3 fixed_light = state.settings.light_direction;
   int shown = 0, shots = 0;
-  double fps = 0, sim_ms = 0;
-  auto last_title = std::chrono::steady_clock::now();
-  int frames_since_title = 0;
-  double sim_since_title = 0;
-  while (!glfwWindowShouldClose(window.get())) {
+  double fps = 0;
+  auto last_count = std::chrono::steady_clock::now();
+  int frames_since = 0;
+  bool done = false;
+  while (!glfwWindowShouldClose(window.get()) && !w.view.quit && !done) {
     glfwPollEvents();
-    if (state.restart) {
-      state.restart = false;
-      solver = std::make_unique<Solver>(buildSolver(scene, &build));
-      std::printf("restarted\n");
+    if (const std::string e = sim.takeError(); !e.empty()) {
+      w.view.message = e;
+      std::fprintf(stderr, "loosehair-view: %s\n", e.c_str());
     }
-    if (!state.paused || state.step_once) {
-      const auto t0 = std::chrono::steady_clock::now();
-      solver->advance(build.substeps);
-      sim_since_title += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      state.step_once = false;
+    std::shared_ptr<const viewer::PublishedFrame> frame = sim.latest();
+    if (o.frames) {  // wait for the last frame, then show it
+      if (frame->frame < *o.frames && sim.waitForFrame(*o.frames)) frame = sim.latest();
+      done = true;
     }
-    state.settings.light_direction = state.light_from_camera ? glm::normalize(state.camera.eye() - state.camera.target)
-                                                             : fixed_light;
+    viewer::ViewState& v = w.view;
+    v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)
+                                                     : viewer::lightFromAngles(v.light_yaw_deg, v.light_pitch_deg);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window.get(), &width, &height);
-    if (width > 0 && height > 0) {
-      const render::FrameInput input = render::frameFromSolver(*solver, build.mean_neighbor_distance);
-      renderer.render(input, state.camera, state.settings, width, height);
-      ++shown;
-      const bool last = o.frames && shown >= *o.frames;
-      if (state.screenshot || (last && !o.screenshot.empty())) {
-        char name[40];
-        std::snprintf(name, sizeof name, "loosehair-%05d.png", ++shots);
-        const std::string path = last && !o.screenshot.empty() ? o.screenshot : std::string(name);
-        const std::vector<std::uint8_t> pixels = readFramebuffer(width, height);
+    if (width <= 0 || height <= 0) continue;
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    panel.draw(v, *frame, fps);
+    ImGui::Render();
+    renderer.render(frame->input, v.camera, v.settings, width, height);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    ++shown;
+    if (v.screenshot || (done && !o.screenshot.empty())) {
+      char name[40];
+      std::snprintf(name, sizeof name, "loosehair-%05d.png", ++shots);
+      const std::string path = done && !o.screenshot.empty() ? o.screenshot : std::string(name);
+      const std::vector<std::uint8_t> pixels = readFramebuffer(width, height);
+      try {
         app::writePng(path, pixels, width, height);
         std::printf("screenshot: %s (%dx%d, %.0f%% of the picture drawn over the background)\n", path.c_str(),
-                    width, height, 100.0 * drawnFraction(pixels, state.settings.background));
-        state.screenshot = false;
+                    width, height, 100.0 * drawnFraction(pixels, v.settings.background));
+        v.message.clear();
+      } catch (const std::exception& e) {
+        v.message = e.what();
+        std::fprintf(stderr, "loosehair-view: %s\n", e.what());
       }
-      glfwSwapBuffers(window.get());
-      if (last) break;
+      v.screenshot = false;
     }
-    ++frames_since_title;
+    glfwSwapBuffers(window.get());
+    ++frames_since;
     const auto now = std::chrono::steady_clock::now();
-    const double span = std::chrono::duration<double>(now - last_title).count();
+    const double span = std::chrono::duration<double>(now - last_count).count();
     if (span >= 0.5) {
-      fps = frames_since_title / span;
-      sim_ms = 1e3 * sim_since_title / frames_since_title;
-      char title[256];
-      std::snprintf(title, sizeof title, "loosehair - %s - %.1f frames/s (%.2fx real time, simulation %.0f ms) - t = %.2f s%s",
-                    scene.name.c_str(), fps, state.paused ? 0.0 : fps / scene.frame_rate, sim_ms, solver->time(),
-                    state.paused ? " - paused" : "");
-      glfwSetWindowTitle(window.get(), title);
-      last_title = now;
-      frames_since_title = 0;
-      sim_since_title = 0;
+      fps = frames_since / span;
+      last_count = now;
+      frames_since = 0;
     }
   }
-  std::printf("showed %d frames, simulated %.2f s; state-hash: %016llx\n", shown, solver->time(),
-              static_cast<unsigned long long>(solver->stateHash()));
+  const std::shared_ptr<const viewer::PublishedFrame> last = sim.latest();
+  std::printf("showed %d frames, simulated %.2f s; state-hash: %016llx\n", shown, last->time,
+              static_cast<unsigned long long>(last->state_hash));
   return 0;
 }
 
@@ -368,7 +389,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::fputs(kUsage, stdout);
-    std::fputs(kControls, stdout);
+    std::fputs(loosehair::viewer::kShortcuts, stdout);
     return 0;
   }
   try {

@@ -14,6 +14,7 @@ packages=(
   libboost-dev          # headers OpenVDB includes (not a dependency of its -dev package)
   libstb-dev            # PNG / image reading and writing
   libglfw3-dev libgl-dev  # interactive viewer window
+  libimgui-dev          # the viewer's panel (Dear ImGui with its GLFW and OpenGL 3 backends)
   libosmesa6-dev        # headless OpenGL (software, no X server)
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev      # benchmarks

@@ -53,6 +53,8 @@ class HeadTrajectory {
 
   Kind kind() const { return kind_; }
   HeadPose pose(double t) const;
+  /// Yaw (about +Y), pitch (about +X) and roll (about +Z) at t (rad).
+  glm::dvec3 angles(double t) const { return eulerAt(t); }
   HeadKinematics kinematics(double t) const;
   /// Time after which the head is at rest for good (0 for still).
   double endTime() const;

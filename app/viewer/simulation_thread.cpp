@@ -1,0 +1,275 @@
+#include "viewer/simulation_thread.hpp"
+
+#include "loosehair/render/frame.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace loosehair::viewer {
+namespace {
+
+double wallNow() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+SimulationThread::SimulationThread(const SceneDesc& scene, bool paused) : scene_(scene), paused_(paused) {
+  solver_ = std::make_unique<Solver>(buildSolver(scene_, &build_));
+  publish(0.0);
+  pace_wall_ = wallNow();
+  pace_sim_ = solver_->time();
+  thread_ = std::thread([this] { loop(); });
+}
+
+SimulationThread::~SimulationThread() {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  published_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+std::shared_ptr<const PublishedFrame> SimulationThread::latest() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return latest_;
+}
+
+void SimulationThread::setPaused(bool paused) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    paused_ = paused;
+    pace_wall_ = wallNow();
+    pace_sim_ = latest_->time;
+  }
+  wake_.notify_all();
+  published_.notify_all();
+}
+
+bool SimulationThread::paused() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return paused_;
+}
+
+void SimulationThread::stepOnce() {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    paused_ = true;
+    step_once_ = true;
+  }
+  wake_.notify_all();
+}
+
+void SimulationThread::runUntil(std::int64_t n) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    pause_at_ = n;
+    paused_ = latest_->frame >= n;
+    pace_wall_ = wallNow();
+    pace_sim_ = latest_->time;
+  }
+  wake_.notify_all();
+  published_.notify_all();
+}
+
+void SimulationThread::setSpeed(double factor) {
+  if (!(factor == 0.0 || (factor >= 0.1 && factor <= 4.0)))
+    throw std::invalid_argument("speed must be 0 (as fast as possible) or in [0.1, 4], got " + std::to_string(factor));
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    speed_ = factor;
+    pace_wall_ = wallNow();
+    pace_sim_ = latest_->time;
+  }
+  wake_.notify_all();
+}
+
+double SimulationThread::speed() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return speed_;
+}
+
+void SimulationThread::setHeadTarget(const HeadKeyframe& pose) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  head_target_ = pose;
+  head_script_ = nullptr;
+}
+
+void SimulationThread::setHeadScript(std::function<std::optional<HeadKeyframe>(double)> pose) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  head_script_ = std::move(pose);
+}
+
+std::vector<HeadKeyframe> SimulationThread::headKeys() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return head_keys_;
+}
+
+void SimulationThread::apply(std::function<void(Solver&)> change) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    changes_.push_back(std::move(change));
+  }
+  wake_.notify_all();
+}
+
+void SimulationThread::restart(const SceneDesc& scene) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    restart_ = scene;
+  }
+  wake_.notify_all();
+}
+
+std::string SimulationThread::takeError() {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::string e;
+  e.swap(error_);
+  return e;
+}
+
+bool SimulationThread::waitForFrame(std::int64_t n) const {
+  std::unique_lock<std::mutex> lk(mutex_);
+  published_.wait(lk, [&] { return stop_ || latest_->frame >= n || (paused_ && !step_once_ && !restart_); });
+  return latest_->frame >= n;
+}
+
+void SimulationThread::loop() {
+  std::unique_lock<std::mutex> lk(mutex_);
+  for (;;) {
+    wake_.wait(lk, [&] { return stop_ || restart_ || !changes_.empty() || !paused_ || step_once_; });
+    if (stop_) return;
+    if (restart_) {
+      const SceneDesc next = std::move(*restart_);
+      restart_.reset();
+      lk.unlock();
+      std::unique_ptr<Solver> solver;
+      BuildReport report;
+      std::string error;
+      try {
+        solver = std::make_unique<Solver>(buildSolver(next, &report));
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      lk.lock();
+      if (!solver) {
+        error_ = error;
+        published_.notify_all();
+        continue;
+      }
+      scene_ = next;
+      build_ = report;
+      solver_ = std::move(solver);
+      live_head_.reset();
+      head_target_.reset();
+      head_script_ = nullptr;
+      head_keys_.clear();
+      frame_ = 0;
+      rate_window_.clear();
+      lk.unlock();
+      publish(0.0);
+      lk.lock();
+      pace_wall_ = wallNow();
+      pace_sim_ = solver_->time();
+      continue;
+    }
+    std::deque<std::function<void(Solver&)>> changes;
+    changes.swap(changes_);
+    const bool run = !paused_ || step_once_;
+    step_once_ = false;
+    std::optional<HeadKeyframe> target = head_target_;
+    if (head_script_) {
+      const double t = static_cast<double>(frame_) / scene_.frame_rate;
+      if (std::optional<HeadKeyframe> p = head_script_(t)) {
+        target = *p;
+        head_target_ = *p;
+      } else {
+        head_script_ = nullptr;
+      }
+    }
+    lk.unlock();
+    for (auto& change : changes) change(*solver_);
+    if (!run) {  // a change while paused: show its effect
+      publish(0.0);
+      lk.lock();
+      continue;
+    }
+    // the head moved by hand: the live trajectory, from the rest pose
+    // before the first input
+    if (target) {
+      if (!live_head_) {
+        live_head_.emplace(scene_.frame_rate);
+        for (std::int64_t n = 0; n < frame_; ++n) live_head_->beginFrame(n, HeadKeyframe{});
+      }
+      live_head_->beginFrame(frame_, *target);
+      solver_->setTrajectory(live_head_->trajectory());
+    } else if (live_head_) {
+      live_head_->beginFrame(frame_, live_head_->latest());
+      solver_->setTrajectory(live_head_->trajectory());
+    }
+    const double t0 = wallNow();
+    std::string failure;
+    try {
+      solver_->advance(build_.substeps);
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+    ++frame_;
+    const double t1 = wallNow();
+    publish(1e3 * (t1 - t0));
+    lk.lock();
+    if (live_head_) head_keys_ = live_head_->keys();
+    if (pause_at_ && frame_ >= *pause_at_) {
+      paused_ = true;
+      pause_at_.reset();
+      published_.notify_all();
+    }
+    if (!failure.empty()) {
+      error_ = "the simulation stopped: " + failure;
+      paused_ = true;
+      published_.notify_all();
+      continue;
+    }
+    // pacing: never ahead of real time times the speed; time lost to a slow
+    // frame is not made up afterwards
+    if (speed_ > 0.0) {
+      const double due = pace_wall_ + (latest_->time - pace_sim_) / speed_;
+      const double now = wallNow();
+      if (due > now) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(due - now);
+        wake_.wait_until(lk, until, [&] { return stop_ || restart_.has_value() || paused_ || step_once_; });
+      } else {
+        pace_wall_ = now;
+        pace_sim_ = latest_->time;
+      }
+    }
+  }
+}
+
+void SimulationThread::publish(double frame_ms) {
+  auto f = std::make_shared<PublishedFrame>();
+  f->input = render::frameFromSolver(*solver_, build_.mean_neighbor_distance);
+  f->frame = frame_;
+  f->time = solver_->time();
+  f->state_hash = solver_->stateHash();
+  f->last_step = solver_->stats().last;
+  f->frame_ms = frame_ms;
+  f->particles = solver_->particles().size();
+  f->connections = solver_->stats().active_connections;
+  f->contacts = solver_->stats().body_contacts;
+  f->neighbor_pairs = solver_->stats().neighbor_pairs;
+  std::lock_guard<std::mutex> lk(mutex_);
+  const double now = wallNow();
+  rate_window_.emplace_back(now, f->time);
+  while (rate_window_.size() > 2 && now - rate_window_.front().first > 1.0) rate_window_.pop_front();
+  const double wall = rate_window_.back().first - rate_window_.front().first;
+  f->real_time_factor = wall > 0 ? (rate_window_.back().second - rate_window_.front().second) / wall : 0.0;
+  f->paused = paused_;
+  latest_ = std::move(f);
+  published_.notify_all();
+}
+
+}  // namespace loosehair::viewer
