@@ -39,7 +39,7 @@ constexpr const char* kSimulateUsage =
     "usage: loosehair simulate SCENE [--frames N] [--threads T] [--seed S]\n"
     "                            [--dump DIR [--overwrite]]\n"
     "                            [--save-state FILE [--save-every N]] [--resume FILE]\n"
-    "                            [--style STYLE.json] [--no-shape-keeping]\n"
+    "                            [--style STYLE.json] [--no-shape-keeping] [--motion FILE]\n"
     "\n"
     "  Runs SCENE (a JSON scene file) headless and prints the state hash.\n"
     "    --frames N       number of frames (default: the scene's \"frames\"); with\n"
@@ -57,7 +57,9 @@ constexpr const char* kSimulateUsage =
     "                     from it, bit-identically\n"
     "    --style STYLE    grow the hair from STYLE's wisps instead of the scene's hair\n"
     "                     (on the scene's head; see data/styles/README.md)\n"
-    "    --no-shape-keeping  plain LCP: no pull towards the styled shape\n";
+    "    --no-shape-keeping  plain LCP: no pull towards the styled shape\n"
+    "    --motion FILE    the head moves as FILE says ({\"motion\": {...}}, as in a\n"
+    "                     scene; the viewer's \"save head motion\" writes one)\n";
 
 constexpr const char* kRenderUsage =
     "usage: loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
@@ -163,7 +165,7 @@ struct Options {
   std::string scene;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
-  std::string dump_dir, save_state, resume, style;
+  std::string dump_dir, save_state, resume, style, motion;
   int save_every = 0;
   bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
 };
@@ -198,6 +200,8 @@ Options parseSimulate(const std::vector<std::string>& args) {
       o.style = value();
     else if (a == "--no-shape-keeping")
       o.no_shape_keeping = true;
+    else if (a == "--motion")
+      o.motion = value();
     else if (!a.empty() && a[0] == '-')
       throw UsageError{"unknown option " + a, kSimulateUsage};
     else if (o.scene.empty())
@@ -227,6 +231,7 @@ int simulate(const Options& o) {
   if (o.threads) scene.sim.threads = *o.threads;
   if (o.allow_expensive) liftCostLimits(scene);
   overrideHair(scene, o.style, o.no_shape_keeping);
+  if (!o.motion.empty()) scene.motion = loadMotion(o.motion);
 
   const auto t_init = std::chrono::steady_clock::now();
   BuildReport build;

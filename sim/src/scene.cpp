@@ -297,6 +297,42 @@ std::vector<std::uint32_t> anchorableParticles(const Particles& p, float reach) 
 
 }  // namespace
 
+HeadTrajectory loadMotion(const std::string& path) {
+  std::string text;
+  try {
+    text = readRegularFile(path, kMaxTextFileBytes);
+  } catch (const FileError& e) {
+    throw SceneError(std::string(e.what()) + " (the head motion file)");
+  }
+  checkJson(text, path, [](const std::string& message) { throw SceneError(message); });
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    throw SceneError(path + ": invalid JSON: " + clipped(e.what(), 200));
+  }
+  Fields top(root, "", path);
+  if (!top.has("motion")) top.fail("motion", "is required: the file holds {\"motion\": {...}} as a scene does");
+  HeadTrajectory t = readMotion(top.child("motion"));
+  top.finish();
+  return t;
+}
+
+std::string keyframesJson(const std::vector<HeadKeyframe>& keys) {
+  // %.17g: every double reads back to the same bits
+  std::string s = "{\"motion\": {\"type\": \"keyframes\", \"keys\": [\n";
+  char buf[320];
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const HeadKeyframe& q = keys[k];
+    std::snprintf(buf, sizeof buf,
+                  "  {\"time\": %.17g, \"euler_deg\": [%.17g, %.17g, %.17g], \"translation\": [%.17g, %.17g, %.17g]}%s\n",
+                  q.time, q.euler_deg.x, q.euler_deg.y, q.euler_deg.z, q.translation.x, q.translation.y,
+                  q.translation.z, k + 1 < keys.size() ? "," : "");
+    s += buf;
+  }
+  return s + "]}}\n";
+}
+
 SceneDesc loadScene(const std::string& path) {
   std::string text;
   try {

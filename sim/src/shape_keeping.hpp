@@ -26,7 +26,9 @@ namespace loosehair {
 inline float holdRate(double hz) { return static_cast<float>(4.0 * std::numbers::pi * std::numbers::pi * hz * hz); }
 
 struct ShapeKeeping {
-  std::vector<float> omega2;        // (2 pi f_i)^2 (1/s^2)
+  float base_hz;                    // the solver's strength (Hz)
+  std::vector<float> hold_hz;       // per-particle holds (ties), Hz; 0 = none
+  std::vector<float> omega2;        // (2 pi max(base, hold_i))^2 (1/s^2)
   std::vector<glm::vec3> target;    // x0_i, head frame (m)
   std::vector<glm::vec3> prestress; // b_i (m/s^2)
 
@@ -34,7 +36,9 @@ struct ShapeKeeping {
   /// the start (m/s^2). Roots get no term.
   ShapeKeeping(float hz, const std::vector<glm::vec3>& position, const std::vector<float>& mass,
                const std::vector<glm::vec3>& initial_force, glm::vec3 gravity_head)
-      : omega2(position.size(), holdRate(hz)),
+      : base_hz(hz),
+        hold_hz(position.size(), 0.0f),
+        omega2(position.size(), holdRate(hz)),
         target(position),
         prestress(position.size()) {
     for (std::size_t i = 0; i < position.size(); ++i)
@@ -46,6 +50,20 @@ struct ShapeKeeping {
     float w2 = 0;
     for (float w : omega2) w2 = std::max(w2, w);
     return std::sqrt(static_cast<double>(w2));
+  }
+  /// The largest omega_i with the solver's strength `hz` instead (rad/s).
+  double fastestWith(float hz) const {
+    float f = hz;
+    for (float h : hold_hz) f = std::max(f, h);
+    return std::sqrt(static_cast<double>(holdRate(f)));
+  }
+  void setBase(float hz) {
+    base_hz = hz;
+    for (std::size_t i = 0; i < omega2.size(); ++i) omega2[i] = holdRate(std::max(base_hz, hold_hz[i]));
+  }
+  void setHolds(const std::vector<float>& hz) {
+    for (std::size_t i = 0; i < hz.size(); ++i) hold_hz[i] = std::max(hold_hz[i], hz[i]);
+    setBase(base_hz);
   }
 
   glm::vec3 acceleration(std::size_t i, glm::vec3 x) const {

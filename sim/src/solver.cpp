@@ -3,6 +3,7 @@
 // and gathers from i's sorted lists, so the bits of the result do not depend
 // on the thread count (SPEC §5 Determinism).
 #include "loosehair/solver.hpp"
+#include "loosehair/param_table.hpp"
 
 #include "connection_builder.hpp"
 #include "connection_slices.hpp"
@@ -269,22 +270,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   cross_section_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     cross_section_[i] = std::pow(particles_.mass[i] / params_.material_density, 2.0f / 3.0f);
-  rest_factor_root_.assign(n, 0.0f);
-  rest_factor_tip_.assign(n, 0.0f);
-  {
-    const CubicKernel k1(params_.h1);
-    for (std::size_t i = 0; i < n; ++i) {
-      double sr = 0, st = 0;
-      for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
-        const float l = connections_.rest_length[e];
-        const double lk = static_cast<double>(l) * connections_.strength[e] * k1.W(l);
-        (connections_.tip_side[e] ? st : sr) += lk;
-      }
-      const double ea = static_cast<double>(params_.youngs_modulus) * cross_section_[i];
-      rest_factor_root_[i] = sr > 0 ? static_cast<float>(ea / sr) : 0.0f;
-      rest_factor_tip_[i] = st > 0 ? static_cast<float>(ea / st) : 0.0f;
-    }
-  }
+  computeRestFactors();
 
   inverse_mass_.resize(n);  // 0 for a root (fixed); no root-root connections
   for (std::size_t i = 0; i < n; ++i)
@@ -330,12 +316,9 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     std::nth_element(hair_density.begin(), mid, hair_density.end());
     median = *mid;
   }
-  const double mean_mass = hair_count ? mass_sum / static_cast<double>(hair_count) : 0.0;
-  rest_density_ = params_.rest_density_scale * median;
-  if (median > 0) {
-    dc_ = static_cast<float>(params_.collision_rate * mean_mass * mean_mass / median);
-    dfr_ = static_cast<float>(params_.friction_rate * mean_mass * mean_mass / median);
-  }
+  mean_hair_mass_ = hair_count ? mass_sum / static_cast<double>(hair_count) : 0.0;
+  median_density_ = median;
+  computeDerivedCoefficients();
 
   report_.particles = n;
   report_.connection_pairs = connections_.pairCount();
@@ -376,6 +359,61 @@ void Solver::setTrajectory(HeadTrajectory trajectory) {
         !std::isfinite(k.angular_acceleration[a]) || !std::isfinite(k.acceleration[a]))
       throw std::invalid_argument("setTrajectory: the head's motion is not finite at t = " + std::to_string(time_));
   trajectory_ = std::move(trajectory);
+}
+
+void Solver::computeRestFactors() {
+  const std::size_t n = particles_.size();
+  rest_factor_root_.assign(n, 0.0f);
+  rest_factor_tip_.assign(n, 0.0f);
+  const CubicKernel k1(params_.h1);
+  for (std::size_t i = 0; i < n; ++i) {
+    double sr = 0, st = 0;
+    for (std::uint32_t e = connections_.begin(i); e < connections_.end(i); ++e) {
+      const float l = connections_.rest_length[e];
+      const double lk = static_cast<double>(l) * connections_.strength[e] * k1.W(l);
+      (connections_.tip_side[e] ? st : sr) += lk;
+    }
+    const double ea = static_cast<double>(params_.youngs_modulus) * cross_section_[i];
+    rest_factor_root_[i] = sr > 0 ? static_cast<float>(ea / sr) : 0.0f;
+    rest_factor_tip_[i] = st > 0 ? static_cast<float>(ea / st) : 0.0f;
+  }
+}
+
+void Solver::computeDerivedCoefficients() {
+  const double median = median_density_, mean_mass = mean_hair_mass_;
+  rest_density_ = params_.rest_density_scale * median_density_;
+  dc_ = dfr_ = 0;
+  if (median > 0) {
+    dc_ = static_cast<float>(params_.collision_rate * mean_mass * mean_mass / median);
+    dfr_ = static_cast<float>(params_.friction_rate * mean_mass * mean_mass / median);
+  }
+}
+
+void Solver::setParams(const SimParams& p) {
+  const auto problems = validate(p);
+  if (!problems.empty()) throw std::invalid_argument(problems.front());
+  for (const ParamInfo& info : paramTable()) {
+    const double was = info.get(params_), now = info.get(p);
+    if (was == now || info.live) continue;
+    throw std::invalid_argument(std::string(info.name) + " cannot change in a running simulation (" + std::to_string(was) +
+                                " to " + std::to_string(now) + "): it applies on restart");
+  }
+  if (p.shape_keeping > 0.0f && !shape_)
+    throw std::invalid_argument("shape_keeping cannot be turned on in a running simulation (the styled rest state is "
+                                "set up when it starts): it applies on restart");
+  if (shape_ && p.shape_keeping > 0.0f && shape_->fastestWith(p.shape_keeping) * p.time_step > kMaxHoldPhasePerStep)
+    throw std::invalid_argument("shape_keeping = " + std::to_string(p.shape_keeping) + " Hz is too strong for time_step = " +
+                                std::to_string(p.time_step) + " s");
+  const bool stiffness = p.youngs_modulus != params_.youngs_modulus;
+  params_ = p;
+  if (stiffness) computeRestFactors();
+  computeDerivedCoefficients();
+  report_.rest_density = rest_density_;
+  report_.collision_coefficient = dc_;
+  report_.friction_coefficient = dfr_;
+  if (shape_ && p.shape_keeping == 0.0f) shape_.reset();  // plain LCP from now on
+  if (shape_) shape_->setBase(p.shape_keeping);
+  setThreadCount(p.threads);
 }
 
 void Solver::setTimeStep(double dt) {
@@ -1324,7 +1362,7 @@ void Solver::setShapeKeepingStrengths(const std::vector<float>& hz) {
                                   std::to_string(hz[i]) + " Hz is too strong for time_step = " +
                                   std::to_string(params_.time_step) + " s");
   }
-  for (std::size_t i = 0; i < hz.size(); ++i) shape_->omega2[i] = std::max(shape_->omega2[i], holdRate(hz[i]));
+  shape_->setHolds(hz);
 }
 
 void Solver::setTieTethers(std::vector<glm::vec3> point, std::vector<float> reach) {

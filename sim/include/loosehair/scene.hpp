@@ -126,6 +126,13 @@ SceneDesc loadScene(const std::string& path);
 /// The same from text; `source` names it in messages.
 SceneDesc parseScene(const std::string& text, const std::string& source);
 
+/// A head motion file: {"motion": {...}}, the object a scene's "motion"
+/// holds (data/scenes/README.md). Throws SceneError naming the file and field.
+HeadTrajectory loadMotion(const std::string& path);
+/// A head motion file of these keys (the viewer's recorded drag), exact:
+/// loadMotion reads back the same bits.
+std::string keyframesJson(const std::vector<HeadKeyframe>& keys);
+
 /// What building a scene chose, for printing.
 struct BuildReport {
   float poisson_radius = 0;        // r_P (m)

@@ -102,6 +102,15 @@ class Solver {
     for (int k = 0; k < steps; ++k) step();
   }
 
+  /// Changes the parameters of a running simulation (the viewer's panel):
+  /// those ParamInfo marks live take effect from the next step, and
+  /// setting a parameter back gives the same bits as never changing it.
+  /// Throws std::invalid_argument, naming the parameter, for invalid
+  /// values and for changes that need a new solver (smoothing lengths,
+  /// connections, material density, the step, shape keeping turned on).
+  /// shape_keeping 0 drops the term for good (plain LCP from then on).
+  void setParams(const SimParams& params);
+
   /// Changes the step length (s); throws std::invalid_argument if the
   /// parameters are no longer valid with it.
   void setTimeStep(double dt);
@@ -229,6 +238,8 @@ class Solver {
   /// `xm_ready`: computeDensity has just made the partners' (x, m) records
   /// (in a step, at the same positions).
   void accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const;
+  void computeRestFactors();           // side factors of the rest state (E A / sum l k W)
+  void computeDerivedCoefficients();   // rho0, d_c, d_fr from the parameters
   void computeDensity();
   void findNeighbors();
   void addExternalForces();
@@ -281,6 +292,8 @@ class Solver {
   std::vector<float> cross_section_;  // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
+  float median_density_ = 0;     // initial median hair density (kg/m^3)
+  double mean_hair_mass_ = 0;    // kg
 
   // per step
   std::unique_ptr<NeighborGrid> grid_;

@@ -1,0 +1,147 @@
+// Parameters changed in a running simulation (Solver::setParams, the
+// viewer's panel): the table describes every parameter with a usable range,
+// a live change takes effect, setting it back gives the bits of never
+// changing it, and changes that need a new solver are refused by name.
+#include "loosehair/param_table.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+using namespace loosehair;
+
+TEST(ParamTable, EveryEntryReadsWritesAndItsRangeIsValid) {
+  std::set<std::string> names;
+  for (const ParamInfo& p : paramTable()) {
+    EXPECT_TRUE(names.insert(p.name).second) << "duplicate " << p.name;
+    EXPECT_EQ(findParam(p.name), &p);
+    EXPECT_LT(p.lo, p.hi) << p.name;
+    EXPECT_GT(std::string(p.help).size(), 10u) << p.name;
+    const SimParams defaults;
+    for (double v : {p.lo, p.hi}) {
+      SimParams q;
+      p.set(q, v);
+      const double want = p.kind == ParamInfo::Kind::Switch ? (v != 0 ? 1.0 : 0.0) : v;
+      EXPECT_NEAR(p.get(q), want, 1e-6 * std::abs(want)) << p.name;  // float fields round
+      if (std::string(p.name) == "h2") q.h1 = 0.08f;  // h2 < h1
+      if (std::string(p.name) == "h1") q.h2 = 0.001f;
+      if (std::string(p.name) == "shape_keeping") q.time_step = 1e-3;
+      EXPECT_TRUE(validate(q).empty()) << p.name << " = " << v << ": " << validate(q).front();
+    }
+    const double d = p.get(defaults);
+    EXPECT_TRUE(d >= p.lo && d <= p.hi) << p.name << " default " << d << " outside the control's range";
+  }
+  EXPECT_EQ(findParam("no_such_parameter"), nullptr);
+  // one entry per scalar of SimParams: 24 scalars + the 3 components of gravity
+  EXPECT_EQ(paramTable().size(), 27u);
+}
+
+namespace {
+
+std::uint64_t run(int steps, const std::function<void(Solver&, int)>& at) {
+  SceneDesc scene = lhtest::sphereScene(600, "{}", R"({"type": "shake", "amplitude_deg": 30})", 6);
+  scene.sim.threads = 2;
+  Solver s = buildSolver(scene);
+  for (int k = 0; k < steps; ++k) {
+    at(s, k);
+    s.step();
+  }
+  return s.stateHash();
+}
+
+}  // namespace
+
+TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
+  const auto none = [](Solver&, int) {};
+  const std::uint64_t base = run(60, none);
+  EXPECT_EQ(run(60, [](Solver& s, int k) {
+              if (k == 20) s.setParams(s.params());
+            }),
+            base)
+      << "setting the same parameters changes nothing";
+  for (const ParamInfo& p : paramTable()) {
+    if (!p.live || std::string(p.name) == "threads" || std::string(p.name) == "shape_keeping") continue;
+    double v = p.kind == ParamInfo::Kind::Switch ? 0.0 : p.lo + 0.37 * (p.hi - p.lo);
+    for (SimParams q = buildSolver(lhtest::sphereScene(50, "{}", R"({"type": "still"})", 6)).params();;) {
+      p.set(q, v);  // towards lo until valid with this scene's step (rate * dt limits)
+      if (validate(q).empty()) break;
+      v = 0.5 * (v + p.lo);
+    }
+    const std::uint64_t changed = run(60, [&](Solver& s, int k) {
+      if (k == 20) {
+        SimParams q = s.params();
+        p.set(q, v);
+        s.setParams(q);
+      }
+    });
+    EXPECT_NE(changed, base) << p.name << " changed live has no effect";
+    const std::uint64_t restored = run(60, [&](Solver& s, int k) {
+      if (k == 20) {
+        SimParams q = s.params();
+        const double was = p.get(q);
+        p.set(q, v);
+        s.setParams(q);
+        p.set(q, was);
+        s.setParams(q);
+      }
+    });
+    EXPECT_EQ(restored, base) << p.name << " set and set back does not give the same bits";
+  }
+  // the thread count is live and changes no bits
+  EXPECT_EQ(run(60, [](Solver& s, int k) {
+              if (k == 30) {
+                SimParams q = s.params();
+                q.threads = 1;
+                s.setParams(q);
+              }
+            }),
+            base);
+}
+
+TEST(LiveParams, ChangesThatNeedANewSolverAreRefusedByName) {
+  Solver s = buildSolver(lhtest::sphereScene(300, "{}", R"({"type": "still"})", 4));
+  const std::uint64_t before = s.stateHash();
+  for (const ParamInfo& p : paramTable()) {
+    if (p.live) continue;
+    SimParams q = s.params();
+    p.set(q, p.get(q) == p.lo ? p.hi : p.lo);
+    if (std::string(p.name) == "h2") q.h2 = q.h1 * 0.5f;
+    try {
+      s.setParams(q);
+      ADD_FAILURE() << p.name << " changed in a running solver";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(p.name), std::string::npos) << e.what();
+    }
+  }
+  SimParams bad = s.params();
+  bad.youngs_modulus = -1.0f;
+  EXPECT_THROW(s.setParams(bad), std::invalid_argument);
+  bad = s.params();
+  bad.shape_keeping = 2.0f;  // off to on needs the styled rest state
+  EXPECT_THROW(s.setParams(bad), std::invalid_argument);
+  EXPECT_EQ(s.stateHash(), before);
+  EXPECT_EQ(s.params().youngs_modulus, SimParams{}.youngs_modulus) << "a refused change left nothing behind";
+}
+
+TEST(LiveParams, ShapeKeepingTurnedOffLiveIsPlainLcpFromThen) {
+  auto build = [](const char* solver) {
+    return buildSolver(lhtest::sphereScene(400, solver, R"({"type": "still"})", 4));
+  };
+  Solver kept = build(R"({"shape_keeping": 2.0})");
+  Solver plain = build(R"({"shape_keeping": 2.0})");
+  SimParams off = plain.params();
+  off.shape_keeping = 0.0f;
+  plain.setParams(off);
+  SimParams weaker = kept.params();
+  weaker.shape_keeping = 1.0f;
+  kept.setParams(weaker);
+  kept.advance(200);
+  plain.advance(200);
+  EXPECT_NE(kept.stateHash(), plain.stateHash());
+  EXPECT_THROW(plain.setParams(weaker), std::invalid_argument) << "turned back on live";
+}
