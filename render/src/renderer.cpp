@@ -5,6 +5,8 @@
 #include <GL/glcorearb.h>
 
 #include "loosehair/render/renderer.hpp"
+#include "loosehair/render/shaders.hpp"
+#include "gl_program.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -31,252 +33,9 @@ constexpr int kStrandLevels = 5;  // its mip levels down to 1 texel across: log2
 constexpr int kShadowSize = 256;  // opacity varies smoothly; 256^2 keeps the light pass cheap
 
 // ---- shaders ------------------------------------------------------------------
-// Billboard geometry (SPEC §7.1), shared by both passes: the vertical axis is
-// the hair direction made perpendicular to the projection direction d, whose
-// length is foreshortened by sin(phi); opacity is boosted by 1/sin(phi).
-const char* kBillboardVS = R"(
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in vec3 a_dir;
-layout(location = 2) in float a_value;
-uniform mat4 u_view_proj;
-uniform vec3 u_proj_dir;   // (u_eye, the perspective eye, is declared before)   // orthographic: projection direction
-uniform int u_ortho;
-uniform float u_width, u_length, u_max_boost, u_opacity;
-uniform mat4 u_light_coords;  // world -> (s, t, slice) of the opacity maps
-// pixels per metre at unit depth (perspective) or per metre (orthographic)
-uniform float u_pixel_scale;
-uniform float u_strand_width;  // texels across the strand texture
-uniform float u_strand_max_level;
-out vec2 v_uv;
-flat out int v_level;
-out vec3 v_T;
-out vec3 v_light;
-out float v_alpha;
-out float v_value;
-#ifdef SHADE
-out vec3 v_color;
-#endif
-void main() {
-  vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, (gl_VertexID & 2) == 0 ? -1.0 : 1.0);
-  vec3 d = u_ortho == 1 ? u_proj_dir : normalize(a_pos - u_eye);
-  vec3 T = normalize(a_dir);
-  float c = clamp(abs(dot(T, d)), 0.0, 1.0);
-  float s = sqrt(max(0.0, 1.0 - c * c));
-  vec3 axis = T - dot(T, d) * d;
-  float al = length(axis);
-  vec3 helper = abs(d.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
-  axis = al > 1e-5 ? axis / al : normalize(cross(d, helper));
-  vec3 side = normalize(cross(d, axis));
-  float len = max(u_length * s, u_width);
-  vec3 p = a_pos + (0.5 * u_width * corner.x) * side + (0.5 * len * corner.y) * axis;
-  v_uv = 0.5 * corner + 0.5;
-  // the strand texture's mip level, once per billboard: its texels across
-  // the billboard's width on screen
-  float depth = u_ortho == 1 ? 1.0 : max(1e-4, length(a_pos - u_eye));
-  float width_px = u_width * u_pixel_scale / depth;
-  float level = floor(log2(u_strand_width / max(width_px, 1e-3)) + 0.5);
-  v_level = int(clamp(level, 0.0, u_strand_max_level));
-  v_T = T;
-  v_light = (u_light_coords * vec4(p, 1.0)).xyz;  // affine (orthographic light): exact to interpolate
-  v_alpha = u_opacity * min(1.0 / max(s, 1e-4), u_max_boost);
-  v_value = a_value;
-#ifdef SHADE
-  v_color = shade(T, a_pos);
-#endif
-  gl_Position = u_view_proj * vec4(p, 1.0);
-}
-)";
-
-// Pass 1: every fragment adds its opacity to the slices behind it, with a
-// one-slice ramp (so the lookup interpolates). Layer l of the slice array
-// holds slices 3l .. 3l+3 (neighbouring layers share one slice), so any two
-// adjacent slices k, k+1 are in one layer and the lookup reads one texel.
-const char* kOpacityFS = R"(#version 330 core
-in vec2 v_uv;
-flat in int v_level;
-in vec3 v_light;  // z: position in slices
-in float v_alpha;
-uniform sampler2D u_hair;
-layout(location = 0) out vec4 o0;
-layout(location = 1) out vec4 o1;
-layout(location = 2) out vec4 o2;
-layout(location = 3) out vec4 o3;
-layout(location = 4) out vec4 o4;
-void main() {
-  ivec2 size = textureSize(u_hair, v_level);
-  float a = texelFetch(u_hair, min(ivec2(v_uv * vec2(size)), size - 1), v_level).a * v_alpha;
-  if (a < 1e-4) discard;
-  vec4 z = vec4(v_light.z) - vec4(0.0, 1.0, 2.0, 3.0);
-  o0 = a * clamp(0.0 - z, 0.0, 1.0);
-  o1 = a * clamp(3.0 - z, 0.0, 1.0);
-  o2 = a * clamp(6.0 - z, 0.0, 1.0);
-  o3 = a * clamp(9.0 - z, 0.0, 1.0);
-  o4 = a * clamp(12.0 - z, 0.0, 1.0);
-}
-)";
-
-// The opacity lookup shared by the hair and the bodies (SPEC §7.2), per
-// fragment, at light coordinates (s, t, z) interpolated from the vertices:
-// z is the depth in slices, less the offset against self-shadowing.
-// Omega(z) = sum_k Omega_k max(0, 1 - |z - k|): only the slices k and k+1
-// around z weigh, and both are in layer l = k / 3 (one bilinear fetch).
-// The slices are 8-bit (Omega clamped at 1, where exp(-kappa) leaves 0.4%
-// of the light): llvmpipe reads and blends them much faster than floats.
-// Written without branches or dynamic indexing (llvmpipe runs every path of
-// a branch in its SIMD lanes).
-const char* kShadowLookup = R"(
-uniform sampler2DArray u_slices;  // 5 layers x RGBA: slices 3l .. 3l+3 in layer l
-uniform float u_kappa;
-uniform int u_shadows;
-float transmittance(vec3 lc) {
-  if (u_shadows == 0) return 1.0;
-  float z = clamp(lc.z, 0.0, 15.0);
-  int l = min(int(z) / 3, 4);
-  vec4 a = texture(u_slices, vec3(lc.xy, float(l)));
-  vec4 w = max(vec4(0.0), 1.0 - abs(z - (float(3 * l) + vec4(0.0, 1.0, 2.0, 3.0))));
-  float omega = dot(a, w);
-  // outside the maps (and in front of the first slice) nothing shadows
-  bool inside = all(greaterThanEqual(lc.xy, vec2(0.0))) && all(lessThanEqual(lc.xy, vec2(1.0))) && lc.z > 0.0;
-  return inside ? exp(-u_kappa * omega) : 1.0;
-}
-)";
-
-const char* kHairShade = R"(
-uniform vec3 u_light, u_color, u_spec_color;
-uniform float u_kd, u_ks, u_shine, u_reflect, u_transmit, u_ambient;
-out vec3 v_lit;
-vec3 shade(vec3 T, vec3 world) {
-  vec3 L = normalize(u_light);
-  vec3 E = normalize(u_eye - world);
-  float tl = dot(T, L), te = dot(T, E);
-  float sin_tl = sqrt(max(0.0, 1.0 - tl * tl)), sin_te = sqrt(max(0.0, 1.0 - te * te));
-  float diffuse = u_kd * sin_tl;
-  float specular = u_ks * pow(max(0.0, sin_tl * sin_te - tl * te), u_shine);
-  vec3 txl = cross(T, L), txe = cross(T, E);
-  float denom = length(txl) * length(txe);
-  float kd = denom > 1e-6 ? dot(txl, txe) / denom : 1.0;
-  float f_dir = u_reflect * (1.0 + kd) * 0.5 + u_transmit * (1.0 - kd) * 0.5;
-  v_lit = u_color * (f_dir * diffuse) + u_spec_color * (f_dir * specular);
-  return u_color * u_ambient;
-}
-)";
-
-const char* kHairFSBody = R"(
-in vec2 v_uv;
-flat in int v_level;
-in vec3 v_light;
-in float v_alpha;
-in vec3 v_color;  // ambient
-in vec3 v_lit;    // diffuse and specular before attenuation
-uniform sampler2D u_hair;
-out vec4 o_color;
-void main() {
-  ivec2 size = textureSize(u_hair, v_level);
-  float a = texelFetch(u_hair, min(ivec2(v_uv * vec2(size)), size - 1), v_level).a * v_alpha;
-  if (a < 2e-3) discard;
-  o_color = vec4(v_color + v_lit * transmittance(v_light), min(a, 1.0));
-}
-)";
-
-const char* kBodyVS = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in vec3 a_normal;
-uniform mat4 u_model, u_view_proj, u_light_coords;
-out vec3 v_world;
-out vec3 v_normal;
-out vec3 v_light;
-void main() {
-  vec4 w = u_model * vec4(a_pos, 1.0);
-  v_world = w.xyz;
-  v_normal = mat3(u_model) * a_normal;
-  // looked up a little off the surface, so the skin does not shadow itself
-  v_light = (u_light_coords * vec4(w.xyz + 0.002 * normalize(v_normal), 1.0)).xyz;
-  gl_Position = u_view_proj * w;
-}
-)";
-
-const char* kBodyFSBody = R"(
-in vec3 v_world;
-in vec3 v_normal;
-in vec3 v_light;
-uniform vec3 u_eye, u_light, u_skin;
-out vec4 o_color;
-void main() {
-  vec3 N = normalize(v_normal);
-  vec3 L = normalize(u_light);
-  vec3 E = normalize(u_eye - v_world);
-  vec3 H = normalize(L + E);
-  float light = transmittance(v_light);
-  float lambert = max(0.0, dot(N, L));
-  float spec = pow(max(0.0, dot(N, H)), 24.0) * 0.15;
-  vec3 c = u_skin * (0.28 + 0.72 * lambert * light) + vec3(spec * light);
-  o_color = vec4(c, 1.0);
-}
-)";
-
-// Debug views: points coloured by a value, and lines.
-const char* kDebugVS = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in float a_value;
-uniform mat4 u_view_proj;
-uniform float u_point_size;
-out float v_value;
-void main() {
-  v_value = a_value;
-  gl_PointSize = u_point_size;
-  gl_Position = u_view_proj * vec4(a_pos, 1.0);
-}
-)";
-const char* kDebugFS = R"(#version 330 core
-in float v_value;
-uniform vec2 u_range;
-uniform vec3 u_flat;
-uniform int u_use_flat;
-out vec4 o_color;
-void main() {
-  if (u_use_flat == 1) { o_color = vec4(u_flat, 1.0); return; }
-  float t = clamp((v_value - u_range.x) / max(u_range.y - u_range.x, 1e-9), 0.0, 1.0);
-  // blue -> cyan -> yellow -> red
-  vec3 c = t < 0.5 ? mix(vec3(0.1, 0.2, 0.9), vec3(0.1, 0.9, 0.9), t * 2.0)
-                   : mix(vec3(0.95, 0.9, 0.1), vec3(0.9, 0.1, 0.1), t * 2.0 - 1.0);
-  o_color = vec4(c, 1.0);
-}
-)";
-
-GLuint compile(GLenum type, const std::string& src) {
-  const GLuint s = glCreateShader(type);
-  const char* p = src.c_str();
-  glShaderSource(s, 1, &p, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw RenderError(std::string("shader does not compile: ") + log);
-  }
-  return s;
-}
-
-GLuint program(const std::string& vs, const std::string& fs) {
-  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  const GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    glDeleteProgram(p);
-    throw RenderError(std::string("shader program does not link: ") + log);
-  }
-  return p;
-}
+// In render/shaders/, one file a stage, embedded at build time (shaders.hpp,
+// generated by render/embed_shaders.cmake). Fragments without a #version
+// line are put together with their headers in makePrograms.
 
 GLint loc(GLuint p, const char* name) { return glGetUniformLocation(p, name); }
 void setMat(GLuint p, const char* n, const glm::mat4& m) { glUniformMatrix4fv(loc(p, n), 1, GL_FALSE, glm::value_ptr(m)); }
@@ -479,11 +238,11 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   Impl& r = *impl_;
   const std::string frag_head = "#version 330 core\n";
   r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
-                            kHairShade + kBillboardVS,
-                        frag_head + kShadowLookup + kHairFSBody);
-  r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + kBillboardVS, kOpacityFS);
-  r.body_prog = program(kBodyVS, frag_head + kShadowLookup + kBodyFSBody);
-  r.debug_prog = program(kDebugVS, kDebugFS);
+                            shaders::hair_shade_glsl + shaders::billboard_vert,
+                        frag_head + shaders::shadow_lookup_glsl + shaders::hair_frag);
+  r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert, shaders::opacity_frag);
+  r.body_prog = program(shaders::body_vert, frag_head + shaders::shadow_lookup_glsl + shaders::body_frag);
+  r.debug_prog = program(shaders::debug_vert, shaders::debug_frag);
 
   // The hair-strand texture, mipmapped (SPEC §7.1).
   const int tw = kStrandWidth, th = kStrandHeight;
