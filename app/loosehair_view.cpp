@@ -3,6 +3,7 @@
 //
 //   loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]
 //                  [--seed S] [--paused] [--frames N [--screenshot FILE.png]]
+//                  [--script FILE]
 //
 // The simulation runs on its own thread (viewer/simulation_thread.hpp) at
 // the scene's fixed step, paced to real time; the window draws the newest
@@ -14,8 +15,11 @@
 #include "loosehair/render/renderer.hpp"
 #include "png.hpp"
 #include "scene_bodies.hpp"
+#include "loosehair/render/overlay.hpp"
+#include "viewer/controller.hpp"
 #include "viewer/head_drag.hpp"
 #include "viewer/panel.hpp"
+#include "viewer/script.hpp"
 #include "viewer/simulation_thread.hpp"
 
 #define GLFW_INCLUDE_NONE
@@ -46,6 +50,7 @@ using namespace loosehair;
 constexpr const char* kUsage =
     "usage: loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
     "                              [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
+    "                              [--script FILE]\n"
     "\n"
     "Plays SCENE (default: the bundled data/scenes/hang.json) in a window with a\n"
     "panel, in real time at most (the panel sets the speed).\n"
@@ -57,6 +62,7 @@ constexpr const char* kUsage =
     "  --paused            start paused\n"
     "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
     "  --screenshot FILE   with --frames: save that frame as a PNG\n"
+    "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
     "\n";
 
 struct UsageError {
@@ -73,6 +79,7 @@ struct ViewOptions {
   bool paused = false;
   std::optional<int> frames;
   std::string screenshot;
+  std::string script;
 };
 
 long long parseInteger(const std::string& what, const std::string& text, long long lo, long long hi) {
@@ -127,6 +134,8 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.frames = static_cast<int>(parseInteger("--frames", value(), 1, 10000000));
       } else if (a == "--screenshot") {
         o.screenshot = value();
+      } else if (a == "--script") {
+        o.script = value();
       } else if (!a.empty() && a[0] == '-') {
         throw UsageError{"unknown option " + a};
       } else if (o.scene.empty()) {
@@ -140,6 +149,7 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
   }
   if (o.scene.empty()) o.scene = defaultScene();
   if (!o.screenshot.empty() && !o.frames) throw UsageError{"--screenshot needs --frames N"};
+  if (!o.script.empty() && o.frames) throw UsageError{"--script and --frames do not go together"};
   return o;
 }
 
@@ -180,13 +190,14 @@ struct GlfwSession {
   ~GlfwSession() { glfwTerminate(); }
 };
 
-// What the callbacks need: the view, the head drag and the simulation.
+// What the input handlers need. Scripted input calls the same handlers with
+// `scripted` set: it addresses the 3-D view, never the panel.
 struct Window {
-  viewer::ViewState view;
-  viewer::HeadDrag head;
-  viewer::SimulationThread* sim = nullptr;
-  bool orbiting = false, turning = false;
+  viewer::Controller* c = nullptr;
+  GLFWwindow* glfw = nullptr;
+  bool orbiting = false, turning = false, brushing = false, shift = false;
   double last_x = 0, last_y = 0;
+  int width = 1, height = 1;  // of the framebuffer
 };
 
 Window& of(GLFWwindow* w) { return *static_cast<Window*>(glfwGetWindowUserPointer(w)); }
@@ -196,25 +207,53 @@ E next(E value, E last) {
   return static_cast<E>((static_cast<int>(value) + 1) % (static_cast<int>(last) + 1));
 }
 
-void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
-  if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
-  if (ImGui::GetIO().WantCaptureKeyboard) return;
-  Window& w = of(window);
-  viewer::ViewState& v = w.view;
+render::Ray rayAt(const Window& w, double x, double y) {
+  return w.c->view().camera.ray(x, y, w.width, w.height);
+}
+
+void key(Window& w, int key, int mods, bool scripted) {
+  if (!scripted && ImGui::GetIO().WantCaptureKeyboard) return;
+  viewer::Controller& c = *w.c;
+  viewer::ViewState& v = c.view();
+  viewer::StylingSession* st = c.mode() == viewer::Mode::Styling ? c.styling() : nullptr;
+  const bool ctrl = (mods & GLFW_MOD_CONTROL) != 0, shift = (mods & GLFW_MOD_SHIFT) != 0;
+  if (st) {
+    switch (key) {
+      case GLFW_KEY_Z:
+        if (ctrl) (shift ? st->redo() : st->undo());
+        return;
+      case GLFW_KEY_T: st->axis = StylingAxis::Tangent; return;
+      case GLFW_KEY_G: st->axis = StylingAxis::Normal; return;
+      case GLFW_KEY_B: st->axis = StylingAxis::Binormal; return;
+      case GLFW_KEY_UP: c.attempt([&] { st->moveSelected(0.005f); }); return;
+      case GLFW_KEY_DOWN: c.attempt([&] { st->moveSelected(-0.005f); }); return;
+      case GLFW_KEY_DELETE: c.attempt([&] { st->deleteSelectedPoint(); }); return;
+      default: break;
+    }
+  }
   switch (key) {
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q: v.quit = true; break;
-    case GLFW_KEY_SPACE: w.sim->setPaused(!w.sim->paused()); break;
+    case GLFW_KEY_SPACE: c.sim().setPaused(!c.sim().paused()); break;
     case GLFW_KEY_N:
-    case GLFW_KEY_RIGHT: w.sim->stepOnce(); break;
-    case GLFW_KEY_R: w.sim->restart(w.sim->scene()); break;
+    case GLFW_KEY_RIGHT: c.sim().stepOnce(); break;
+    case GLFW_KEY_R: c.restart(); break;
     case GLFW_KEY_S: v.settings.shadows = !v.settings.shadows; break;
-    case GLFW_KEY_C: v.settings.color = next(v.settings.color, render::HairColor::Red); break;
+    case GLFW_KEY_C:
+      v.settings.color = next(v.settings.color, render::HairColor::Red);
+      v.settings.custom_color.reset();
+      break;
     case GLFW_KEY_D: v.settings.debug = next(v.settings.debug, render::DebugView::Directions); break;
     case GLFW_KEY_L: v.light_from_camera = !v.light_from_camera; break;
     case GLFW_KEY_P: v.screenshot = true; break;
     case GLFW_KEY_TAB: v.show_panel = !v.show_panel; break;
     case GLFW_KEY_H: std::fputs(viewer::kShortcuts, stdout); break;
+    case GLFW_KEY_F2:
+      if (c.mode() == viewer::Mode::Styling)
+        c.enterSimulate();
+      else
+        c.enterStyling();
+      break;
     case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4: {
       static const char* presets[] = {"front", "side", "back", "three-quarter"};
       const render::Camera p = render::Camera::preset(presets[key - GLFW_KEY_1]);
@@ -226,34 +265,74 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods
   }
 }
 
-void onMouseButton(GLFWwindow* window, int button, int action, int /*mods*/) {
+void onKey(GLFWwindow* window, int k, int /*scancode*/, int action, int mods) {
+  if (action == GLFW_PRESS || action == GLFW_REPEAT) key(of(window), k, mods, false);
+}
+
+void mouseButton(Window& w, int button, bool press, bool shift, double x, double y, bool scripted) {
+  if (press && !scripted && ImGui::GetIO().WantCaptureMouse) return;
+  w.last_x = x, w.last_y = y;
+  w.shift = shift;
+  viewer::Controller& c = *w.c;
+  viewer::StylingSession* st = c.mode() == viewer::Mode::Styling ? c.styling() : nullptr;
+  if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    if (press && st) {
+      // a control point or key strand under the cursor is selected; on the
+      // scalp the brush paints; elsewhere the camera orbits
+      const render::Ray r = rayAt(w, x, y);
+      const float tolerance = 0.01f * c.view().camera.distance;  // about 8 pixels at 720 rows
+      if (st->select(r, tolerance)) return;
+      w.brushing = st->brush(r);
+      w.orbiting = !w.brushing;
+      return;
+    }
+    w.orbiting = press;
+    if (!press) w.brushing = false;
+  }
+  if (button == GLFW_MOUSE_BUTTON_RIGHT && !st) w.turning = press;
+}
+
+void cursor(Window& w, double x, double y) {
+  const double dx = x - w.last_x, dy = y - w.last_y;
+  w.last_x = x, w.last_y = y;
+  viewer::Controller& c = *w.c;
+  render::Camera& cam = c.view().camera;
+  if (w.brushing && c.styling()) {
+    c.styling()->brush(rayAt(w, x, y));
+  } else if (w.orbiting) {
+    cam.yaw_deg -= static_cast<float>(dx) * 0.4f;
+    cam.pitch_deg = std::clamp(cam.pitch_deg + static_cast<float>(dy) * 0.4f, -85.0f, 85.0f);
+  }
+  if (w.turning) {
+    c.head().drag(dx, dy, w.shift, cam);
+    c.sim().setHeadTarget(c.head().pose());
+  }
+}
+
+void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
   Window& w = of(window);
-  if (action == GLFW_PRESS && ImGui::GetIO().WantCaptureMouse) return;
-  glfwGetCursorPos(window, &w.last_x, &w.last_y);
-  if (button == GLFW_MOUSE_BUTTON_LEFT) w.orbiting = action == GLFW_PRESS;
-  if (button == GLFW_MOUSE_BUTTON_RIGHT) w.turning = action == GLFW_PRESS;
+  double x = 0, y = 0;
+  glfwGetCursorPos(window, &x, &y);
+  // window coordinates to framebuffer pixels (equal but on high-density screens)
+  int ww = 1, wh = 1;
+  glfwGetWindowSize(window, &ww, &wh);
+  x *= static_cast<double>(w.width) / std::max(ww, 1);
+  y *= static_cast<double>(w.height) / std::max(wh, 1);
+  mouseButton(w, button, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0, x, y, false);
 }
 
 void onCursor(GLFWwindow* window, double x, double y) {
   Window& w = of(window);
-  const double dx = x - w.last_x, dy = y - w.last_y;
-  w.last_x = x, w.last_y = y;
-  if (w.orbiting) {
-    w.view.camera.yaw_deg -= static_cast<float>(dx) * 0.4f;
-    w.view.camera.pitch_deg = std::clamp(w.view.camera.pitch_deg + static_cast<float>(dy) * 0.4f, -85.0f, 85.0f);
-  }
-  if (w.turning) {
-    const bool move = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
-                      glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
-    w.head.drag(dx, dy, move, w.view.camera);
-    w.sim->setHeadTarget(w.head.pose());
-  }
+  int ww = 1, wh = 1;
+  glfwGetWindowSize(window, &ww, &wh);
+  w.shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  cursor(w, x * w.width / std::max(ww, 1), y * w.height / std::max(wh, 1));
 }
 
 void onScroll(GLFWwindow* window, double /*dx*/, double dy) {
   if (ImGui::GetIO().WantCaptureMouse) return;
-  Window& w = of(window);
-  w.view.camera.distance = std::clamp(w.view.camera.distance * static_cast<float>(std::pow(0.9, dy)), 0.1f, 5.0f);
+  render::Camera& cam = of(window).c->view().camera;
+  cam.distance = std::clamp(cam.distance * static_cast<float>(std::pow(0.9, dy)), 0.1f, 5.0f);
 }
 
 // Dear ImGui on the window, for the lifetime of this object.
@@ -273,11 +352,221 @@ struct ImGuiSession {
   }
 };
 
+int glfwKeyNamed(const std::string& name, const std::string& where) {
+  static const std::pair<const char*, int> named[] = {
+      {"space", GLFW_KEY_SPACE}, {"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT}, {"up", GLFW_KEY_UP},
+      {"down", GLFW_KEY_DOWN},   {"tab", GLFW_KEY_TAB},     {"escape", GLFW_KEY_ESCAPE}, {"delete", GLFW_KEY_DELETE},
+      {"f2", GLFW_KEY_F2}};
+  for (const auto& [n, k] : named)
+    if (name == n) return k;
+  if (name.size() == 1 && std::isalnum(static_cast<unsigned char>(name[0])))
+    return std::toupper(static_cast<unsigned char>(name[0]));  // GLFW_KEY_A.. and _0.. are ASCII
+  throw std::runtime_error(where + ": unknown key \"" + name + "\"");
+}
+
+// Hair yaw: the mean turn of the hair about the vertical through the head's
+// pivot since the script started (a scripted drag shows the lag with it).
+double meanYawDeg(const std::vector<glm::vec3>& now, const std::vector<glm::vec3>& start, glm::vec3 pivot) {
+  double s = 0, c = 0;
+  const std::size_t n = std::min(now.size(), start.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec2 a(start[i].x - pivot.x, start[i].z - pivot.z), b(now[i].x - pivot.x, now[i].z - pivot.z);
+    if (glm::length(a) < 0.03f || glm::length(b) < 0.03f) continue;  // near the axis the angle means little
+    const double ang = std::atan2(static_cast<double>(a.x * b.y - a.y * b.x), static_cast<double>(glm::dot(a, b)));
+    s += std::sin(ang), c += std::cos(ang);
+  }
+  return -glm::degrees(std::atan2(s, c));  // yaw about +Y, as the head's
+}
+
+struct ScriptRun {
+  std::deque<viewer::ScriptEvent> events;
+  std::vector<glm::vec3> start;  // the hair when the script began
+  int warmup = 2;                // displayed frames before the first event (the panel lays itself out)
+};
+
+// One script event; false when the script asks to stop.
+bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, ScriptRun& run) {
+  viewer::Controller& c = *w.c;
+  viewer::ViewState& v = c.view();
+  const nlohmann::json& a = e.args;
+  const std::string& what = e.what;
+  auto text = [&](const char* f) { return a.at(f).get<std::string>(); };
+  if (what == "mouse_down" || what == "mouse_up" || what == "mouse_move") {
+    const int button = a["button"] == "left" ? GLFW_MOUSE_BUTTON_LEFT : GLFW_MOUSE_BUTTON_RIGHT;
+    const double x = a["x"].get<double>(), y = a["y"].get<double>();
+    if (what == "mouse_move") {
+      w.shift = a["shift"].get<bool>();
+      cursor(w, x, y);
+    } else {
+      mouseButton(w, button, what == "mouse_down", a["shift"].get<bool>(), x, y, true);
+    }
+  } else if (what == "key") {
+    key(w, glfwKeyNamed(text("key"), e.where), (a.value("ctrl", false) ? GLFW_MOD_CONTROL : 0) |
+                                                (a.value("shift", false) ? GLFW_MOD_SHIFT : 0), true);
+  } else if (what == "set") {
+    const std::string name = text("name");
+    if (!a["value"].is_number() && !a["value"].is_boolean()) throw std::runtime_error(e.where + ": value must be a number");
+    const double value = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
+    if (name == "speed")
+      c.sim().setSpeed(value);
+    else if (name == "particles")
+      c.pending().hair.particles = static_cast<int>(value);
+    else if (name == "seed")
+      c.pending().seed = static_cast<std::uint64_t>(value);
+    else if (name == "wind.speed")
+      c.pending().wind.speed = static_cast<float>(value);
+    else if (name == "shake.amplitude_deg")
+      panel.shake_amplitude_deg = static_cast<float>(value);
+    else if (name == "shake.frequency_hz")
+      panel.shake_frequency_hz = static_cast<float>(value);
+    else if (name == "styling.brush_radius" && c.styling())
+      c.styling()->brush_radius = static_cast<float>(value);
+    else if (name == "styling.density")
+      c.new_wisp.density = static_cast<float>(value);
+    else if (name == "styling.offset_radius")
+      c.new_wisp.offset_radius = static_cast<float>(value);
+    else if (name == "styling.length_variation")
+      c.new_wisp.length_variation = static_cast<float>(value);
+    else if (name == "styling.step_mm")
+      panel.move_step_mm = static_cast<float>(value);
+    else
+      c.setParam(name, value);
+  } else if (what == "view") {
+    const std::string name = text("name");
+    const nlohmann::json& val = a["value"];
+    if (name == "camera") {
+      v.camera = render::Camera::preset(val.get<std::string>());
+    } else if (name == "shadows") {
+      v.settings.shadows = val.get<bool>();
+    } else if (name == "debug") {
+      v.settings.debug = render::parseDebugView(val.get<std::string>());
+    } else if (name == "color") {
+      v.settings.color = render::parseHairColor(val.get<std::string>());
+    } else if (name == "panel") {
+      v.show_panel = val.get<bool>();
+    } else if (name == "grid") {
+      v.show_grid = val.get<bool>();
+      c.sim().setPublishGrid(v.show_grid);
+    } else if (name == "air") {
+      v.show_air = val.get<bool>();
+    } else if (name == "axis" && c.styling()) {
+      const std::string ax = val.get<std::string>();
+      if (ax != "tangent" && ax != "normal" && ax != "binormal")
+        throw std::runtime_error(e.where + ": axis must be tangent, normal or binormal");
+      c.styling()->axis = ax == "tangent" ? StylingAxis::Tangent : ax == "normal" ? StylingAxis::Normal : StylingAxis::Binormal;
+    } else {
+      throw std::runtime_error(e.where + ": unknown view setting \"" + name + "\"");
+    }
+  } else if (what == "press") {
+    const std::string name = text("name");
+    viewer::StylingSession* st = c.styling();
+    auto need = [&]() -> viewer::StylingSession& {
+      if (!st || c.mode() != viewer::Mode::Styling) throw std::runtime_error(e.where + ": \"" + name + "\" needs the styling mode");
+      return *st;
+    };
+    const float step = 1e-3f * panel.move_step_mm;
+    if (name == "play") c.sim().setPaused(false);
+    else if (name == "pause") c.sim().setPaused(true);
+    else if (name == "step") c.sim().stepOnce();
+    else if (name == "restart") c.restart();
+    else if (name == "shake" || name == "nod") c.shake(panel.shake_amplitude_deg, panel.shake_frequency_hz, name == "nod");
+    else if (name == "centre_head") c.centreHead();
+    else if (name == "wind_on" || name == "wind_off") c.setWind(name == "wind_on");
+    else if (name == "stop_recording") c.stopRecording();
+    else if (name == "styling") c.enterStyling();
+    else if (name == "simulate") c.enterSimulate();
+    else if (name == "create_wisp") c.attempt([&] { need().createWispFromBrush(c.new_wisp); });
+    else if (name == "set_region") c.attempt([&] { need().setRegionFromBrush(); });
+    else if (name == "clear_brush") need().clearBrush();
+    else if (name == "move_plus") c.attempt([&] { need().moveSelected(step); });
+    else if (name == "move_minus") c.attempt([&] { need().moveSelected(-step); });
+    else if (name == "add_point") c.attempt([&] { need().addPointAfterSelected(); });
+    else if (name == "delete_point") c.attempt([&] { need().deleteSelectedPoint(); });
+    else if (name == "delete_wisp") c.attempt([&] { need().deleteSelectedWisp(); });
+    else if (name == "copy") c.attempt([&] { need().copySelected(); });
+    else if (name == "paste") c.attempt([&] { need().pasteOnSelected(); });
+    else if (name == "mirror") c.attempt([&] { need().mirrorSelected(); });
+    else if (name == "tie") c.attempt([&] { need().tieAtSelected(0.015f); });
+    else if (name == "undo") need().undo();
+    else if (name == "redo") need().redo();
+    else throw std::runtime_error(e.where + ": no panel action called \"" + name + "\"");
+  } else if (what == "open") {
+    c.open(text("path"));
+  } else if (what == "screenshot") {
+    v.screenshot = true;
+    v.screenshot_path = text("path");
+  } else if (what == "hash") {
+    const std::shared_ptr<const viewer::PublishedFrame> f = c.sim().latest();
+    const glm::vec3 pivot(c.head().pivot());
+    std::printf("script: %s frame %lld t %.4f head-yaw %.2f hair-yaw %.2f state-hash %016llx\n",
+                a.value("label", "hash").c_str(), static_cast<long long>(f->frame), f->time, c.head().eulerDeg().x,
+                meanYawDeg(f->input.position, run.start, pivot), static_cast<unsigned long long>(f->state_hash));
+    std::fflush(stdout);
+  } else if (what == "save_motion") {
+    c.saveHeadMotion(text("path"));
+  } else if (what == "save_snapshot") {
+    c.saveSnapshot(text("path"));
+  } else if (what == "load_snapshot") {
+    c.loadSnapshot(text("path"));
+  } else if (what == "save_style") {
+    c.attempt([&] {
+      if (!c.styling()) throw std::runtime_error("there is no style to save: enter the styling mode first");
+      c.styling()->save(text("path"));
+      v.message = "saved the style to " + text("path");
+    });
+  } else if (what == "record") {
+    c.startRecording(text("dir"), a.value("video", ""));
+  } else if (what == "quit") {
+    return false;
+  }
+  return true;
+}
+
+// The overlay of this frame: styling previews, arrows, debug cells and air.
+void buildOverlay(viewer::Controller& c, const viewer::PublishedFrame& frame, render::OverlayLines& hidden,
+                  render::OverlayLines& on_top) {
+  hidden.clear();
+  on_top.clear();
+  viewer::ViewState& v = c.view();
+  if (c.mode() == viewer::Mode::Styling && c.styling()) {
+    c.styling()->overlay(hidden, on_top);
+    return;
+  }
+  const glm::vec3 centre = glm::vec3(frame.input.head_pose[3]) + glm::vec3(0.0f, 0.05f, 0.0f);
+  if (c.sim().scene().has_wind && v.show_wind_arrow) {
+    const glm::vec3 d = glm::normalize(c.sim().scene().wind.direction);
+    on_top.arrow(centre - 0.3f * d, centre - 0.15f * d, glm::vec4(0.1f, 0.45f, 0.95f, 1.0f));
+  }
+  if (!v.light_from_camera && v.show_light_arrow && v.show_panel) {
+    const glm::vec3 l = v.settings.light_direction;
+    on_top.arrow(centre + 0.32f * l, centre + 0.2f * l, glm::vec4(0.95f, 0.8f, 0.1f, 1.0f));
+  }
+  if (v.show_grid) {
+    const float h = frame.grid_cell;
+    const glm::mat4& m = frame.input.head_pose;
+    for (const glm::vec3& lo : frame.neighbor_cells) {
+      glm::vec3 corner[8];
+      for (int k = 0; k < 8; ++k)
+        corner[k] = glm::vec3(m * glm::vec4(lo + h * glm::vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1), 1.0f));
+      for (int k = 0; k < 8; ++k)
+        for (int bit : {1, 2, 4})
+          if (!(k & bit)) hidden.line(corner[k], corner[k | bit], glm::vec4(0.2f, 0.5f, 0.2f, 0.35f));
+    }
+  }
+  if (v.show_air)
+    for (const glm::vec3& p : frame.air) hidden.cross(p, 0.003f, glm::vec4(0.1f, 0.4f, 0.9f, 0.6f));
+}
+
 int run(const ViewOptions& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
-  const app::DrawableBodies bodies = app::drawableBodies(scene);
+  std::optional<ScriptRun> script;
+  if (!o.script.empty()) {
+    script.emplace();
+    script->events = viewer::loadScript(o.script);
+  }
+  auto bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(scene));
 
   GlfwSession glfw;
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -289,32 +578,38 @@ int run(const ViewOptions& o) {
       glfwDestroyWindow);
   if (!window) throw std::runtime_error("cannot open a window with an OpenGL 3.3 core context");
   glfwMakeContextCurrent(window.get());
-  glfwSwapInterval(1);
+  glfwSwapInterval(script || o.frames ? 0 : 1);
 
   render::Renderer renderer;
-  renderer.setBodies(&bodies.head, bodies.torso ? &*bodies.torso : nullptr);
+  render::OverlayRenderer overlay;
+  renderer.setBodies(&bodies->head, bodies->torso ? &*bodies->torso : nullptr);
 
-  // --frames: run exactly to that frame, then draw it and stop
-  viewer::SimulationThread sim(scene, o.paused || o.frames.has_value());
-  if (o.frames) {
-    sim.setSpeed(0.0);
-    sim.runUntil(*o.frames);
-  }
-  Window w{viewer::ViewState{}, viewer::HeadDrag(viewer::neckPivot(bodies.head)), &sim};
-  w.view.camera = render::Camera::preset(o.camera);
-  w.view.settings = o.settings;
+  // --frames and scripts: run exactly to the frames asked for, as fast as possible
+  const bool exact = o.frames.has_value() || script.has_value();
+  viewer::SimulationThread sim(scene, o.paused || exact);
+  if (exact) sim.setSpeed(0.0);
+  if (o.frames) sim.runUntil(*o.frames);
+  viewer::ViewState view;
+  viewer::HeadDrag head(viewer::neckPivot(bodies->head));
+  viewer::Controller controller(sim, view, head, o.scene);
+  view.camera = render::Camera::preset(o.camera);
+  view.settings = o.settings;
   {
     const glm::vec3 l = glm::normalize(o.settings.light_direction);
-    w.view.light_yaw_deg = glm::degrees(std::atan2(l.x, l.z));
-    w.view.light_pitch_deg = glm::degrees(std::asin(l.y));
+    view.light_yaw_deg = glm::degrees(std::atan2(l.x, l.z));
+    view.light_pitch_deg = glm::degrees(std::asin(l.y));
   }
+  Window w;
+  w.c = &controller;
+  w.glfw = window.get();
   glfwSetWindowUserPointer(window.get(), &w);
   glfwSetKeyCallback(window.get(), onKey);
   glfwSetMouseButtonCallback(window.get(), onMouseButton);
   glfwSetCursorPosCallback(window.get(), onCursor);
   glfwSetScrollCallback(window.get(), onScroll);
   ImGuiSession imgui(window.get());
-  viewer::Panel panel(sim, w.head);
+  viewer::Panel panel(controller);
+  if (script) script->start = sim.latest()->input.position;
 
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),
               sim.latest()->particles, sim.buildReport().substeps, scene.frame_rate,
@@ -326,46 +621,104 @@ int run(const ViewOptions& o) {
   auto last_count = std::chrono::steady_clock::now();
   int frames_since = 0;
   bool done = false;
-  while (!glfwWindowShouldClose(window.get()) && !w.view.quit && !done) {
+  std::uint64_t generation = 0;
+  std::unique_ptr<app::DrawableBodies> styling_bodies;
+  const viewer::StylingSession* styling_bodies_of = nullptr;
+  render::OverlayLines hidden, on_top;
+  while (!glfwWindowShouldClose(window.get()) && !view.quit && !done) {
     glfwPollEvents();
-    if (const std::string e = sim.takeError(); !e.empty()) {
-      w.view.message = e;
-      std::fprintf(stderr, "loosehair-view: %s\n", e.c_str());
+    if (const std::string e = sim.takeError(); !e.empty()) controller.fail(e);
+    // a script: the next event once the simulation has reached its frame
+    if (script && script->warmup > 0) {
+      --script->warmup;
+    } else if (script) {
+      if (script->events.empty()) {
+        done = true;
+      } else {
+        const viewer::ScriptEvent& e = script->events.front();
+        if (sim.latest()->frame < e.frame) {
+          sim.runUntil(e.frame);
+          if (!sim.waitForFrame(e.frame)) {
+            controller.fail(e.where + ": frame " + std::to_string(e.frame) +
+                            " cannot be reached (the simulation is paused or stopped)");
+            return 1;
+          }
+        }
+        if (sim.latest()->frame >= e.frame) {
+          const viewer::ScriptEvent ev = e;
+          script->events.pop_front();
+          if (!runEvent(ev, w, panel, *script)) done = true;
+        }
+      }
     }
     std::shared_ptr<const viewer::PublishedFrame> frame = sim.latest();
     if (o.frames) {  // wait for the last frame, then show it
       if (frame->frame < *o.frames && sim.waitForFrame(*o.frames)) frame = sim.latest();
-      done = true;
+      if (shown >= 2) done = true;  // two frames drawn before: the panel has its size
     }
-    viewer::ViewState& v = w.view;
+    if (frame->generation != generation) {  // another scene: its head
+      generation = frame->generation;
+      bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sim.scene()));
+      head.setPivot(viewer::neckPivot(bodies->head));
+      controller.pending() = sim.scene();
+    }
+    viewer::ViewState& v = view;
     v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)
                                                      : viewer::lightFromAngles(v.light_yaw_deg, v.light_pitch_deg);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window.get(), &width, &height);
     if (width <= 0 || height <= 0) continue;
+    w.width = width, w.height = height;
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    panel.draw(v, *frame, fps);
+    panel.draw(*frame, fps);
     ImGui::Render();
-    renderer.render(frame->input, v.camera, v.settings, width, height);
+    const bool styling = controller.mode() == viewer::Mode::Styling && controller.styling();
+    if (styling) {  // the style's head at rest, its preview as lines
+      if (styling_bodies_of != controller.styling()) {
+        SceneDesc sd;
+        static_cast<HeadDesc&>(sd) = controller.styling()->style().head;
+        styling_bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sd));
+        styling_bodies_of = controller.styling();
+      }
+      renderer.setBodies(&styling_bodies->head, styling_bodies->torso ? &*styling_bodies->torso : nullptr);
+      render::FrameInput empty;
+      empty.spacing = frame->input.spacing;
+      renderer.render(empty, v.camera, v.settings, width, height);
+      renderer.setBodies(&bodies->head, bodies->torso ? &*bodies->torso : nullptr);
+    } else {
+      renderer.render(frame->input, v.camera, v.settings, width, height);
+    }
+    buildOverlay(controller, *frame, hidden, on_top);
+    overlay.draw(hidden, on_top, v.camera, width, height);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     ++shown;
-    if (v.screenshot || (done && !o.screenshot.empty())) {
-      char name[40];
-      std::snprintf(name, sizeof name, "loosehair-%05d.png", ++shots);
-      const std::string path = done && !o.screenshot.empty() ? o.screenshot : std::string(name);
+    std::string record = styling ? std::string() : controller.recordingPath(frame->frame);
+    if (v.screenshot || !record.empty() || (done && !o.screenshot.empty())) {
       const std::vector<std::uint8_t> pixels = readFramebuffer(width, height);
-      try {
-        app::writePng(path, pixels, width, height);
-        std::printf("screenshot: %s (%dx%d, %.0f%% of the picture drawn over the background)\n", path.c_str(),
-                    width, height, 100.0 * drawnFraction(pixels, v.settings.background));
-        v.message.clear();
-      } catch (const std::exception& e) {
-        v.message = e.what();
-        std::fprintf(stderr, "loosehair-view: %s\n", e.what());
+      std::vector<std::string> paths;
+      if (!record.empty()) paths.push_back(record);
+      if (v.screenshot || (done && !o.screenshot.empty())) {
+        char name[40];
+        std::snprintf(name, sizeof name, "loosehair-%05d.png", ++shots);
+        paths.push_back(done && !o.screenshot.empty() ? o.screenshot
+                        : !v.screenshot_path.empty()   ? v.screenshot_path
+                                                       : std::string(name));
+      }
+      for (const std::string& path : paths) {
+        try {
+          app::writePng(path, pixels, width, height);
+          if (path != record)
+            std::printf("screenshot: %s (%dx%d, %.0f%% of the picture drawn over the background)\n", path.c_str(),
+                        width, height, 100.0 * drawnFraction(pixels, v.settings.background));
+        } catch (const std::exception& e) {
+          controller.fail(e.what());
+          if (path == record) controller.stopRecording();
+        }
       }
       v.screenshot = false;
+      v.screenshot_path.clear();
     }
     glfwSwapBuffers(window.get());
     ++frames_since;
@@ -377,6 +730,7 @@ int run(const ViewOptions& o) {
       frames_since = 0;
     }
   }
+  controller.stopRecording();
   const std::shared_ptr<const viewer::PublishedFrame> last = sim.latest();
   std::printf("showed %d frames, simulated %.2f s; state-hash: %016llx\n", shown, last->time,
               static_cast<unsigned long long>(last->state_hash));

@@ -25,6 +25,11 @@ class HeadDrag {
   void reset();
   HeadKeyframe pose() const { return turnAbout(pivot_, euler_deg_, offset_); }
   const glm::dvec3& pivot() const { return pivot_; }
+  /// A new head (another scene): the pivot moves, the pose is reset.
+  void setPivot(glm::dvec3 pivot) {
+    pivot_ = pivot;
+    reset();
+  }
   const glm::dvec3& eulerDeg() const { return euler_deg_; }
 
  private:

@@ -1,5 +1,7 @@
 #include "viewer/panel.hpp"
 
+#include "loosehair/param_table.hpp"
+
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <imgui.h>
@@ -7,16 +9,20 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 namespace loosehair::viewer {
 
 const char* const kShortcuts =
-    "left drag: orbit the camera, scroll: zoom\n"
+    "left drag: orbit the camera (styling: on the scalp, brush), scroll: zoom\n"
     "right drag: turn the head about the neck, Shift + right drag: move it\n"
     "space: play/pause, N or right arrow: one frame, R: restart\n"
     "S: shadows, C: hair colour, D: debug view, L: light from the camera\n"
     "1 2 3 4: front, side, back, three-quarter camera\n"
+    "F2: styling mode or back to simulating\n"
+    "styling: click a control point to select it, T/G/B: tangent, normal or\n"
+    "  binormal direction, Up/Down: move along it, Ctrl+Z / Ctrl+Shift+Z: undo/redo\n"
     "P: screenshot, Tab: hide or show the panel, H: shortcuts, Esc or Q: quit\n";
 
 glm::vec3 lightFromAngles(float yaw_deg, float pitch_deg) {
@@ -24,7 +30,18 @@ glm::vec3 lightFromAngles(float yaw_deg, float pitch_deg) {
   return glm::normalize(glm::vec3(std::cos(p) * std::sin(y), std::sin(p), std::cos(p) * std::cos(y)));
 }
 
-void Panel::draw(ViewState& view, const PublishedFrame& frame, double fps) {
+glm::vec3 windFromAngles(float yaw_deg, float pitch_deg) { return lightFromAngles(yaw_deg, pitch_deg); }
+
+namespace {
+
+void tooltip(const char* text) {
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+}  // namespace
+
+void Panel::draw(const PublishedFrame& frame, double fps) {
+  ViewState& view = c_.view();
   if (frame.frame != last_frame_) {
     last_frame_ = frame.frame;
     frame_ms_.push_back(static_cast<float>(frame.frame_ms));
@@ -32,38 +49,75 @@ void Panel::draw(ViewState& view, const PublishedFrame& frame, double fps) {
   }
   if (!view.show_panel) return;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 100), ImVec2(600, ImGui::GetIO().DisplaySize.y - 16));
   ImGui::Begin("loosehair");
-  ImGui::TextUnformatted(sim_.scene().name.c_str());
+  ImGui::Text("%s  [%s]", c_.sim().scene().name.c_str(), c_.mode() == Mode::Styling ? "styling" : "simulating");
   if (!view.message.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1.0f));
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.1f, 0.1f, 1.0f));
     ImGui::TextWrapped("%s", view.message.c_str());
     ImGui::PopStyleColor();
     if (ImGui::SmallButton("dismiss")) view.message.clear();
   }
-  if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) simulation(frame, fps);
-  if (ImGui::CollapsingHeader("Head", ImGuiTreeNodeFlags_DefaultOpen)) headControls();
-  if (ImGui::CollapsingHeader("Rendering")) rendering(view);
-  if (ImGui::CollapsingHeader("Capture")) {
-    if (ImGui::Button("Screenshot (P)")) view.screenshot = true;
+  if (ImGui::Button(c_.mode() == Mode::Styling ? "Simulate this style (F2)" : "Style the hair (F2)")) {
+    if (c_.mode() == Mode::Styling)
+      c_.enterSimulate();
+    else
+      c_.enterStyling();
   }
+  if (c_.mode() == Mode::Styling) {
+    if (ImGui::CollapsingHeader("Styling", ImGuiTreeNodeFlags_DefaultOpen)) styling();
+  } else {
+    if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) simulation(frame, fps);
+    if (ImGui::CollapsingHeader("Solver parameters")) parameters();
+    if (ImGui::CollapsingHeader("Head", ImGuiTreeNodeFlags_DefaultOpen)) headControls();
+    if (ImGui::CollapsingHeader("Wind")) wind();
+  }
+  if (ImGui::CollapsingHeader("Scene and style files")) files();
+  if (ImGui::CollapsingHeader("Rendering")) rendering();
+  if (ImGui::CollapsingHeader("Capture")) capture();
   if (ImGui::CollapsingHeader("Shortcuts")) ImGui::TextUnformatted(kShortcuts);
   ImGui::End();
 }
 
+void Panel::files() {
+  ImGui::InputText("file", path_, sizeof path_);
+  tooltip("a scene (.json) or a style (a .json with wisps; grown on this scene's head)");
+  if (ImGui::Button("Open")) c_.open(path_);
+  ImGui::TextDisabled("recent:");
+  for (const std::string& r : c_.recent()) {
+    if (ImGui::Selectable(r.c_str())) {
+      std::snprintf(path_, sizeof path_, "%s", r.c_str());
+      c_.open(r);
+    }
+  }
+  SceneDesc& p = c_.pending();
+  if (particles_ == 0) particles_ = p.hair.particles, seed_ = static_cast<int>(p.seed);
+  ImGui::InputInt("particles", &particles_, 500, 5000);
+  tooltip("target particle count of the cantilever hair (applies on restart)");
+  ImGui::InputInt("seed", &seed_);
+  tooltip("random seed of the hair sampling (applies on restart)");
+  if (ImGui::Button("Re-initialise")) {
+    p.hair.particles = std::max(50, particles_);
+    p.seed = static_cast<std::uint64_t>(std::max(0, seed_));
+    c_.restart();
+  }
+}
+
 void Panel::simulation(const PublishedFrame& frame, double fps) {
-  const bool paused = sim_.paused();
-  if (ImGui::Button(paused ? "Play" : "Pause")) sim_.setPaused(!paused);
+  SimulationThread& sim = c_.sim();
+  const bool paused = sim.paused();
+  if (ImGui::Button(paused ? "Play" : "Pause")) sim.setPaused(!paused);
   ImGui::SameLine();
-  if (ImGui::Button("Step")) sim_.stepOnce();
+  if (ImGui::Button("Step")) sim.stepOnce();
   ImGui::SameLine();
-  if (ImGui::Button("Restart")) sim_.restart(sim_.scene());
+  if (ImGui::Button("Restart")) c_.restart();
   bool changed = ImGui::Checkbox("as fast as possible", &fastest_);
   if (!fastest_) {
     changed |= ImGui::SliderFloat("speed", &speed_, 0.1f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("simulated seconds per second of wall time (at most)");
+    tooltip("simulated seconds per second of wall time (at most)");
   }
-  if (changed) sim_.setSpeed(fastest_ ? 0.0 : static_cast<double>(speed_));
+  if (changed) sim.setSpeed(fastest_ ? 0.0 : static_cast<double>(speed_));
   ImGui::Text("t = %.2f s, frame %" PRId64 "%s", frame.time, frame.frame, frame.paused ? " (paused)" : "");
   ImGui::Text("%.2fx real time, window %.1f frames/s", frame.real_time_factor, fps);
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
@@ -77,54 +131,209 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   }
   const StageTimes& s = frame.last_step;
   ImGui::Text("last step %.2f ms: neighbours %.2f, density %.2f,", 1e3 * s.total(), 1e3 * s.neighbors, 1e3 * s.density);
-  ImGui::Text("  springs %.2f, hair-hair %.2f, strain limit %.2f", 1e3 * s.springs, 1e3 * s.hair_hair,
-              1e3 * s.strain_limit);
+  ImGui::Text("  springs %.2f, hair-hair %.2f, external %.2f,", 1e3 * s.springs, 1e3 * s.hair_hair, 1e3 * s.external);
+  ImGui::Text("  integrate %.2f, strain limit %.2f, air %.2f", 1e3 * s.integrate, 1e3 * s.strain_limit, 1e3 * s.air);
+  SimParams& p = c_.pending().sim;
+  bool hh = p.hair_hair;
+  if (ImGui::Checkbox("hair-hair interactions", &hh)) c_.setParam("hair_hair", hh ? 1.0 : 0.0);
+  bool keep = p.shape_keeping > 0;
+  if (ImGui::Checkbox("shape keeping", &keep)) c_.setParam("shape_keeping", keep ? 1.0 : 0.0);
+  tooltip("hold a style's shape; turning it on applies on restart");
+}
+
+void Panel::parameters() {
+  ImGui::TextWrapped("Live changes apply at the next frame; (restart) marks those that apply on restart.");
+  SimParams& p = c_.pending().sim;
+  for (const ParamInfo& info : paramTable()) {
+    ImGui::PushID(info.name);
+    char label[96];
+    std::snprintf(label, sizeof label, "%s%s%s%s", info.name, *info.unit ? " (" : "", info.unit, *info.unit ? ")" : "");
+    const double before = info.get(p);
+    double v = before;
+    bool changed = false;
+    if (info.kind == ParamInfo::Kind::Switch) {
+      bool b = v != 0;
+      changed = ImGui::Checkbox(label, &b);
+      v = b ? 1 : 0;
+    } else if (info.kind == ParamInfo::Kind::Integer) {
+      int i = static_cast<int>(v);
+      changed = ImGui::SliderInt(label, &i, static_cast<int>(info.lo), static_cast<int>(info.hi));
+      v = i;
+    } else {
+      float f = static_cast<float>(v);
+      changed = ImGui::SliderFloat(label, &f, static_cast<float>(info.lo), static_cast<float>(info.hi), "%.4g",
+                                   info.logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+      v = f;
+    }
+    char help[320];
+    std::snprintf(help, sizeof help, "%s\nrange here %g to %g%s", info.help, info.lo, info.hi,
+                  info.live ? "" : "\napplies on restart");
+    tooltip(help);
+    if (!info.live) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("(restart)");
+    }
+    if (changed) c_.setParam(info.name, v);
+    ImGui::PopID();
+  }
 }
 
 void Panel::headControls() {
   ImGui::TextWrapped("Right drag turns the head about its neck, Shift + right drag moves it.");
-  const glm::dvec3 e = head_.eulerDeg();
+  const glm::dvec3 e = c_.head().eulerDeg();
   ImGui::Text("turned: yaw %.0f, pitch %.0f degrees", e.x, e.y);
-  if (ImGui::Button("Centre the head")) {
-    head_.reset();
-    sim_.setHeadTarget(head_.pose());
-  }
-  ImGui::SliderFloat("amplitude", &shake_amplitude_deg_, 5.0f, 80.0f, "%.0f deg");
-  ImGui::SliderFloat("frequency", &shake_frequency_hz_, 0.2f, 3.0f, "%.1f Hz");
-  const bool shake = ImGui::Button("Shake");
+  if (ImGui::Button("Centre the head")) c_.centreHead();
+  ImGui::SliderFloat("amplitude", &shake_amplitude_deg, 5.0f, 80.0f, "%.0f deg");
+  ImGui::SliderFloat("frequency", &shake_frequency_hz, 0.2f, 3.0f, "%.1f Hz");
+  if (ImGui::Button("Shake")) c_.shake(shake_amplitude_deg, shake_frequency_hz, false);
   ImGui::SameLine();
-  const bool nod = ImGui::Button("Nod");
-  if (shake || nod) {
-    // two periods from the next frame, smoothly in and out (as the scenes'
-    // shake and nod), about the neck, from where the head is
-    const double start = sim_.latest()->time;
-    const HeadTrajectory wave =
-        (shake ? HeadTrajectory::shake : HeadTrajectory::nod)(glm::radians(static_cast<double>(shake_amplitude_deg_)),
-                                                               shake_frequency_hz_, 2.0, start);
-    const glm::dvec3 pivot = head_.pivot(), base = head_.eulerDeg();
-    sim_.setHeadScript([wave, pivot, base](double t) -> std::optional<HeadKeyframe> {
-      if (t > wave.endTime()) return std::nullopt;
-      return turnAbout(pivot, base + glm::degrees(wave.angles(t)), glm::dvec3(0.0));
-    });
+  if (ImGui::Button("Nod")) c_.shake(shake_amplitude_deg, shake_frequency_hz, true);
+  static char motion[512] = "head-motion.json";
+  ImGui::InputText("##motion", motion, sizeof motion);
+  ImGui::SameLine();
+  if (ImGui::Button("Save head motion")) c_.saveHeadMotion(motion);
+  tooltip("the head as moved by hand, for loosehair simulate SCENE --motion FILE");
+}
+
+void Panel::wind() {
+  SceneDesc& p = c_.pending();
+  ViewState& v = c_.view();
+  bool on = p.has_wind;
+  bool changed = ImGui::Checkbox("wind", &on);
+  tooltip("SPH air particles blown through the hair; off applies on restart");
+  glm::vec3 d = glm::normalize(p.wind.direction);
+  float yaw = glm::degrees(std::atan2(d.x, d.z)), pitch = glm::degrees(std::asin(std::clamp(d.y, -1.0f, 1.0f)));
+  changed |= ImGui::SliderFloat("towards, yaw", &yaw, -180.0f, 180.0f, "%.0f deg");
+  changed |= ImGui::SliderFloat("towards, pitch", &pitch, -60.0f, 60.0f, "%.0f deg");
+  changed |= ImGui::SliderFloat("speed##wind", &p.wind.speed, 0.0f, 10.0f, "%.1f m/s");
+  static float gust = 0.0f, gust_period = 2.0f;
+  changed |= ImGui::SliderFloat("gusts", &gust, 0.0f, 1.0f, "%.2f");
+  tooltip("the wind speed varies by this fraction up and down");
+  changed |= ImGui::SliderFloat("gust period", &gust_period, 0.5f, 10.0f, "%.1f s");
+  ImGui::Checkbox("wind arrow", &v.show_wind_arrow);
+  if (changed) {
+    p.wind.direction = windFromAngles(yaw, pitch);
+    p.wind.profile.clear();
+    if (gust > 0) {  // a sawtooth-free rise and fall over the next minute
+      const double t0 = c_.sim().latest()->time;
+      for (int k = 0; k <= 60.0 / gust_period * 2; ++k)
+        p.wind.profile.emplace_back(t0 + 0.5 * gust_period * k, k % 2 ? 1.0f + gust : 1.0f - gust);
+    }
+    c_.setWind(on);
   }
 }
 
-void Panel::rendering(ViewState& view) {
+void Panel::rendering() {
+  ViewState& view = c_.view();
   static const char* colours[] = {"black", "brown", "blonde", "red"};
   int c = static_cast<int>(view.settings.color);
-  if (ImGui::Combo("hair colour", &c, colours, 4)) view.settings.color = static_cast<render::HairColor>(c);
+  if (ImGui::Combo("hair colour", &c, colours, 4)) {
+    view.settings.color = static_cast<render::HairColor>(c);
+    view.settings.custom_color.reset();
+  }
+  bool own = view.settings.custom_color.has_value();
+  if (ImGui::Checkbox("own colour", &own))
+    view.settings.custom_color = own ? std::optional<glm::vec3>(glm::vec3(0.3f, 0.18f, 0.1f)) : std::nullopt;
+  if (view.settings.custom_color) ImGui::ColorEdit3("colour", &view.settings.custom_color->x);
   ImGui::Checkbox("shadows", &view.settings.shadows);
   static const char* views[] = {"hair", "density", "speed", "connections", "directions"};
   int d = static_cast<int>(view.settings.debug);
   if (ImGui::Combo("debug view", &d, views, 5)) view.settings.debug = static_cast<render::DebugView>(d);
+  if (ImGui::Checkbox("neighbour grid cells", &view.show_grid)) c_.sim().setPublishGrid(view.show_grid);
+  ImGui::Checkbox("air particles", &view.show_air);
   ImGui::Checkbox("light from the camera", &view.light_from_camera);
   if (!view.light_from_camera) {
     ImGui::SliderFloat("light yaw", &view.light_yaw_deg, -180.0f, 180.0f, "%.0f deg");
     ImGui::SliderFloat("light pitch", &view.light_pitch_deg, -10.0f, 90.0f, "%.0f deg");
+    ImGui::Checkbox("light arrow", &view.show_light_arrow);
   }
   ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing");
   ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing");
   ImGui::SliderFloat("opacity", &view.settings.hair_opacity, 0.05f, 1.0f, "%.2f");
+}
+
+void Panel::capture() {
+  ViewState& view = c_.view();
+  ImGui::InputText("##shot", shot_path_, sizeof shot_path_);
+  ImGui::SameLine();
+  if (ImGui::Button("Screenshot")) {
+    view.screenshot = true;
+    view.screenshot_path = shot_path_;
+  }
+  ImGui::InputText("##record", record_dir_, sizeof record_dir_);
+  ImGui::SameLine();
+  if (!c_.recording()) {
+    if (ImGui::Button("Record")) {
+      const std::string dir = record_dir_;
+      c_.startRecording(dir, record_mp4_ ? dir + ".mp4" : "");
+    }
+  } else if (ImGui::Button("Stop recording")) {
+    c_.stopRecording();
+  }
+  ImGui::Checkbox("and encode an MP4 when stopped (ffmpeg)", &record_mp4_);
+  ImGui::InputText("##snapshot", snapshot_path_, sizeof snapshot_path_);
+  if (ImGui::Button("Save state")) c_.saveSnapshot(snapshot_path_);
+  ImGui::SameLine();
+  if (ImGui::Button("Load state")) c_.loadSnapshot(snapshot_path_);
+  tooltip("a snapshot of this scene resumes bit-identically");
+}
+
+void Panel::styling() {
+  StylingSession* s = c_.styling();
+  if (!s) {
+    ImGui::TextWrapped("The style could not be opened.");
+    return;
+  }
+  const Style& st = s->style();
+  ImGui::Text("%zu wisps, %zu ties, preview %zu strands", st.wisps.size(), st.ties.size(), s->previewStrands());
+  if (!s->preview_error.empty()) ImGui::TextWrapped("preview: %s", s->preview_error.c_str());
+  ImGui::TextWrapped("Left drag on the scalp brushes a region; click a control point to select it.");
+  ImGui::SliderFloat("brush radius", &s->brush_radius, 0.004f, 0.05f, "%.3f m");
+  ImGui::Text("brushed: %zu triangles", s->brushed().size());
+  ImGui::SameLine();
+  if (ImGui::SmallButton("clear")) s->clearBrush();
+  ImGui::SliderFloat("density", &c_.new_wisp.density, 1.0f, 100.0f, "%.0f strands/cm^2");
+  ImGui::SliderFloat("offset radius", &c_.new_wisp.offset_radius, 0.0f, 0.05f, "%.3f m");
+  tooltip("smooth (small) to fuzzy (large) wisps");
+  ImGui::SliderFloat("length variation", &c_.new_wisp.length_variation, 0.0f, 0.9f, "%.2f");
+  if (ImGui::Button("Create wisp")) c_.attempt([&] { s->createWispFromBrush(c_.new_wisp); });
+  ImGui::SameLine();
+  if (ImGui::Button("Set region")) c_.attempt([&] { s->setRegionFromBrush(); });
+  if (s->wisp) {
+    ImGui::Separator();
+    const std::string point = s->point ? std::to_string(*s->point) : std::string("none");
+    ImGui::Text("wisp %zu (%s), control point %s", *s->wisp, st.wisps[*s->wisp].name.c_str(), point.c_str());
+    if (ImGui::Button("Apply density etc. to it"))
+      c_.attempt([&] { s->editor().setParams(*s->wisp, c_.new_wisp); });
+    static const char* axes[] = {"tangent", "normal", "binormal"};
+    int a = static_cast<int>(s->axis);
+    if (ImGui::Combo("direction", &a, axes, 3)) s->axis = static_cast<StylingAxis>(a);
+    ImGui::SliderFloat("step", &move_step_mm, 1.0f, 50.0f, "%.0f mm");
+    if (ImGui::Button("Move -")) c_.attempt([&] { s->moveSelected(-1e-3f * move_step_mm); });
+    ImGui::SameLine();
+    if (ImGui::Button("Move +")) c_.attempt([&] { s->moveSelected(1e-3f * move_step_mm); });
+    if (ImGui::Button("Add point")) c_.attempt([&] { s->addPointAfterSelected(); });
+    ImGui::SameLine();
+    if (ImGui::Button("Delete point")) c_.attempt([&] { s->deleteSelectedPoint(); });
+    ImGui::SameLine();
+    if (ImGui::Button("Delete wisp")) c_.attempt([&] { s->deleteSelectedWisp(); });
+    if (ImGui::Button("Copy strand")) c_.attempt([&] { s->copySelected(); });
+    ImGui::SameLine();
+    if (ImGui::Button("Paste strand")) c_.attempt([&] { s->pasteOnSelected(); });
+    ImGui::SameLine();
+    if (ImGui::Button("Mirror")) c_.attempt([&] { s->mirrorSelected(); });
+    if (ImGui::Button("Tie here")) c_.attempt([&] { s->tieAtSelected(0.015f); });
+  }
+  ImGui::Separator();
+  if (ImGui::Button("Undo")) s->undo();
+  ImGui::SameLine();
+  if (ImGui::Button("Redo")) s->redo();
+  ImGui::InputText("##style", style_path_, sizeof style_path_);
+  ImGui::SameLine();
+  if (ImGui::Button("Save style")) c_.attempt([&] {
+      s->save(style_path_);
+      c_.view().message = std::string("saved the style to ") + style_path_;
+    });
 }
 
 }  // namespace loosehair::viewer

@@ -1,52 +1,57 @@
-// The viewer's panel (Dear ImGui): simulation controls and figures, the
-// head, rendering and capture. It reads and changes the view's state and
-// sends everything for the simulation through SimulationThread.
+// The viewer's panel (Dear ImGui): scene and style files, the simulation
+// and every solver parameter, the head, wind, rendering, capture, the
+// styling mode and the shortcuts. Everything it does goes through the
+// Controller, as shortcuts and scripts do.
 #pragma once
 
-#include "viewer/head_drag.hpp"
-#include "viewer/simulation_thread.hpp"
+#include "viewer/controller.hpp"
 
 #include <deque>
 #include <string>
 
 namespace loosehair::viewer {
 
-/// What the window shows and how; the panel and the shortcuts change it.
-struct ViewState {
-  render::Camera camera;
-  render::RenderSettings settings;
-  bool light_from_camera = false;
-  float light_yaw_deg = 35.0f, light_pitch_deg = 50.0f;  // the fixed light
-  bool show_panel = true;
-  bool screenshot = false, quit = false;
-  std::string message;  // shown in the panel (errors, what was saved)
-};
-
 /// The keyboard shortcuts, for the panel and --help.
 extern const char* const kShortcuts;
 
 class Panel {
  public:
-  Panel(SimulationThread& sim, HeadDrag& head) : sim_(sim), head_(head) {}
+  explicit Panel(Controller& c) : c_(c) {}
   /// Draws the panel for this displayed frame (between ImGui::NewFrame and
   /// ImGui::Render). `fps` is the window's frames per second.
-  void draw(ViewState& view, const PublishedFrame& frame, double fps);
+  void draw(const PublishedFrame& frame, double fps);
+
+  float shake_amplitude_deg = 35.0f, shake_frequency_hz = 1.0f;
+  float move_step_mm = 10.0f;  // styling: one press of a move button
 
  private:
+  void files();
   void simulation(const PublishedFrame& frame, double fps);
+  void parameters();
   void headControls();
-  void rendering(ViewState& view);
+  void wind();
+  void rendering();
+  void capture();
+  void styling();
 
-  SimulationThread& sim_;
-  HeadDrag& head_;
+  Controller& c_;
   std::deque<float> frame_ms_;  // the simulation's recent frame times
   std::int64_t last_frame_ = -1;
-  float shake_amplitude_deg_ = 35.0f, shake_frequency_hz_ = 1.0f;
   float speed_ = 1.0f;
   bool fastest_ = false;
+  char path_[512] = "";
+  char record_dir_[512] = "loosehair-recording";
+  char shot_path_[512] = "loosehair-screenshot.png";
+  char snapshot_path_[512] = "loosehair-state.lhsnap";
+  char style_path_[512] = "my-style.json";
+  bool record_mp4_ = true;
+  int particles_ = 0;
+  int seed_ = 0;
 };
 
 /// The light direction of the panel's two angles (towards the light).
 glm::vec3 lightFromAngles(float yaw_deg, float pitch_deg);
+/// The wind direction of two angles: yaw about +Y from +Z, pitch above the horizontal.
+glm::vec3 windFromAngles(float yaw_deg, float pitch_deg);
 
 }  // namespace loosehair::viewer

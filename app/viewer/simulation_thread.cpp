@@ -1,6 +1,13 @@
 #include "viewer/simulation_thread.hpp"
 
 #include "loosehair/render/frame.hpp"
+#include "loosehair/snapshot.hpp"
+
+#include <glm/common.hpp>
+#include <algorithm>
+#include <future>
+#include <set>
+#include <tuple>
 
 #include <chrono>
 #include <cmath>
@@ -131,6 +138,52 @@ std::string SimulationThread::takeError() {
   return e;
 }
 
+std::string SimulationThread::applyAndWait(std::function<void(Solver&)> change) {
+  auto done = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> result = done->get_future();
+  apply([change = std::move(change), done](Solver& s) {
+    try {
+      change(s);
+      done->set_value("");
+    } catch (const std::exception& e) {
+      done->set_value(e.what());
+    }
+  });
+  return result.get();
+}
+
+void SimulationThread::saveSnapshot(const std::string& path) {
+  const std::string e = applyAndWait([path](Solver& s) { loosehair::saveSnapshot(s, path); });
+  if (!e.empty()) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    error_ = e;
+  }
+}
+
+void SimulationThread::loadSnapshot(const std::string& path) {
+  const std::string e = applyAndWait([this, path](Solver& s) {
+    loosehair::loadSnapshot(s, path);  // throws before changing anything
+    // on the simulation thread, between frames: frame_ and the head are its own
+    frame_ = static_cast<std::int64_t>(std::llround(s.time() * scene_.frame_rate));
+    s.setTrajectory(scene_.motion);
+    std::lock_guard<std::mutex> lk(mutex_);
+    live_head_.reset();
+    head_target_.reset();
+    head_script_ = nullptr;
+    head_keys_.clear();
+    rate_window_.clear();
+  });
+  if (!e.empty()) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    error_ = e;
+  }
+}
+
+void SimulationThread::setPublishGrid(bool on) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  publish_grid_ = on;
+}
+
 bool SimulationThread::waitForFrame(std::int64_t n) const {
   std::unique_lock<std::mutex> lk(mutex_);
   published_.wait(lk, [&] { return stop_ || latest_->frame >= n || (paused_ && !step_once_ && !restart_); });
@@ -163,6 +216,7 @@ void SimulationThread::loop() {
       scene_ = next;
       build_ = report;
       solver_ = std::move(solver);
+      ++generation_;
       live_head_.reset();
       head_target_.reset();
       head_script_ = nullptr;
@@ -191,7 +245,15 @@ void SimulationThread::loop() {
       }
     }
     lk.unlock();
-    for (auto& change : changes) change(*solver_);
+    for (auto& change : changes) {
+      try {
+        change(*solver_);
+      } catch (const std::exception& e) {
+        lk.lock();
+        error_ = e.what();
+        lk.unlock();
+      }
+    }
     if (!run) {  // a change while paused: show its effect
       publish(0.0);
       lk.lock();
@@ -261,6 +323,23 @@ void SimulationThread::publish(double frame_ms) {
   f->connections = solver_->stats().active_connections;
   f->contacts = solver_->stats().body_contacts;
   f->neighbor_pairs = solver_->stats().neighbor_pairs;
+  if (solver_->hasWind()) solver_->worldAirPositions(f->air);
+  f->grid_cell = 2.0f * solver_->params().h2;
+  bool grid = false;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    grid = publish_grid_;
+    f->generation = generation_;
+  }
+  if (grid && f->grid_cell > 0) {
+    std::set<std::tuple<int, int, int>> cells;  // sorted: the same picture every time
+    for (const glm::vec3& p : solver_->particles().position) {  // head frame, as the grid
+      const glm::ivec3 c(glm::floor(p / f->grid_cell));
+      cells.emplace(c.x, c.y, c.z);
+      if (cells.size() >= 20000) break;
+    }
+    for (const auto& [x, y, z] : cells) f->neighbor_cells.push_back(glm::vec3(x, y, z) * f->grid_cell);
+  }
   std::lock_guard<std::mutex> lk(mutex_);
   const double now = wallNow();
   rate_window_.emplace_back(now, f->time);

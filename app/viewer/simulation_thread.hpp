@@ -36,6 +36,10 @@ struct PublishedFrame {
   double real_time_factor = 0;    // simulated / wall time over the last second
   std::size_t particles = 0, connections = 0, contacts = 0, neighbor_pairs = 0;
   bool paused = false;
+  std::uint64_t generation = 0;   // counts restarts: a new scene may have a new head
+  std::vector<glm::vec3> air;     // wind's air particles (world), for their debug view
+  float grid_cell = 0;            // the neighbour grid's cell size, 2 h2 (m)
+  std::vector<glm::vec3> neighbor_cells;  // lower corners of occupied grid cells (head frame), capped
 };
 
 class SimulationThread {
@@ -82,6 +86,20 @@ class SimulationThread {
   /// The message of the last restart that failed ("" when none did), and
   /// clears it.
   std::string takeError();
+  /// Runs `change` between frames and waits for it; what it throws is
+  /// returned as the message ("" when it succeeded).
+  std::string applyAndWait(std::function<void(Solver&)> change);
+
+  /// Writes a snapshot of the state (sim/include/loosehair/snapshot.hpp) at
+  /// the next frame boundary; a failure is reported by takeError. Blocks
+  /// until it is written (or failed).
+  void saveSnapshot(const std::string& path);
+  /// Goes on from a snapshot of this scene at the next frame boundary,
+  /// bit-identically (the head returns to the scene's own motion). A bad
+  /// or foreign file is reported by takeError and changes nothing.
+  void loadSnapshot(const std::string& path);
+  /// Publishes the occupied neighbour-grid cells with each frame (a debug view).
+  void setPublishGrid(bool on);
 
   /// Waits until frame `n` has been published (for scripts and tests).
   /// False if the thread stopped or it is paused before reaching it.
@@ -100,7 +118,8 @@ class SimulationThread {
 
   mutable std::mutex mutex_;
   mutable std::condition_variable wake_, published_;
-  bool stop_ = false, paused_ = false, step_once_ = false;
+  bool stop_ = false, paused_ = false, step_once_ = false, publish_grid_ = false;
+  std::uint64_t generation_ = 0;
   std::optional<std::int64_t> pause_at_;
   double speed_ = 1.0;
   std::optional<HeadKeyframe> head_target_;

@@ -64,31 +64,6 @@ struct BodyMesh {
 }  // namespace
 
 // ---- camera -------------------------------------------------------------------
-Camera Camera::preset(const std::string& name) {
-  Camera c;
-  if (name == "front") c.yaw_deg = 0;
-  else if (name == "side") c.yaw_deg = 90;
-  else if (name == "back") c.yaw_deg = 180;
-  else if (name == "three-quarter") {
-    c.yaw_deg = 35;
-    c.pitch_deg = 12;
-  } else
-    throw RenderError("unknown camera preset \"" + name + "\" (use front, side, back or three-quarter)");
-  return c;
-}
-
-glm::vec3 Camera::eye() const {
-  const float yaw = glm::radians(yaw_deg), pitch = glm::radians(pitch_deg);
-  return target + distance * glm::vec3(std::sin(yaw) * std::cos(pitch), std::sin(pitch),
-                                       std::cos(yaw) * std::cos(pitch));
-}
-
-glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, glm::vec3(0, 1, 0)); }
-
-glm::mat4 Camera::projection(float aspect) const {
-  return glm::perspective(glm::radians(fov_deg), aspect, near_plane, far_plane);
-}
-
 HairColor parseHairColor(const std::string& n) {
   if (n == "black") return HairColor::Black;
   if (n == "brown") return HairColor::Brown;
@@ -479,7 +454,8 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setF(r.hair_prog, "u_pixel_scale",
          static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg))));
     billboardUniforms(r.hair_prog);
-    const Palette pal = palette(st.color);
+    Palette pal = palette(st.color);
+    if (st.custom_color) pal = {*st.custom_color, 0.5f * *st.custom_color + glm::vec3(0.25f)};
     setVec(r.hair_prog, "u_light", light);
     setVec(r.hair_prog, "u_color", pal.color);
     setVec(r.hair_prog, "u_spec_color", pal.spec);

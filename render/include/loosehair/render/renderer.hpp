@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,6 +23,11 @@ namespace loosehair::render {
 class RenderError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+/// A ray in world coordinates (unit direction).
+struct Ray {
+  glm::vec3 origin{0.0f}, direction{0.0f, 0.0f, -1.0f};
 };
 
 /// An orbit camera around `target`: yaw about +Y (0 = looking at the face,
@@ -39,6 +45,9 @@ struct Camera {
   glm::vec3 eye() const;
   glm::mat4 view() const;
   glm::mat4 projection(float aspect) const;
+  /// The ray from the eye through window pixel (x, y) of a `width` x
+  /// `height` view (x right, y down from the top-left, as mouse positions).
+  Ray ray(double x, double y, int width, int height) const;
 };
 
 enum class HairColor { Black, Brown, Blonde, Red };
@@ -50,6 +59,9 @@ DebugView parseDebugView(const std::string& name);
 
 struct RenderSettings {
   HairColor color = HairColor::Brown;
+  /// A colour of one's own (linear RGB in [0, 1]) instead of the preset's;
+  /// its highlight is a paler version of it.
+  std::optional<glm::vec3> custom_color;
   /// Direction the light comes from (towards the light, world), parallel.
   glm::vec3 light_direction{0.4f, 0.8f, 0.6f};
   bool shadows = true;

@@ -1,0 +1,134 @@
+#include "viewer/script.hpp"
+
+#include "loosehair/file_io.hpp"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+namespace loosehair::viewer {
+namespace {
+
+using nlohmann::json;
+
+// what each "do" needs besides "frame" (and may have)
+struct Kind {
+  const char* name;
+  std::set<std::string> required, optional;
+};
+
+const Kind kKinds[] = {
+    {"key", {"key"}, {"ctrl", "shift"}},
+    {"drag", {"from", "to"}, {"button", "frames", "shift", "steps"}},
+    {"brush", {"path"}, {}},
+    {"click", {"at"}, {"button"}},
+    {"press", {"name"}, {}},
+    {"set", {"name", "value"}, {}},
+    {"view", {"name", "value"}, {}},
+    {"open", {"path"}, {}},
+    {"screenshot", {"path"}, {}},
+    {"hash", {}, {"label"}},
+    {"save_motion", {"path"}, {}},
+    {"save_snapshot", {"path"}, {}},
+    {"load_snapshot", {"path"}, {}},
+    {"save_style", {"path"}, {}},
+    {"record", {"dir"}, {"video"}},
+    {"quit", {}, {}},
+};
+
+[[noreturn]] void bad(const std::string& where, const std::string& what) {
+  throw std::runtime_error(where + ": " + what);
+}
+
+double number(const json& e, const char* field, const std::string& where, double lo, double hi) {
+  const json& v = e.at(field);
+  if (!v.is_number()) bad(where, std::string(field) + " must be a number, got " + v.dump());
+  const double x = v.get<double>();
+  if (!(x >= lo && x <= hi))
+    bad(where, std::string(field) + " = " + v.dump() + " must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return x;
+}
+
+std::pair<double, double> point(const json& v, const std::string& where, const std::string& field) {
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
+    bad(where, field + " must be [x, y] in window pixels, got " + v.dump());
+  const double x = v[0].get<double>(), y = v[1].get<double>();
+  if (!(x >= -1e5 && x <= 1e5 && y >= -1e5 && y <= 1e5)) bad(where, field + " is out of range: " + v.dump());
+  return {x, y};
+}
+
+json mouse(const char* button, std::pair<double, double> p, bool shift) {
+  return json{{"button", button}, {"x", p.first}, {"y", p.second}, {"shift", shift}};
+}
+
+}  // namespace
+
+std::deque<ScriptEvent> loadScript(const std::string& path) {
+  const std::string text = readRegularFile(path, kMaxTextFileBytes);
+  json root = json::parse(text, nullptr, false);
+  if (root.is_discarded()) bad(path, "not valid JSON");
+  if (!root.is_object() || !root.contains("events") || !root["events"].is_array())
+    bad(path, "must be {\"events\": [...]}");
+  for (const auto& [k, v] : root.items())
+    if (k != "events" && k != "comment") bad(path, "unknown field \"" + k + "\"");
+  std::deque<ScriptEvent> out;
+  std::int64_t last = 0;
+  const json& events = root["events"];
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const std::string where = path + ": events[" + std::to_string(i) + "]";
+    const json& e = events[i];
+    if (!e.is_object() || !e.contains("do") || !e["do"].is_string()) bad(where, "must be an object with \"do\"");
+    const std::string what = e["do"].get<std::string>();
+    const Kind* kind = nullptr;
+    for (const Kind& k : kKinds)
+      if (what == k.name) kind = &k;
+    if (!kind) bad(where, "unknown \"do\": \"" + what + "\" (docs/viewer-scripts.md lists them)");
+    for (const std::string& f : kind->required)
+      if (!e.contains(f)) bad(where, "\"" + what + "\" needs \"" + f + "\"");
+    for (const auto& [k, v] : e.items())
+      if (k != "do" && k != "frame" && k != "comment" && !kind->required.count(k) && !kind->optional.count(k))
+        bad(where, "unknown field \"" + k + "\" for \"" + what + "\"");
+    const std::int64_t frame =
+        e.contains("frame") ? static_cast<std::int64_t>(number(e, "frame", where, 0, 1e7)) : last;
+    if (frame < last) bad(where, "frame " + std::to_string(frame) + " comes before the previous event's " + std::to_string(last));
+    last = frame;
+    for (const char* f : {"path", "dir", "video", "name", "key", "label"})
+      if (e.contains(f) && f != std::string("path") && !e[f].is_string()) bad(where, std::string(f) + " must be a string");
+    if (what == "drag") {
+      const auto a = point(e["from"], where, "from"), b = point(e["to"], where, "to");
+      const std::string button = e.value("button", "right");
+      if (button != "left" && button != "right") bad(where, "button must be \"left\" or \"right\"");
+      const int frames = e.contains("frames") ? static_cast<int>(number(e, "frames", where, 0, 1e5)) : 0;
+      const int steps = e.contains("steps") ? static_cast<int>(number(e, "steps", where, 1, 1e4)) : std::max(frames, 1);
+      const bool shift = e.value("shift", false);
+      out.push_back({frame, "mouse_down", mouse(button.c_str(), a, shift), where});
+      for (int k = 1; k <= steps; ++k) {
+        const double t = static_cast<double>(k) / steps;
+        const std::int64_t f = frame + (frames * k) / steps;
+        out.push_back({f, "mouse_move",
+                       mouse(button.c_str(), {a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)}, shift),
+                       where});
+      }
+      out.push_back({frame + frames, "mouse_up", mouse(button.c_str(), b, shift), where});
+      last = frame + frames;
+    } else if (what == "brush" || what == "click") {
+      std::vector<std::pair<double, double>> pts;
+      if (what == "click") {
+        pts.push_back(point(e["at"], where, "at"));
+      } else {
+        if (!e["path"].is_array() || e["path"].empty()) bad(where, "path must be a list of [x, y]");
+        for (const json& p : e["path"]) pts.push_back(point(p, where, "path"));
+      }
+      const std::string button = what == "click" ? e.value("button", "left") : "left";
+      out.push_back({frame, "mouse_down", mouse(button.c_str(), pts.front(), false), where});
+      for (std::size_t k = 1; k < pts.size(); ++k) out.push_back({frame, "mouse_move", mouse(button.c_str(), pts[k], false), where});
+      out.push_back({frame, "mouse_up", mouse(button.c_str(), pts.back(), false), where});
+    } else {
+      if (e.contains("path") && !e["path"].is_string()) bad(where, "path must be a string");
+      out.push_back({frame, what, e, where});
+    }
+  }
+  return out;
+}
+
+}  // namespace loosehair::viewer

@@ -1,0 +1,27 @@
+// What the window shows and how; the panel, the shortcuts and scripts change it.
+#pragma once
+
+#include "loosehair/render/renderer.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <string>
+
+namespace loosehair::viewer {
+
+/// What the window shows and how; the panel and the shortcuts change it.
+struct ViewState {
+  render::Camera camera;
+  render::RenderSettings settings;
+  bool light_from_camera = false;
+  float light_yaw_deg = 35.0f, light_pitch_deg = 50.0f;  // the fixed light
+  bool show_panel = true;
+  bool screenshot = false, quit = false;
+  std::string message;  // shown in the panel (errors, what was saved)
+  std::string screenshot_path;  // where the next screenshot goes ("" = a numbered file)
+  // debug views the renderer does not draw itself (overlay lines)
+  bool show_grid = false, show_air = false;
+  bool show_wind_arrow = true, show_light_arrow = true;
+};
+
+}  // namespace loosehair::viewer
