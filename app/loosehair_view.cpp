@@ -512,7 +512,7 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     c.attempt([&] {
       if (!c.styling()) throw std::runtime_error("there is no style to save: enter the styling mode first");
       c.styling()->save(text("path"));
-      v.message = "saved the style to " + text("path");
+      c.note("saved the style to " + text("path"));
     });
   } else if (what == "record") {
     c.startRecording(text("dir"), a.value("video", ""));
@@ -637,8 +637,10 @@ int run(const ViewOptions& o) {
       } else {
         const viewer::ScriptEvent& e = script->events.front();
         if (sim.latest()->frame < e.frame) {
-          sim.runUntil(e.frame);
-          if (!sim.waitForFrame(e.frame)) {
+          // recording: one frame at a time, so every frame is drawn and written
+          const std::int64_t to = controller.recording() ? sim.latest()->frame + 1 : e.frame;
+          sim.runUntil(to);
+          if (!sim.waitForFrame(to)) {
             controller.fail(e.where + ": frame " + std::to_string(e.frame) +
                             " cannot be reached (the simulation is paused or stopped)");
             return 1;
@@ -651,6 +653,13 @@ int run(const ViewOptions& o) {
         }
       }
     }
+    // recording by hand: the simulation waits for each frame to be drawn
+    // and written (it runs as fast as frames can be drawn, never skips one)
+    if (!script && controller.recording() && controller.mode() == viewer::Mode::Simulate) {
+      const std::int64_t to = sim.latest()->frame + 1;
+      sim.runUntil(to);
+      sim.waitForFrame(to);
+    }
     std::shared_ptr<const viewer::PublishedFrame> frame = sim.latest();
     if (o.frames) {  // wait for the last frame, then show it
       if (frame->frame < *o.frames && sim.waitForFrame(*o.frames)) frame = sim.latest();
@@ -661,6 +670,9 @@ int run(const ViewOptions& o) {
       bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sim.scene()));
       head.setPivot(viewer::neckPivot(bodies->head));
       controller.pending() = sim.scene();
+      controller.pending().sim.shape_keeping = frame->shape_keeping;
+      controller.pending().shape_keeping_auto = false;
+      if (script) script->start = frame->input.position;  // hair yaw from the new hair
     }
     viewer::ViewState& v = view;
     v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)

@@ -20,8 +20,14 @@ Controller::Controller(SimulationThread& sim, ViewState& view, HeadDrag& head, s
   remember(scene_path_);
 }
 
+void Controller::note(const std::string& message) {
+  view_.message = message;
+  view_.message_is_error = false;
+}
+
 void Controller::fail(const std::string& message) {
   view_.message = message;
+  view_.message_is_error = true;
   std::fprintf(stderr, "loosehair-view: %s\n", message.c_str());
 }
 
@@ -134,7 +140,7 @@ void Controller::saveHeadMotion(const std::string& path) {
     if (keys.size() < 2) throw std::runtime_error("the head has not been moved by hand yet: no motion to save");
     const std::string text = keyframesJson(keys);
     writeFileAtomically(path, {text});
-    view_.message = "saved the head motion (" + std::to_string(keys.size()) + " keys) to " + path;
+    note("saved the head motion (" + std::to_string(keys.size()) + " keys) to " + path);
   });
 }
 
@@ -143,7 +149,7 @@ void Controller::saveSnapshot(const std::string& path) {
   if (const std::string e = sim_.takeError(); !e.empty())
     fail(e);
   else
-    view_.message = "saved the state to " + path;
+    note("saved the state to " + path);
 }
 
 void Controller::loadSnapshot(const std::string& path) {
@@ -153,7 +159,7 @@ void Controller::loadSnapshot(const std::string& path) {
     return;
   }
   head_.reset();
-  view_.message = "resumed from " + path;
+  note("resumed from " + path);
 }
 
 void Controller::startRecording(const std::string& dir, const std::string& video) {
@@ -165,8 +171,8 @@ void Controller::startRecording(const std::string& dir, const std::string& video
     if (!fs::is_empty(dir, ec)) throw std::runtime_error(dir + ": the recording folder must be empty or new");
     if (!video.empty() && !app::findProgram("ffmpeg"))
       throw std::runtime_error("recording to MP4 needs ffmpeg, which is not installed");
-    recording_ = Recording{dir, video, 0, -1};
-    view_.message = "recording to " + dir;
+    recording_ = Recording{dir, video, 0, -1, sim_.paused()};
+    note("recording to " + dir);
   });
 }
 
@@ -182,13 +188,14 @@ void Controller::stopRecording() {
   if (!recording_) return;
   const Recording r = *recording_;
   recording_.reset();
+  sim_.setPaused(r.was_paused);
   if (r.video.empty() || r.written == 0) {
-    view_.message = "recorded " + std::to_string(r.written) + " frames to " + r.dir;
+    note("recorded " + std::to_string(r.written) + " frames to " + r.dir);
     return;
   }
   attempt([&] {
     app::encodeVideo(*app::findProgram("ffmpeg"), r.dir, r.video, sim_.scene().frame_rate);
-    view_.message = "recorded " + std::to_string(r.written) + " frames to " + r.dir + " and " + r.video;
+    note("recorded " + std::to_string(r.written) + " frames to " + r.dir + " and " + r.video);
   });
 }
 

@@ -30,6 +30,8 @@ class Controller {
 
   /// Shows `message` in the panel and prints it to stderr.
   void fail(const std::string& message);
+  /// Shows `message` in the panel as news, not as an error.
+  void note(const std::string& message);
   /// Runs `what`, turning what it throws into fail(); true if it did not throw.
   template <class F>
   bool attempt(F&& what) {
@@ -72,6 +74,8 @@ class Controller {
   void loadSnapshot(const std::string& path);
   /// Records each new simulated frame as DIR/frame_00001.png ... and, if
   /// `video` is given, encodes them to it (ffmpeg, no shell) when stopped.
+  /// While recording, the simulation goes a frame per drawn frame (every
+  /// frame is written, none skipped).
   void startRecording(const std::string& dir, const std::string& video);
   void stopRecording();
   bool recording() const { return recording_.has_value(); }
@@ -104,6 +108,7 @@ class Controller {
     std::string dir, video;
     int written = 0;
     std::int64_t last_frame = -1;
+    bool was_paused = false;  // recording steps frame by frame; stopping restores this
   };
   std::optional<Recording> recording_;
 };

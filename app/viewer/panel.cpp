@@ -54,7 +54,8 @@ void Panel::draw(const PublishedFrame& frame, double fps) {
   ImGui::Begin("loosehair");
   ImGui::Text("%s  [%s]", c_.sim().scene().name.c_str(), c_.mode() == Mode::Styling ? "styling" : "simulating");
   if (!view.message.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.1f, 0.1f, 1.0f));
+    ImGui::PushStyleColor(ImGuiCol_Text, view.message_is_error ? ImVec4(0.75f, 0.1f, 0.1f, 1.0f)
+                                                               : ImVec4(0.1f, 0.4f, 0.15f, 1.0f));
     ImGui::TextWrapped("%s", view.message.c_str());
     ImGui::PopStyleColor();
     if (ImGui::SmallButton("dismiss")) view.message.clear();
@@ -112,6 +113,9 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   if (ImGui::Button("Step")) sim.stepOnce();
   ImGui::SameLine();
   if (ImGui::Button("Restart")) c_.restart();
+  // as the simulation runs now (a script or a shortcut may have set it)
+  fastest_ = sim.speed() == 0.0;
+  if (!fastest_) speed_ = static_cast<float>(sim.speed());
   bool changed = ImGui::Checkbox("as fast as possible", &fastest_);
   if (!fastest_) {
     changed |= ImGui::SliderFloat("speed", &speed_, 0.1f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic);
@@ -136,9 +140,13 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   SimParams& p = c_.pending().sim;
   bool hh = p.hair_hair;
   if (ImGui::Checkbox("hair-hair interactions", &hh)) c_.setParam("hair_hair", hh ? 1.0 : 0.0);
-  bool keep = p.shape_keeping > 0;
+  bool keep = frame.shape_keeping > 0;
   if (ImGui::Checkbox("shape keeping", &keep)) c_.setParam("shape_keeping", keep ? 1.0 : 0.0);
   tooltip("hold a style's shape; turning it on applies on restart");
+  if (frame.shape_keeping > 0) {
+    ImGui::SameLine();
+    ImGui::Text("%.2g Hz", frame.shape_keeping);
+  }
 }
 
 void Panel::parameters() {
@@ -332,7 +340,7 @@ void Panel::styling() {
   ImGui::SameLine();
   if (ImGui::Button("Save style")) c_.attempt([&] {
       s->save(style_path_);
-      c_.view().message = std::string("saved the style to ") + style_path_;
+      c_.note(std::string("saved the style to ") + style_path_);
     });
 }
 

@@ -110,7 +110,6 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
                        where});
       }
       out.push_back({frame + frames, "mouse_up", mouse(button.c_str(), b, shift), where});
-      last = frame + frames;
     } else if (what == "brush" || what == "click") {
       std::vector<std::pair<double, double>> pts;
       if (what == "click") {
@@ -128,6 +127,9 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       out.push_back({frame, what, e, where});
     }
   }
+  // a drag goes on over frames while later events happen: in frame order,
+  // events of one frame in the order written
+  std::stable_sort(out.begin(), out.end(), [](const ScriptEvent& a, const ScriptEvent& b) { return a.frame < b.frame; });
   return out;
 }
 

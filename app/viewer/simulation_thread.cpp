@@ -325,6 +325,7 @@ void SimulationThread::publish(double frame_ms) {
   f->neighbor_pairs = solver_->stats().neighbor_pairs;
   if (solver_->hasWind()) solver_->worldAirPositions(f->air);
   f->grid_cell = 2.0f * solver_->params().h2;
+  f->shape_keeping = solver_->params().shape_keeping;
   bool grid = false;
   {
     std::lock_guard<std::mutex> lk(mutex_);

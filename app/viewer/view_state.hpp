@@ -18,6 +18,7 @@ struct ViewState {
   bool show_panel = true;
   bool screenshot = false, quit = false;
   std::string message;  // shown in the panel (errors, what was saved)
+  bool message_is_error = false;
   std::string screenshot_path;  // where the next screenshot goes ("" = a numbered file)
   // debug views the renderer does not draw itself (overlay lines)
   bool show_grid = false, show_air = false;
