@@ -35,6 +35,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -63,6 +64,8 @@ constexpr const char* kUsage =
     "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
     "  --screenshot FILE   with --frames: save that frame as a PNG\n"
     "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
+    "  --seconds S         play for S seconds of wall time, then print the frames drawn\n"
+    "                      per second and the real-time factor, and close (measuring)\n"
     "\n";
 
 struct UsageError {
@@ -80,6 +83,7 @@ struct ViewOptions {
   std::optional<int> frames;
   std::string screenshot;
   std::string script;
+  std::optional<double> seconds;
 };
 
 long long parseInteger(const std::string& what, const std::string& text, long long lo, long long hi) {
@@ -136,6 +140,13 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.screenshot = value();
       } else if (a == "--script") {
         o.script = value();
+      } else if (a == "--seconds") {
+        const std::string v = value();
+        char* end = nullptr;
+        const double sec = std::strtod(v.c_str(), &end);
+        if (end == v.c_str() || *end != '\0' || !(sec > 0 && sec <= 86400))
+          throw UsageError{"--seconds must be a number of seconds in (0, 86400], got '" + v + "'"};
+        o.seconds = sec;
       } else if (!a.empty() && a[0] == '-') {
         throw UsageError{"unknown option " + a};
       } else if (o.scene.empty()) {
@@ -449,6 +460,13 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       c.sim().setPublishGrid(v.show_grid);
     } else if (name == "air") {
       v.show_air = val.get<bool>();
+    } else if (name == "select" && c.styling()) {  // [wisp, control point], as a click on it
+      if (!val.is_array() || val.size() != 2 || !val[0].is_number_unsigned() || !val[1].is_number_unsigned())
+        throw std::runtime_error(e.where + ": select needs [wisp, control point]");
+      viewer::StylingSession& st = *c.styling();
+      st.wisp = val[0].get<std::size_t>();
+      st.point = val[1].get<std::size_t>();
+      st.clampSelection();
     } else if (name == "axis" && c.styling()) {
       const std::string ax = val.get<std::string>();
       if (ax != "tangent" && ax != "normal" && ax != "binormal")
@@ -621,6 +639,8 @@ int run(const ViewOptions& o) {
   auto last_count = std::chrono::steady_clock::now();
   int frames_since = 0;
   bool done = false;
+  const auto started = std::chrono::steady_clock::now();
+  const double started_sim = sim.latest()->time;
   std::uint64_t generation = 0;
   std::unique_ptr<app::DrawableBodies> styling_bodies;
   const viewer::StylingSession* styling_bodies_of = nullptr;
@@ -741,6 +761,12 @@ int run(const ViewOptions& o) {
       last_count = now;
       frames_since = 0;
     }
+    if (o.seconds && std::chrono::duration<double>(now - started).count() >= *o.seconds) done = true;
+  }
+  if (o.seconds) {
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::printf("measured: %d frames drawn in %.2f s = %.1f frames/s (%dx%d), simulation %.2fx real time\n", shown,
+                wall, shown / wall, w.width, w.height, (sim.latest()->time - started_sim) / wall);
   }
   controller.stopRecording();
   const std::shared_ptr<const viewer::PublishedFrame> last = sim.latest();

@@ -18,3 +18,9 @@ for style in long-straight bob side-swept swept-back wavy ponytail; do
   cp "$work/$style/frame_00090.png" "$out/style-$style-3s.png"
   echo "$out/style-$style-styled.png, $out/style-$style-3s.png"
 done
+# the viewer with its panel, and its styling mode (on a virtual X server)
+view="${LOOSEHAIR_VIEW:-$(dirname "$bin")/loosehair-view}"
+for script in viewer-panel styling-mode; do
+  xvfb-run -a -s "-screen 0 1400x900x24" "$view" --size 1280x720 --script "docs/scripts/$script.json" \
+    | grep '^screenshot:'
+done

@@ -177,13 +177,15 @@ void StylingSession::overlay(render::OverlayLines& hidden, render::OverlayLines&
     line.assign(preview_.points.begin() + preview_.first[s], preview_.points.begin() + preview_.first[s + 1]);
     hidden.polyline(line, c);
   }
-  // key strands and control points, over everything
+  // key strands and control points: the selected wisp's over everything,
+  // the others hidden by the head as the hair is
   for (std::size_t w = 0; w < wisps.size(); ++w) {
     const bool sel = wisp && *wisp == w;
-    on_top.polyline(sampleKeyStrand(wisps[w].key_strand, 8), sel ? kSelected : kKey);
+    render::OverlayLines& out = sel ? on_top : hidden;
+    out.polyline(sampleKeyStrand(wisps[w].key_strand, 8), sel ? kSelected : kKey);
     for (std::size_t k = 0; k < wisps[w].key_strand.size(); ++k)
-      on_top.cross(wisps[w].key_strand[k], sel && point && *point == k ? 0.006f : 0.003f,
-                   sel && point && *point == k ? kSelected : kKey);
+      out.cross(wisps[w].key_strand[k], sel && point && *point == k ? 0.006f : 0.003f,
+                sel && point && *point == k ? kSelected : kKey);
   }
   // the three styling directions at the selected point, the active one bright
   if (wisp && point && *wisp < wisps.size() && *point < wisps[*wisp].key_strand.size()) {
