@@ -51,7 +51,7 @@ using namespace loosehair;
 constexpr const char* kUsage =
     "usage: loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
     "                              [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
-    "                              [--script FILE]\n"
+    "                              [--script FILE] [--seconds S] [--no-shadows]\n"
     "\n"
     "Plays SCENE (default: the bundled data/scenes/hang.json) in a window with a\n"
     "panel, in real time at most (the panel sets the speed).\n"
@@ -61,6 +61,7 @@ constexpr const char* kUsage =
     "  --threads T         simulation threads (default: all cores)\n"
     "  --seed S            sampling seed (default: the scene's)\n"
     "  --paused            start paused\n"
+    "  --no-shadows        start without self-shadowing\n"
     "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
     "  --screenshot FILE   with --frames: save that frame as a PNG\n"
     "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
@@ -132,6 +133,8 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.threads = static_cast<int>(parseInteger("--threads", value(), 1, 1024));
       } else if (a == "--seed") {
         o.seed = static_cast<std::uint64_t>(parseInteger("--seed", value(), 0, INT64_MAX));
+      } else if (a == "--no-shadows") {
+        o.settings.shadows = false;
       } else if (a == "--paused") {
         o.paused = true;
       } else if (a == "--frames") {
