@@ -554,13 +554,14 @@ void buildOverlay(viewer::Controller& c, const viewer::PublishedFrame& frame, re
     return;
   }
   const glm::vec3 centre = glm::vec3(frame.input.head_pose[3]) + glm::vec3(0.0f, 0.05f, 0.0f);
-  if (c.sim().scene().has_wind && v.show_wind_arrow) {
-    const glm::vec3 d = glm::normalize(c.sim().scene().wind.direction);
-    on_top.arrow(centre - 0.3f * d, centre - 0.15f * d, glm::vec4(0.1f, 0.45f, 0.95f, 1.0f));
+  if ((c.sim().scene().has_wind || !frame.air.empty()) && c.pending().has_wind && v.show_wind_arrow) {
+    const glm::vec3 d = glm::normalize(c.pending().wind.direction);
+    const glm::vec3 above = centre + glm::vec3(0.0f, 0.13f, 0.0f);  // over the head, along the wind
+    on_top.arrow(above - 0.1f * d, above + 0.1f * d, glm::vec4(0.1f, 0.45f, 0.95f, 1.0f));
   }
   if (!v.light_from_camera && v.show_light_arrow && v.show_panel) {
     const glm::vec3 l = v.settings.light_direction;
-    on_top.arrow(centre + 0.32f * l, centre + 0.2f * l, glm::vec4(0.95f, 0.8f, 0.1f, 1.0f));
+    on_top.arrow(centre + 0.2f * l, centre + 0.12f * l, glm::vec4(0.95f, 0.8f, 0.1f, 1.0f));
   }
   if (v.show_grid) {
     const float h = frame.grid_cell;

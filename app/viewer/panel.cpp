@@ -6,7 +6,9 @@
 #include <glm/trigonometric.hpp>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cinttypes>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -85,6 +87,28 @@ void Panel::files() {
   ImGui::InputText("file", path_, sizeof path_);
   tooltip("a scene (.json) or a style (a .json with wisps; grown on this scene's head)");
   if (ImGui::Button("Open")) c_.open(path_);
+  // a small browser: the folders and .json files of browse_dir_
+  namespace fs = std::filesystem;
+  ImGui::Text("in %s:", browse_dir_.c_str());
+  ImGui::BeginChild("browse", ImVec2(0, 110), true);
+  std::error_code ec;
+  std::vector<fs::path> entries;
+  for (fs::directory_iterator it(browse_dir_, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec) || it->path().extension() == ".json") entries.push_back(it->path());
+  std::sort(entries.begin(), entries.end());
+  if (ImGui::Selectable("..")) browse_dir_ = fs::absolute(browse_dir_, ec).parent_path().string();
+  for (const fs::path& e : entries) {
+    const bool dir = fs::is_directory(e, ec);
+    const std::string label = e.filename().string() + (dir ? "/" : "");
+    if (ImGui::Selectable(label.c_str())) {
+      if (dir)
+        browse_dir_ = e.string();
+      else
+        std::snprintf(path_, sizeof path_, "%s", e.string().c_str());
+    }
+  }
+  if (ec) ImGui::TextDisabled("%s", ec.message().c_str());
+  ImGui::EndChild();
   ImGui::TextDisabled("recent:");
   for (const std::string& r : c_.recent()) {
     if (ImGui::Selectable(r.c_str())) {

@@ -40,6 +40,7 @@ class Panel {
   float speed_ = 1.0f;
   bool fastest_ = false;
   char path_[512] = "";
+  std::string browse_dir_ = ".";
   char record_dir_[512] = "loosehair-recording";
   char shot_path_[512] = "loosehair-screenshot.png";
   char snapshot_path_[512] = "loosehair-state.lhsnap";
