@@ -458,6 +458,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       v.settings.color = render::parseHairColor(val.get<std::string>());
     } else if (name == "panel") {
       v.show_panel = val.get<bool>();
+    } else if (name == "section") {
+      v.open_section = val.get<std::string>();
     } else if (name == "grid") {
       v.show_grid = val.get<bool>();
       c.sim().setPublishGrid(v.show_grid);
@@ -614,6 +616,7 @@ int run(const ViewOptions& o) {
   viewer::ViewState view;
   viewer::HeadDrag head(viewer::neckPivot(bodies->head));
   viewer::Controller controller(sim, view, head, o.scene);
+  controller.pending().sim = sim.latest()->params;
   view.camera = render::Camera::preset(o.camera);
   view.settings = o.settings;
   {
@@ -693,9 +696,10 @@ int run(const ViewOptions& o) {
       generation = frame->generation;
       bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sim.scene()));
       head.setPivot(viewer::neckPivot(bodies->head));
+      // the panel shows and edits what runs (the scene's "auto" values
+      // resolved; they stay automatic on restart until changed by hand)
       controller.pending() = sim.scene();
-      controller.pending().sim.shape_keeping = frame->shape_keeping;
-      controller.pending().shape_keeping_auto = false;
+      controller.pending().sim = frame->params;
       if (script) script->start = frame->input.position;  // hair yaw from the new hair
     }
     viewer::ViewState& v = view;

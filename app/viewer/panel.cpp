@@ -46,12 +46,12 @@ void Panel::draw(const PublishedFrame& frame, double fps) {
   ViewState& view = c_.view();
   if (frame.frame != last_frame_) {
     last_frame_ = frame.frame;
-    frame_ms_.push_back(static_cast<float>(frame.frame_ms));
-    while (frame_ms_.size() > 150) frame_ms_.pop_front();
+    stage_ms_.emplace_back(frame.frame_ms, frame.last_step);
+    while (stage_ms_.size() > 150) stage_ms_.pop_front();  // five seconds at 30 frames/s
   }
   if (!view.show_panel) return;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(450, 0), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSizeConstraints(ImVec2(300, 100), ImVec2(600, ImGui::GetIO().DisplaySize.y - 16));
   ImGui::Begin("loosehair");
   ImGui::Text("%s  [%s]", c_.sim().scene().name.c_str(), c_.mode() == Mode::Styling ? "styling" : "simulating");
@@ -68,18 +68,23 @@ void Panel::draw(const PublishedFrame& frame, double fps) {
     else
       c_.enterStyling();
   }
+  auto section = [&](const char* name, bool open_by_default) {
+    if (view.open_section == name) ImGui::SetNextItemOpen(true);
+    return ImGui::CollapsingHeader(name, open_by_default ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+  };
   if (c_.mode() == Mode::Styling) {
-    if (ImGui::CollapsingHeader("Styling", ImGuiTreeNodeFlags_DefaultOpen)) styling();
+    if (section("Styling", true)) styling();
   } else {
-    if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) simulation(frame, fps);
-    if (ImGui::CollapsingHeader("Solver parameters")) parameters();
-    if (ImGui::CollapsingHeader("Head", ImGuiTreeNodeFlags_DefaultOpen)) headControls();
-    if (ImGui::CollapsingHeader("Wind")) wind();
+    if (section("Simulation", true)) simulation(frame, fps);
+    if (section("Solver parameters", false)) parameters();
+    if (section("Head", true)) headControls();
+    if (section("Wind", false)) wind();
   }
-  if (ImGui::CollapsingHeader("Scene and style files")) files();
-  if (ImGui::CollapsingHeader("Rendering")) rendering();
-  if (ImGui::CollapsingHeader("Capture")) capture();
-  if (ImGui::CollapsingHeader("Shortcuts")) ImGui::TextUnformatted(kShortcuts);
+  if (section("Scene and style files", false)) files();
+  if (section("Rendering", false)) rendering();
+  if (section("Capture", false)) capture();
+  if (section("Shortcuts", false)) ImGui::TextUnformatted(kShortcuts);
+  view.open_section.clear();
   ImGui::End();
 }
 
@@ -151,11 +156,21 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);
   ImGui::Text("state hash %016" PRIx64, frame.state_hash);
-  if (!frame_ms_.empty()) {
-    const std::vector<float> ms(frame_ms_.begin(), frame_ms_.end());
+  static const char* stages[] = {"whole frame", "step: all stages", "neighbours", "density", "springs",
+                                  "hair-hair",   "external",         "integrate",  "strain limit", "air"};
+  ImGui::Combo("plot", &plot_stage_, stages, 10);
+  tooltip("the last five seconds of one stage's time (ms)");
+  if (!stage_ms_.empty()) {
+    std::vector<float> ms;
+    for (const auto& [frame_ms, st] : stage_ms_) {
+      const double v[] = {frame_ms,     1e3 * st.total(),     1e3 * st.neighbors, 1e3 * st.density,
+                          1e3 * st.springs, 1e3 * st.hair_hair, 1e3 * st.external, 1e3 * st.integrate,
+                          1e3 * st.strain_limit, 1e3 * st.air};
+      ms.push_back(static_cast<float>(v[plot_stage_]));
+    }
     char label[64];
-    std::snprintf(label, sizeof label, "%.1f ms a frame", static_cast<double>(ms.back()));
-    ImGui::PlotLines("##frame ms", ms.data(), static_cast<int>(ms.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 50));
+    std::snprintf(label, sizeof label, "%.2f ms", static_cast<double>(ms.back()));
+    ImGui::PlotLines("##stage ms", ms.data(), static_cast<int>(ms.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 50));
   }
   const StageTimes& s = frame.last_step;
   ImGui::Text("last step %.2f ms: neighbours %.2f, density %.2f,", 1e3 * s.total(), 1e3 * s.neighbors, 1e3 * s.density);
@@ -176,6 +191,7 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
 void Panel::parameters() {
   ImGui::TextWrapped("Live changes apply at the next frame; (restart) marks those that apply on restart.");
   SimParams& p = c_.pending().sim;
+  ImGui::PushItemWidth(ImGui::GetFontSize() * 10);
   for (const ParamInfo& info : paramTable()) {
     ImGui::PushID(info.name);
     char label[96];
@@ -208,6 +224,7 @@ void Panel::parameters() {
     if (changed) c_.setParam(info.name, v);
     ImGui::PopID();
   }
+  ImGui::PopItemWidth();
 }
 
 void Panel::headControls() {

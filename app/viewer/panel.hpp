@@ -35,7 +35,8 @@ class Panel {
   void styling();
 
   Controller& c_;
-  std::deque<float> frame_ms_;  // the simulation's recent frame times
+  std::deque<std::pair<double, StageTimes>> stage_ms_;  // recent frames: wall ms, last step's stages
+  int plot_stage_ = 0;
   std::int64_t last_frame_ = -1;
   float speed_ = 1.0f;
   bool fastest_ = false;

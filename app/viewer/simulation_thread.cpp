@@ -326,6 +326,7 @@ void SimulationThread::publish(double frame_ms) {
   if (solver_->hasWind()) solver_->worldAirPositions(f->air);
   f->grid_cell = 2.0f * solver_->params().h2;
   f->shape_keeping = solver_->params().shape_keeping;
+  f->params = solver_->params();
   bool grid = false;
   {
     std::lock_guard<std::mutex> lk(mutex_);

@@ -39,7 +39,8 @@ struct PublishedFrame {
   std::uint64_t generation = 0;   // counts restarts: a new scene may have a new head
   std::vector<glm::vec3> air;     // wind's air particles (world), for their debug view
   float grid_cell = 0;
-  float shape_keeping = 0;        // the running solver's strength (Hz)            // the neighbour grid's cell size, 2 h2 (m)
+  float shape_keeping = 0;        // the running solver's strength (Hz)
+  SimParams params;               // the running solver's parameters            // the neighbour grid's cell size, 2 h2 (m)
   std::vector<glm::vec3> neighbor_cells;  // lower corners of occupied grid cells (head frame), capped
 };
 
