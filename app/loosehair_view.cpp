@@ -510,6 +510,11 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     else if (name == "paste") c.attempt([&] { need().pasteOnSelected(); });
     else if (name == "mirror") c.attempt([&] { need().mirrorSelected(); });
     else if (name == "tie") c.attempt([&] { need().tieAtSelected(0.015f); });
+    else if (name == "apply_params") c.attempt([&] {
+      viewer::StylingSession& ss = need();
+      if (!ss.wisp) throw StyleError("select a wisp first to set its parameters");
+      ss.editor().setParams(*ss.wisp, c.new_wisp);
+    });
     else if (name == "undo") need().undo();
     else if (name == "redo") need().redo();
     else throw std::runtime_error(e.where + ": no panel action called \"" + name + "\"");

@@ -97,9 +97,23 @@ int main(int argc, char** argv) {
     region.triangles.assign(brushed.begin(), brushed.end());
     const std::size_t w = editor.createWisp(region, WispParams{});
     editor.moveControlPoint(w, editor.style().wisps[w].key_strand.size() - 1, StylingAxis::Normal, 0.020f);
-    editor.mirrorWisp(w);
+    const std::size_t m = editor.mirrorWisp(w);
     editor.undo();
     editor.redo();
+    editor.addControlPoint(m, 3);
+    editor.deleteControlPoint(m, 3);
+    editor.copyKeyStrand(w);
+    editor.pasteKeyStrand(m);
+    WispParams denser;
+    denser.density = 30.0f;
+    editor.setParams(m, denser);
+    HairTie tie;
+    tie.center = editor.style().wisps[w].key_strand[2];
+    tie.axis = stylingDirections(editor.style().wisps[w], 2, head).tangent;
+    tie.radius = 0.015f;
+    editor.addTie(tie);
+    editor.deleteWisp(m);
+    editor.undo();
     const std::string want = styleText(editor.style(), argv[4]);
     const std::string got = readRegularFile(argv[4], kMaxTextFileBytes);
     if (got != want) {
@@ -107,8 +121,8 @@ int main(int argc, char** argv) {
                    want.c_str());
       return 1;
     }
-    std::printf("the viewer's style equals the API's: %zu wisps, %zu brushed triangles, %zu bytes\n",
-                editor.style().wisps.size(), region.triangles.size(), got.size());
+    std::printf("the viewer's style equals the API's: %zu wisps, %zu ties, %zu brushed triangles, %zu bytes\n",
+                editor.style().wisps.size(), editor.style().ties.size(), region.triangles.size(), got.size());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
