@@ -660,6 +660,16 @@ int run(const ViewOptions& o) {
   while (!glfwWindowShouldClose(window.get()) && !view.quit && !done) {
     glfwPollEvents();
     if (const std::string e = sim.takeError(); !e.empty()) controller.fail(e);
+    if (sim.latest()->generation != generation) {  // another scene: its head
+      generation = sim.latest()->generation;
+      bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sim.scene()));
+      head.setPivot(viewer::neckPivot(bodies->head));
+      // the panel shows and edits what runs (the scene's "auto" values
+      // resolved; they stay automatic on restart until changed by hand)
+      controller.pending() = sim.scene();
+      controller.pending().sim = sim.latest()->params;
+      if (script) script->start = sim.latest()->input.position;  // hair yaw from the new hair
+    }
     // a script: the next event once the simulation has reached its frame
     if (script && script->warmup > 0) {
       --script->warmup;
@@ -678,7 +688,9 @@ int run(const ViewOptions& o) {
             return 1;
           }
         }
-        if (sim.latest()->frame >= e.frame) {
+        // a restart that finished meanwhile is taken in first (its head, the
+        // panel's values), at the top of the next displayed frame
+        if (sim.latest()->frame >= e.frame && sim.latest()->generation == generation) {
           const viewer::ScriptEvent ev = e;
           script->events.pop_front();
           if (!runEvent(ev, w, panel, *script)) done = true;
@@ -696,16 +708,6 @@ int run(const ViewOptions& o) {
     if (o.frames) {  // wait for the last frame, then show it
       if (frame->frame < *o.frames && sim.waitForFrame(*o.frames)) frame = sim.latest();
       if (shown >= 2) done = true;  // two frames drawn before: the panel has its size
-    }
-    if (frame->generation != generation) {  // another scene: its head
-      generation = frame->generation;
-      bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sim.scene()));
-      head.setPivot(viewer::neckPivot(bodies->head));
-      // the panel shows and edits what runs (the scene's "auto" values
-      // resolved; they stay automatic on restart until changed by hand)
-      controller.pending() = sim.scene();
-      controller.pending().sim = frame->params;
-      if (script) script->start = frame->input.position;  // hair yaw from the new hair
     }
     viewer::ViewState& v = view;
     v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)

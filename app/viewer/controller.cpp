@@ -95,7 +95,7 @@ bool Controller::setParam(const std::string& name, double value) {
   if (name == "shape_keeping") pending_.shape_keeping_auto = false;
   if (name == "h1") pending_.h1_auto = false;
   if (name == "h2") pending_.h2_auto = false;
-  const bool live = info->live && !(name == "shape_keeping" && value > 0 && sim_.scene().sim.shape_keeping == 0);
+  const bool live = info->live && !(name == "shape_keeping" && value > 0 && sim_.latest()->shape_keeping == 0);
   pending_.sim = p;
   if (!live) return false;
   // the running solver's other parameters stay as they run

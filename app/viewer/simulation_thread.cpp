@@ -40,6 +40,16 @@ SimulationThread::~SimulationThread() {
   if (thread_.joinable()) thread_.join();
 }
 
+SceneDesc SimulationThread::scene() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return scene_;
+}
+
+BuildReport SimulationThread::buildReport() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return build_;
+}
+
 std::shared_ptr<const PublishedFrame> SimulationThread::latest() const {
   std::lock_guard<std::mutex> lk(mutex_);
   return latest_;

@@ -55,8 +55,10 @@ class SimulationThread {
 
   /// The newest finished frame (never null).
   std::shared_ptr<const PublishedFrame> latest() const;
-  const SceneDesc& scene() const { return scene_; }
-  const BuildReport& buildReport() const { return build_; }
+  /// The scene that runs and what building it chose (copies: a restart on
+  /// the simulation thread replaces them).
+  SceneDesc scene() const;
+  BuildReport buildReport() const;
 
   void setPaused(bool paused);
   bool paused() const;
