@@ -208,7 +208,6 @@ struct GlfwSession {
 // `scripted` set: it addresses the 3-D view, never the panel.
 struct Window {
   viewer::Controller* c = nullptr;
-  GLFWwindow* glfw = nullptr;
   bool orbiting = false, turning = false, brushing = false, shift = false;
   double last_x = 0, last_y = 0;
   int width = 1, height = 1;  // of the framebuffer
@@ -465,6 +464,7 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       c.sim().setPublishGrid(v.show_grid);
     } else if (name == "air") {
       v.show_air = val.get<bool>();
+      c.sim().setPublishAir(v.show_air);
     } else if (name == "select" && c.styling()) {  // [wisp, control point], as a click on it
       if (!val.is_array() || val.size() != 2 || !val[0].is_number_unsigned() || !val[1].is_number_unsigned())
         throw std::runtime_error(e.where + ": select needs [wisp, control point]");
@@ -561,7 +561,7 @@ void buildOverlay(viewer::Controller& c, const viewer::PublishedFrame& frame, re
     return;
   }
   const glm::vec3 centre = glm::vec3(frame.input.head_pose[3]) + glm::vec3(0.0f, 0.05f, 0.0f);
-  if ((c.sim().scene().has_wind || !frame.air.empty()) && c.pending().has_wind && v.show_wind_arrow) {
+  if (frame.wind && c.pending().has_wind && v.show_wind_arrow) {
     const glm::vec3 d = glm::normalize(c.pending().wind.direction);
     const glm::vec3 above = centre + glm::vec3(0.0f, 0.13f, 0.0f);  // over the head, along the wind
     on_top.arrow(above - 0.1f * d, above + 0.1f * d, glm::vec4(0.1f, 0.45f, 0.95f, 1.0f));
@@ -631,7 +631,6 @@ int run(const ViewOptions& o) {
   }
   Window w;
   w.c = &controller;
-  w.glfw = window.get();
   glfwSetWindowUserPointer(window.get(), &w);
   glfwSetKeyCallback(window.get(), onKey);
   glfwSetMouseButtonCallback(window.get(), onMouseButton);
@@ -693,7 +692,12 @@ int run(const ViewOptions& o) {
         if (sim.latest()->frame >= e.frame && sim.latest()->generation == generation) {
           const viewer::ScriptEvent ev = e;
           script->events.pop_front();
-          if (!runEvent(ev, w, panel, *script)) done = true;
+          try {
+            if (!runEvent(ev, w, panel, *script)) done = true;
+          } catch (const std::exception& x) {  // a wrong value: shown as a user's mistake, the script goes on
+            const std::string m = x.what();
+            controller.fail(m.rfind(ev.where, 0) == 0 ? m : ev.where + ": " + m);
+          }
         }
       }
     }
@@ -711,7 +715,7 @@ int run(const ViewOptions& o) {
     }
     viewer::ViewState& v = view;
     v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)
-                                                     : viewer::lightFromAngles(v.light_yaw_deg, v.light_pitch_deg);
+                                                     : viewer::directionFromAngles(v.light_yaw_deg, v.light_pitch_deg);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window.get(), &width, &height);
     if (width <= 0 || height <= 0) continue;

@@ -1,6 +1,7 @@
 // A head moved by hand (LiveHead, the viewer's drag): the simulation driven
 // live gives the same bits as the recorded keyframes replayed from a scene
 // file, and the hair lags the dragged head.
+#include "loosehair/file_io.hpp"
 #include "loosehair/live_head.hpp"
 #include "test_support.hpp"
 
@@ -24,19 +25,6 @@ HeadKeyframe dragAt(std::int64_t frame) {
   return turnAbout(glm::dvec3(0, -0.12, 0), glm::dvec3(yaw, 0, 0), glm::dvec3(0.0));
 }
 
-std::string keysJson(const std::vector<HeadKeyframe>& keys) {
-  std::string s = R"({"type": "keyframes", "keys": [)";
-  char buf[256];
-  for (std::size_t k = 0; k < keys.size(); ++k) {
-    const HeadKeyframe& q = keys[k];
-    std::snprintf(buf, sizeof buf, R"(%s{"time": %.17g, "euler_deg": [%.17g, %.17g, %.17g], "translation": [%.17g, %.17g, %.17g]})",
-                  k ? ", " : "", q.time, q.euler_deg.x, q.euler_deg.y, q.euler_deg.z, q.translation.x,
-                  q.translation.y, q.translation.z);
-    s += buf;
-  }
-  return s + "]}";
-}
-
 }  // namespace
 
 TEST(LiveHead, ADragReplayedFromItsKeyframesGivesTheSameBits) {
@@ -58,13 +46,36 @@ TEST(LiveHead, ADragReplayedFromItsKeyframesGivesTheSameBits) {
   }
   EXPECT_GT(max_yaw, glm::radians(30.0)) << "the head turned";
   EXPECT_GT(max_lag, glm::radians(3.0)) << "the hair lagged behind the turning head";
-  // the recorded keys, written into a scene file and read back
-  const SceneDesc replay_scene = lhtest::sphereScene(800, "{}", keysJson(head.keys()), 6);
+  // the recorded keys, written as a head motion file (as the viewer saves
+  // a drag) and read back for a replay (simulate --motion)
+  const std::string path = ::testing::TempDir() + "live-head-motion.json";
+  writeFileAtomically(path, {keyframesJson(head.keys())});
+  SceneDesc replay_scene = lhtest::sphereScene(800, "{}", R"({"type": "still"})", 6);
+  replay_scene.motion = loadMotion(path);
   Solver replay = buildSolver(replay_scene);
   replay.advance(frames * scene.substeps);
   EXPECT_EQ(replay.stateHash(), live.stateHash());
   std::printf("drag: head turned %.1f deg, hair up to %.1f deg behind or ahead; state-hash %016llx live and replayed\n",
               glm::degrees(max_yaw), glm::degrees(max_lag), static_cast<unsigned long long>(live.stateHash()));
+}
+
+TEST(LiveHead, ABadMotionFileNamesTheFileAndTheField) {
+  const std::string dir = ::testing::TempDir();
+  auto refused = [&](const std::string& name, const std::string& text, const std::string& says) {
+    writeFileAtomically(dir + name, {text});
+    try {
+      (void)loadMotion(dir + name);
+      ADD_FAILURE() << name << " was read";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  refused("motion-none.json", R"({"keys": []})", "motion");
+  refused("motion-one-key.json", R"({"motion": {"type": "keyframes", "keys": [{"time": 0}]}})", "keys");
+  refused("motion-nan.json", R"({"motion": {"type": "shake", "amplitude_deg": "x"}})", "amplitude_deg");
+  refused("motion-cut.json", R"({"motion": {"type": )", "JSON");
+  EXPECT_THROW(loadMotion(dir + "motion-missing.json"), SceneError);
 }
 
 TEST(LiveHead, FramesMustComeInOrder) {

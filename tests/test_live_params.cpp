@@ -132,16 +132,18 @@ TEST(LiveParams, ShapeKeepingTurnedOffLiveIsPlainLcpFromThen) {
   auto build = [](const char* solver) {
     return buildSolver(lhtest::sphereScene(400, solver, R"({"type": "still"})", 4));
   };
-  Solver kept = build(R"({"shape_keeping": 2.0})");
-  Solver plain = build(R"({"shape_keeping": 2.0})");
-  SimParams off = plain.params();
-  off.shape_keeping = 0.0f;
-  plain.setParams(off);
-  SimParams weaker = kept.params();
-  weaker.shape_keeping = 1.0f;
-  kept.setParams(weaker);
-  kept.advance(200);
-  plain.advance(200);
-  EXPECT_NE(kept.stateHash(), plain.stateHash());
-  EXPECT_THROW(plain.setParams(weaker), std::invalid_argument) << "turned back on live";
+  Solver plain = build(R"({"shape_keeping": 0})");
+  Solver off = build(R"({"shape_keeping": 2.0})");
+  Solver held = build(R"({"shape_keeping": 2.0})");
+  Solver weaker = build(R"({"shape_keeping": 2.0})");
+  SimParams p = off.params();
+  p.shape_keeping = 0.0f;
+  off.setParams(p);  // before the first step: exactly the plain solver
+  p.shape_keeping = 1.0f;
+  weaker.setParams(p);
+  for (Solver* s : {&plain, &off, &held, &weaker}) s->advance(200);
+  EXPECT_EQ(off.stateHash(), plain.stateHash()) << "off is plain LCP";
+  EXPECT_NE(held.stateHash(), plain.stateHash()) << "the hold acts";
+  EXPECT_NE(weaker.stateHash(), held.stateHash()) << "a new strength acts";
+  EXPECT_THROW(off.setParams(weaker.params()), std::invalid_argument) << "turned back on live";
 }

@@ -2,8 +2,8 @@
 
 #include "loosehair/file_io.hpp"
 #include "loosehair/param_table.hpp"
-#include "../video.hpp"
-#include "../process.hpp"
+#include "process.hpp"
+#include "video.hpp"
 
 #include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
@@ -16,8 +16,8 @@
 namespace loosehair::viewer {
 
 Controller::Controller(SimulationThread& sim, ViewState& view, HeadDrag& head, std::string scene_path)
-    : sim_(sim), view_(view), head_(head), scene_path_(std::move(scene_path)), pending_(sim.scene()) {
-  remember(scene_path_);
+    : sim_(sim), view_(view), head_(head), pending_(sim.scene()) {
+  remember(scene_path);
 }
 
 void Controller::note(const std::string& message) {
@@ -60,7 +60,6 @@ void Controller::open(const std::string& path) {
     } else {
       next = loadScene(path);
       next.sim.threads = sim_.scene().sim.threads;
-      scene_path_ = path;
     }
     pending_ = next;
     remember(path);

@@ -49,7 +49,6 @@ class Controller {
   /// scene's head. The current simulation runs on if it cannot be opened.
   void open(const std::string& path);
   const std::deque<std::string>& recent() const { return recent_; }
-  const std::string& scenePath() const { return scene_path_; }
   /// The scene the next restart builds (the panel's edits included).
   SceneDesc& pending() { return pending_; }
   /// Restarts from pending() (new particle count, seed, parameters).
@@ -99,7 +98,6 @@ class Controller {
   SimulationThread& sim_;
   ViewState& view_;
   HeadDrag& head_;
-  std::string scene_path_;
   SceneDesc pending_;
   std::deque<std::string> recent_;
   Mode mode_ = Mode::Simulate;

@@ -27,12 +27,10 @@ const char* const kShortcuts =
     "  binormal direction, Up/Down: move along it, Ctrl+Z / Ctrl+Shift+Z: undo/redo\n"
     "P: screenshot, Tab: hide or show the panel, H: shortcuts, Esc or Q: quit\n";
 
-glm::vec3 lightFromAngles(float yaw_deg, float pitch_deg) {
+glm::vec3 directionFromAngles(float yaw_deg, float pitch_deg) {
   const float y = glm::radians(yaw_deg), p = glm::radians(pitch_deg);
   return glm::normalize(glm::vec3(std::cos(p) * std::sin(y), std::sin(p), std::cos(p) * std::cos(y)));
 }
-
-glm::vec3 windFromAngles(float yaw_deg, float pitch_deg) { return lightFromAngles(yaw_deg, pitch_deg); }
 
 namespace {
 
@@ -237,10 +235,9 @@ void Panel::headControls() {
   if (ImGui::Button("Shake")) c_.shake(shake_amplitude_deg, shake_frequency_hz, false);
   ImGui::SameLine();
   if (ImGui::Button("Nod")) c_.shake(shake_amplitude_deg, shake_frequency_hz, true);
-  static char motion[512] = "head-motion.json";
-  ImGui::InputText("##motion", motion, sizeof motion);
+  ImGui::InputText("##motion", motion_path_, sizeof motion_path_);
   ImGui::SameLine();
-  if (ImGui::Button("Save head motion")) c_.saveHeadMotion(motion);
+  if (ImGui::Button("Save head motion")) c_.saveHeadMotion(motion_path_);
   tooltip("the head as moved by hand, for loosehair simulate SCENE --motion FILE");
 }
 
@@ -255,18 +252,17 @@ void Panel::wind() {
   changed |= ImGui::SliderFloat("towards, yaw", &yaw, -180.0f, 180.0f, "%.0f deg");
   changed |= ImGui::SliderFloat("towards, pitch", &pitch, -60.0f, 60.0f, "%.0f deg");
   changed |= ImGui::SliderFloat("speed##wind", &p.wind.speed, 0.0f, 10.0f, "%.1f m/s");
-  static float gust = 0.0f, gust_period = 2.0f;
-  changed |= ImGui::SliderFloat("gusts", &gust, 0.0f, 1.0f, "%.2f");
+  changed |= ImGui::SliderFloat("gusts", &gust_, 0.0f, 1.0f, "%.2f");
   tooltip("the wind speed varies by this fraction up and down");
-  changed |= ImGui::SliderFloat("gust period", &gust_period, 0.5f, 10.0f, "%.1f s");
+  changed |= ImGui::SliderFloat("gust period", &gust_period_, 0.5f, 10.0f, "%.1f s");
   ImGui::Checkbox("wind arrow", &v.show_wind_arrow);
   if (changed) {
-    p.wind.direction = windFromAngles(yaw, pitch);
+    p.wind.direction = directionFromAngles(yaw, pitch);
     p.wind.profile.clear();
-    if (gust > 0) {  // a sawtooth-free rise and fall over the next minute
+    if (gust_ > 0) {  // rising and falling every half period for the next minute (then held)
       const double t0 = c_.sim().latest()->time;
-      for (int k = 0; k <= 60.0 / gust_period * 2; ++k)
-        p.wind.profile.emplace_back(t0 + 0.5 * gust_period * k, k % 2 ? 1.0f + gust : 1.0f - gust);
+      for (int k = 0; k <= static_cast<int>(120.0f / gust_period_); ++k)
+        p.wind.profile.emplace_back(t0 + 0.5 * gust_period_ * k, k % 2 ? 1.0f + gust_ : 1.0f - gust_);
     }
     c_.setWind(on);
   }
@@ -289,7 +285,7 @@ void Panel::rendering() {
   int d = static_cast<int>(view.settings.debug);
   if (ImGui::Combo("debug view", &d, views, 5)) view.settings.debug = static_cast<render::DebugView>(d);
   if (ImGui::Checkbox("neighbour grid cells", &view.show_grid)) c_.sim().setPublishGrid(view.show_grid);
-  ImGui::Checkbox("air particles", &view.show_air);
+  if (ImGui::Checkbox("air particles", &view.show_air)) c_.sim().setPublishAir(view.show_air);
   ImGui::Checkbox("light from the camera", &view.light_from_camera);
   if (!view.light_from_camera) {
     ImGui::SliderFloat("light yaw", &view.light_yaw_deg, -180.0f, 180.0f, "%.0f deg");

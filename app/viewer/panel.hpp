@@ -46,14 +46,16 @@ class Panel {
   char shot_path_[512] = "loosehair-screenshot.png";
   char snapshot_path_[512] = "loosehair-state.lhsnap";
   char style_path_[512] = "my-style.json";
+  char motion_path_[512] = "head-motion.json";
+  float gust_ = 0.0f, gust_period_ = 2.0f;  // wind: fraction up and down, period (s)
   bool record_mp4_ = true;
   int particles_ = 0;
   int seed_ = 0;
 };
 
-/// The light direction of the panel's two angles (towards the light).
-glm::vec3 lightFromAngles(float yaw_deg, float pitch_deg);
-/// The wind direction of two angles: yaw about +Y from +Z, pitch above the horizontal.
-glm::vec3 windFromAngles(float yaw_deg, float pitch_deg);
+/// The unit direction of the panel's two angles (the light's, towards the
+/// light; the wind's, where it blows): yaw about +Y from +Z, pitch above
+/// the horizontal.
+glm::vec3 directionFromAngles(float yaw_deg, float pitch_deg);
 
 }  // namespace loosehair::viewer

@@ -92,8 +92,9 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
         e.contains("frame") ? static_cast<std::int64_t>(number(e, "frame", where, 0, 1e7)) : last;
     if (frame < last) bad(where, "frame " + std::to_string(frame) + " comes before the previous event's " + std::to_string(last));
     last = frame;
-    for (const char* f : {"path", "dir", "video", "name", "key", "label"})
-      if (e.contains(f) && f != std::string("path") && !e[f].is_string()) bad(where, std::string(f) + " must be a string");
+    for (const char* f : {"path", "dir", "video", "name", "key", "label", "button"})  // a brush's path is points
+      if (e.contains(f) && !(what == "brush" && f == std::string("path")) && !e[f].is_string())
+        bad(where, std::string(f) + " must be a string");
     if (what == "drag") {
       const auto a = point(e["from"], where, "from"), b = point(e["to"], where, "to");
       const std::string button = e.value("button", "right");
@@ -123,7 +124,6 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       for (std::size_t k = 1; k < pts.size(); ++k) out.push_back({frame, "mouse_move", mouse(button.c_str(), pts[k], false), where});
       out.push_back({frame, "mouse_up", mouse(button.c_str(), pts.back(), false), where});
     } else {
-      if (e.contains("path") && !e["path"].is_string()) bad(where, "path must be a string");
       out.push_back({frame, what, e, where});
     }
   }

@@ -194,6 +194,11 @@ void SimulationThread::setPublishGrid(bool on) {
   publish_grid_ = on;
 }
 
+void SimulationThread::setPublishAir(bool on) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  publish_air_ = on;
+}
+
 bool SimulationThread::waitForFrame(std::int64_t n) const {
   std::unique_lock<std::mutex> lk(mutex_);
   published_.wait(lk, [&] { return stop_ || latest_->frame >= n || (paused_ && !step_once_ && !restart_); });
@@ -333,16 +338,18 @@ void SimulationThread::publish(double frame_ms) {
   f->connections = solver_->stats().active_connections;
   f->contacts = solver_->stats().body_contacts;
   f->neighbor_pairs = solver_->stats().neighbor_pairs;
-  if (solver_->hasWind()) solver_->worldAirPositions(f->air);
   f->grid_cell = 2.0f * solver_->params().h2;
   f->shape_keeping = solver_->params().shape_keeping;
   f->params = solver_->params();
-  bool grid = false;
+  f->wind = solver_->hasWind();
+  bool grid = false, air = false;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     grid = publish_grid_;
+    air = publish_air_;
     f->generation = generation_;
   }
+  if (air && f->wind) solver_->worldAirPositions(f->air);
   if (grid && f->grid_cell > 0) {
     std::set<std::tuple<int, int, int>> cells;  // sorted: the same picture every time
     for (const glm::vec3& p : solver_->particles().position) {  // head frame, as the grid

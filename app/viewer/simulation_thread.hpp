@@ -37,7 +37,8 @@ struct PublishedFrame {
   std::size_t particles = 0, connections = 0, contacts = 0, neighbor_pairs = 0;
   bool paused = false;
   std::uint64_t generation = 0;   // counts restarts: a new scene may have a new head
-  std::vector<glm::vec3> air;     // wind's air particles (world), for their debug view
+  bool wind = false;              // the solver has wind
+  std::vector<glm::vec3> air;     // its air particles (world), while their debug view is on
   float grid_cell = 0;
   float shape_keeping = 0;        // the running solver's strength (Hz)
   SimParams params;               // the running solver's parameters            // the neighbour grid's cell size, 2 h2 (m)
@@ -102,8 +103,10 @@ class SimulationThread {
   /// bit-identically (the head returns to the scene's own motion). A bad
   /// or foreign file is reported by takeError and changes nothing.
   void loadSnapshot(const std::string& path);
-  /// Publishes the occupied neighbour-grid cells with each frame (a debug view).
+  /// Publishes the occupied neighbour-grid cells, and the air particles,
+  /// with each frame (debug views; copied only while asked for).
   void setPublishGrid(bool on);
+  void setPublishAir(bool on);
 
   /// Waits until frame `n` has been published (for scripts and tests).
   /// False if the thread stopped or it is paused before reaching it.
@@ -122,7 +125,7 @@ class SimulationThread {
 
   mutable std::mutex mutex_;
   mutable std::condition_variable wake_, published_;
-  bool stop_ = false, paused_ = false, step_once_ = false, publish_grid_ = false;
+  bool stop_ = false, paused_ = false, step_once_ = false, publish_grid_ = false, publish_air_ = false;
   std::uint64_t generation_ = 0;
   std::optional<std::int64_t> pause_at_;
   double speed_ = 1.0;

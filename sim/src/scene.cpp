@@ -91,6 +91,25 @@ void readSolver(Fields f, SceneDesc& s) {
 
 HeadTrajectory readMotion(Fields f);
 
+// A text file's contents; what goes wrong names the file and what it is for.
+std::string readTextFile(const std::string& path, const char* what) {
+  try {
+    return readRegularFile(path, kMaxTextFileBytes);
+  } catch (const FileError& e) {
+    throw SceneError(std::string(e.what()) + " (" + what + ")");
+  }
+}
+
+// Checked and parsed JSON text; errors are SceneErrors naming `source`.
+json parseJson(const std::string& text, const std::string& source) {
+  checkJson(text, source, [](const std::string& message) { throw SceneError(message); });
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    throw SceneError(source + ": invalid JSON: " + clipped(e.what(), 200));
+  }
+}
+
 WindParams readWind(Fields f) {
   WindParams w;
   w.direction = glm::vec3(f.vec3("direction", glm::dvec3(w.direction), 1e6));
@@ -192,13 +211,7 @@ HeadTrajectory readMotion(Fields f) {
 }  // namespace
 
 SceneDesc parseScene(const std::string& text, const std::string& source) {
-  checkJson(text, source, [](const std::string& message) { throw SceneError(message); });
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {
-    throw SceneError(source + ": invalid JSON: " + clipped(e.what(), 200));
-  }
+  const json root = parseJson(text, source);
   SceneDesc s;
   s.source = source;
   Fields top(root, "", source);
@@ -298,19 +311,7 @@ std::vector<std::uint32_t> anchorableParticles(const Particles& p, float reach) 
 }  // namespace
 
 HeadTrajectory loadMotion(const std::string& path) {
-  std::string text;
-  try {
-    text = readRegularFile(path, kMaxTextFileBytes);
-  } catch (const FileError& e) {
-    throw SceneError(std::string(e.what()) + " (the head motion file)");
-  }
-  checkJson(text, path, [](const std::string& message) { throw SceneError(message); });
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {
-    throw SceneError(path + ": invalid JSON: " + clipped(e.what(), 200));
-  }
+  const json root = parseJson(readTextFile(path, "the head motion file"), path);
   Fields top(root, "", path);
   if (!top.has("motion")) top.fail("motion", "is required: the file holds {\"motion\": {...}} as a scene does");
   HeadTrajectory t = readMotion(top.child("motion"));
@@ -333,15 +334,7 @@ std::string keyframesJson(const std::vector<HeadKeyframe>& keys) {
   return s + "]}}\n";
 }
 
-SceneDesc loadScene(const std::string& path) {
-  std::string text;
-  try {
-    text = readRegularFile(path, kMaxTextFileBytes);
-  } catch (const FileError& e) {
-    throw SceneError(std::string(e.what()) + " (the scene file)");
-  }
-  return parseScene(text, path);
-}
+SceneDesc loadScene(const std::string& path) { return parseScene(readTextFile(path, "the scene file"), path); }
 
 namespace {
 Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep);

@@ -405,6 +405,7 @@ void Solver::setParams(const SimParams& p) {
     throw std::invalid_argument("shape_keeping = " + std::to_string(p.shape_keeping) + " Hz is too strong for time_step = " +
                                 std::to_string(p.time_step) + " s");
   const bool stiffness = p.youngs_modulus != params_.youngs_modulus;
+  const bool threads = p.threads != params_.threads;
   params_ = p;
   if (stiffness) computeRestFactors();
   computeDerivedCoefficients();
@@ -413,7 +414,7 @@ void Solver::setParams(const SimParams& p) {
   report_.friction_coefficient = dfr_;
   if (shape_ && p.shape_keeping == 0.0f) shape_.reset();  // plain LCP from now on
   if (shape_) shape_->setBase(p.shape_keeping);
-  setThreadCount(p.threads);
+  if (threads) setThreadCount(p.threads);  // a new count starts a new measurement
 }
 
 void Solver::setTimeStep(double dt) {
