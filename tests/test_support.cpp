@@ -1,6 +1,7 @@
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -92,6 +93,33 @@ GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& h
   }
   const double det = shh * sdd - shd * shd;
   return {(syh * sdd - syd * shd) / det, -(shh * syd - shd * syh) / det};
+}
+
+float strandLengthError(const loosehair::StrandField& field, const std::vector<glm::vec3>& points) {
+  const loosehair::StrandSet& r = field.rest();
+  float worst = 0;
+  for (std::size_t s = 0; s < r.size(); ++s) {
+    double len = 0, rest = 0;
+    for (std::uint32_t q = r.first[s]; q + 1 < r.first[s + 1]; ++q) {
+      len += glm::length(points[q + 1] - points[q]);
+      rest += glm::length(r.points[q + 1] - r.points[q]);
+    }
+    worst = std::max(worst, static_cast<float>(std::abs(len / rest - 1.0)));
+  }
+  return worst;
+}
+
+void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points,
+                std::vector<float>& out) {
+  const loosehair::StrandSet& r = field.rest();
+  auto turn = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const float d = glm::dot(glm::normalize(b - a), glm::normalize(c - b));
+    return glm::degrees(std::acos(std::clamp(d, -1.0f, 1.0f)));
+  };
+  for (std::size_t s = 0; s < r.size(); ++s)
+    for (std::uint32_t q = r.first[s] + 1; q + 1 < r.first[s + 1]; ++q)
+      out.push_back(turn(points[q - 1], points[q], points[q + 1]) -
+                    turn(r.points[q - 1], r.points[q], r.points[q + 1]));
 }
 
 }  // namespace lhtest

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "loosehair/loosehair.hpp"
+#include "loosehair/strand_field.hpp"
 
 #include <glm/vec3.hpp>
 
@@ -42,5 +43,13 @@ GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& h
                       const std::vector<double>& hair, double from, double to);
 
 std::string sourceDir();
+
+/// Largest |strand length / rest length - 1| over the strands of `field`
+/// at `points` (StrandField::deform's output).
+float strandLengthError(const loosehair::StrandField& field, const std::vector<glm::vec3>& points);
+/// Appends, for every inner strand point, how much more the strand turns
+/// there (degrees, between its two segments) than at rest.
+void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points,
+                std::vector<float>& out);
 
 }  // namespace lhtest

@@ -1,6 +1,7 @@
 #include "loosehair/scene.hpp"
 
 #include "init/cantilever.hpp"
+#include "init/hanging_hair.hpp"
 #include "init/poisson_pillar.hpp"
 #include "init/length_map.hpp"
 #include "init/mesh_scalp.hpp"
@@ -34,26 +35,6 @@ namespace loosehair {
 namespace {
 
 using namespace detail;
-
-// A body fixed in the world seen from the head frame at one head pose.
-class PlacedBody final : public Body {
- public:
-  PlacedBody(std::shared_ptr<const Body> body, const HeadPose& pose)
-      : body_(std::move(body)), r_(pose.rotation), c_(pose.center) {}
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override {
-    std::vector<glm::vec3> q(n);
-    for (std::size_t k = 0; k < n; ++k) q[k] = r_ * p[k] + c_;
-    body_->signedDistance(q.data(), n, phi, normal);
-    const glm::mat3 rt = glm::transpose(r_);
-    for (std::size_t k = 0; k < n; ++k) normal[k] = rt * normal[k];
-  }
-
- private:
-  std::shared_ptr<const Body> body_;
-  glm::mat3 r_;
-  glm::vec3 c_;
-};
 
 void readSolver(Fields f, SceneDesc& s) {
   SimParams& p = s.sim;
@@ -340,6 +321,22 @@ namespace {
 Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep);
 }  // namespace
 
+Style sceneStyle(const SceneDesc& scene, const HeadModel& model, BuildReport* report) {
+  const HairSpec& hair = scene.hair;
+  Style style = hair.style_data ? *hair.style_data : loadStyle(hair.style);
+  if (!style.head.sameAs(scene)) {
+    BuildReport other;
+    const HeadModel from = HeadModel::build(style.head, style.source, scene.limits.max_sdf_cells, &other);
+    checkStyle(style, from);
+    style = retargetStyle(style, from, model);
+    if (report)
+      report->warnings.push_back("hair.style: the style was made on another head; its wisps were placed on this one by their scalp (u, v)");
+  } else {
+    checkStyle(style, model);
+  }
+  return style;
+}
+
 Solver buildSolver(const SceneDesc& scene, BuildReport* report) {
   BuildReport rep;
   try {
@@ -386,16 +383,7 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
-  Style style = hair.style_data ? *hair.style_data : loadStyle(hair.style);
-  if (!style.head.sameAs(scene)) {
-    BuildReport other;
-    const HeadModel from = HeadModel::build(style.head, style.source, scene.limits.max_sdf_cells, &other);
-    checkStyle(style, from);
-    style = retargetStyle(style, from, model);
-    rep.warnings.push_back("hair.style: the style was made on another head; its wisps were placed on this one by their scalp (u, v)");
-  } else {
-    checkStyle(style, model);
-  }
+  const Style style = sceneStyle(scene, model, &rep);
   const StrandSet strands = buildMemberStrands(style, model);
   if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
   rep.style_wisps = style.wisps.size();
@@ -467,23 +455,9 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
   auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   const HairSpec& hair = scene.hair;
   const ScalpSurface& scalp = model.scalp();
-  // What the initial strands must stay out of: the head and, placed where
-  // the head is at the start, the torso.
-  UnionBody start_bodies;
-  start_bodies.add(model.head());
-  if (model.torso()) start_bodies.add(std::make_shared<PlacedBody>(model.torso(), scene.motion.pose(0.0)));
-  // 1. Poisson-disc particles in (u, v, s), SPEC §6.1.
-  LengthMap length_map;
-  if (!hair.length_map.empty()) {
-    try {
-      length_map = LengthMap(hair.length_map);
-    } catch (const std::exception& e) {
-      throw SceneError(scene.source + ": hair.length_map: " + e.what());
-    }
-  }
-  const float min_fraction = 0.02f;
-  auto length_at = [&](glm::vec2 uv) { return hair.length * std::max(length_map(uv), min_fraction); };
-  const float max_length = hair.length * std::max(length_map.maximum(), min_fraction);
+  const HangingHair hanging(scene, model);
+  auto length_at = [&](glm::vec2 uv) { return hanging.length(uv); };
+  const float max_length = hanging.maxLength();
   PillarOptions popt;
   popt.target_count = hair.particles;
   popt.seed = scene.seed;
@@ -495,29 +469,19 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
   if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
 
   // 2. Root directions from the whorl and cantilever strands (SPEC §6.1).
-  const glm::dmat3 r0 = scene.motion.pose(0.0).rotation;
-  glm::vec3 gdir(glm::transpose(r0) * glm::dvec3(scene.sim.gravity));
-  const bool has_gravity = glm::length(gdir) > 0.0f;
-  if (has_gravity) gdir = glm::normalize(gdir);
   const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
   auto t_strands = Clock::now();
 
   p.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const PillarSample& smp = pillar.samples[k];
-    const glm::vec3 nrm = scalp.normal(smp.uv);
-    glm::vec3 away = -hair.whorl - glm::dot(-hair.whorl, nrm) * nrm;
-    const float away_len = glm::length(away);
-    glm::vec3 root_dir = hair.w_n * nrm;
-    if (away_len > 1e-6f) root_dir += hair.w_t * (away / away_len);
-    root_dir = glm::length(root_dir) > 1e-6f ? glm::normalize(root_dir) : nrm;
-
     p.uv[k] = smp.uv;
     p.arc_length[k] = smp.s;
     p.root_point[k] = smp.point;
     p.mass[k] = hair.mass / static_cast<float>(n);
     p.velocity[k] = glm::vec3(0.0f);
     if (smp.s < 0.0f) {
+      const glm::vec3 root_dir = hanging.rootDirection(smp.uv);
       p.is_root[k] = 1;
       p.position[k] = smp.point + smp.s * root_dir;
       p.direction[k] = root_dir;
@@ -525,9 +489,7 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
       p.is_root[k] = 0;
       const float length = length_at(smp.uv);
       const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
-      const CantileverStrand strand(smp.point, root_dir, has_gravity ? gdir : root_dir, length,
-                                    hair.bending_stiffness, &start_bodies, clearance,
-                                    hair.layering, segments);
+      const CantileverStrand strand = hanging.strand(smp.uv, segments, clearance);
       p.position[k] = strand.position(smp.s);
       p.direction[k] = strand.tangent(smp.s);
     }

@@ -1067,6 +1067,16 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t, std::vect
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
+void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit,
+                          std::span<float> phi, std::span<glm::vec3> normal, bool rough) const {
+  if (phi.size() < points.size() || normal.size() < points.size())
+    throw std::invalid_argument("Solver::bodyContacts: output spans shorter than the points");
+  std::vector<BodyFrame> frames;
+  HeadKinematics head;
+  placeBodies(t, frames, head, true);
+  queryBodies(frames, head, points.data(), points.size(), phi.data(), normal.data(), nullptr, limit, rough);
+}
+
 // ---- wind (SPEC §5) -----------------------------------------------------------
 void Solver::setWind(const WindParams& wind) {
   auto air = std::make_unique<AirSystem>(wind);

@@ -18,5 +18,7 @@
 #include "loosehair/ply_writer.hpp"
 #include "loosehair/scene.hpp"
 #include "loosehair/snapshot.hpp"
+#include "loosehair/render_strands.hpp"
 #include "loosehair/solver.hpp"
+#include "loosehair/strand_field.hpp"
 #include "loosehair/wind.hpp"

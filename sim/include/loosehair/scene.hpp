@@ -164,4 +164,12 @@ struct BuildReport {
 /// the automatic choice).
 Solver buildSolver(const SceneDesc& scene, BuildReport* report = nullptr);
 
+class HeadModel;
+struct Style;
+/// The style of a styled scene (hair.style or hair.style_data) placed on
+/// `model`, the scene's head: as it is when it was made on that head,
+/// otherwise re-rooted by (u, v) (a warning in `report`). Throws SceneError
+/// or StyleError.
+Style sceneStyle(const SceneDesc& scene, const HeadModel& model, BuildReport* report = nullptr);
+
 }  // namespace loosehair

@@ -160,6 +160,12 @@ class Solver {
   /// negative inside.
   void bodyDistance(std::span<const glm::vec3> head_frame_points, double t,
                     std::vector<float>& phi, bool include_obstacles = false) const;
+  /// Signed distance and outward normal (head frame) of the nearest of the
+  /// head and the world bodies active at time t, obstacles included, exact
+  /// where phi < limit (elsewhere phi >= limit, the normal unspecified);
+  /// `rough`: by the bodies' fast approximation (Body::roughDistanceBelow).
+  void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit,
+                    std::span<float> phi, std::span<glm::vec3> normal, bool rough = false) const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay

@@ -1,0 +1,48 @@
+// The strands drawn for a scene (issue "strands", SPEC §7.5): thousands of
+// thin strands, independent of the particle count, whose shape the
+// particles carry (loosehair/strand_field.hpp). A styled scene draws its
+// style's member strands (an imported groom: its own strands); a scene
+// without a style draws one strand per scalp sample, hung by the same
+// cantilever as its particles (SPEC §6.1).
+#pragma once
+
+#include "loosehair/style.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace loosehair {
+
+struct SceneDesc;
+class HeadModel;
+
+struct RenderStrandOptions {
+  /// About this many strands (a style's member density is scaled to it;
+  /// one-strand wisps, such as an imported groom's, are kept as they are).
+  std::size_t strands = 20000;
+  /// Points a strand, root included, evenly spaced in arc length (2..256).
+  int points = 24;
+};
+
+/// The rest strands of `scene` on its head `model` (head frame), each with
+/// exactly options.points points, in a fixed order for the scene's seed.
+/// Throws SceneError (or StyleError) naming the scene and field, and
+/// std::invalid_argument for options out of range.
+StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model,
+                            const RenderStrandOptions& options = {});
+
+class Solver;
+class StrandField;
+struct StrandFieldOptions;
+/// The render strands of `scene` bound to `solver` as it is now (the rest
+/// state, right after buildSolver(scene)), with a binding radius of twice
+/// `spacing` (the mean particle spacing, BuildReport::mean_neighbor_distance).
+/// Builds the scene's head again. Throws as growRenderStrands.
+StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, float spacing,
+                             const RenderStrandOptions& options = {}, int threads = 1);
+
+/// `strands` resampled to `points` points each, evenly in arc length
+/// (strands of zero length are dropped).
+StrandSet resampleStrands(const StrandSet& strands, int points);
+
+}  // namespace loosehair

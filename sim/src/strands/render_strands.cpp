@@ -1,0 +1,119 @@
+#include "loosehair/render_strands.hpp"
+
+#include "init/hanging_hair.hpp"
+#include "init/scalp_surface.hpp"
+#include "loosehair/head_model.hpp"
+#include "loosehair/scene.hpp"
+#include "loosehair/solver.hpp"
+#include "loosehair/strand_field.hpp"
+#include "random.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace loosehair {
+
+StrandSet resampleStrands(const StrandSet& strands, int points) {
+  if (points < 2 || points > 256)
+    throw std::invalid_argument("points per strand " + std::to_string(points) + " is outside 2..256");
+  StrandSet out;
+  out.first.assign(1, 0);
+  std::vector<float> s;
+  for (std::size_t k = 0; k < strands.size(); ++k) {
+    const glm::vec3* p = strands.points.data() + strands.first[k];
+    const std::size_t n = strands.pointCount(k);
+    if (n < 2) continue;
+    s.assign(n, 0.0f);
+    for (std::size_t j = 1; j < n; ++j) s[j] = s[j - 1] + glm::length(p[j] - p[j - 1]);
+    const float length = s.back();
+    if (!(length > 0.0f)) continue;
+    std::size_t seg = 0;
+    for (int j = 0; j < points; ++j) {
+      const float target = length * static_cast<float>(j) / static_cast<float>(points - 1);
+      while (seg + 2 < n && s[seg + 1] < target) ++seg;
+      const float span = s[seg + 1] - s[seg];
+      const float a = span > 0.0f ? std::clamp((target - s[seg]) / span, 0.0f, 1.0f) : 0.0f;
+      out.points.push_back(j == 0 ? p[0] : j == points - 1 ? p[n - 1] : p[seg] + a * (p[seg + 1] - p[seg]));
+    }
+    out.first.push_back(static_cast<std::uint32_t>(out.points.size()));
+    out.wisp.push_back(k < strands.wisp.size() ? strands.wisp[k] : 0u);
+    out.root_uv.push_back(k < strands.root_uv.size() ? strands.root_uv[k] : glm::vec2(0.0f));
+  }
+  return out;
+}
+
+namespace {
+
+// A style's member strands, its wisps' densities scaled so that about
+// `target` strands grow (counted wisps, an imported groom's, stay as made).
+StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target) {
+  Style style = sceneStyle(scene, model);
+  StrandSet first = buildMemberStrands(style, model);
+  std::size_t counted = 0, dense = 0;
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    if (style.wisps[first.wisp[k]].params.strands > 0)
+      ++counted;
+    else
+      ++dense;
+  }
+  if (dense == 0 || target <= counted) return first;
+  const float scale = static_cast<float>(target - counted) / static_cast<float>(dense);
+  if (std::abs(scale - 1.0f) < 0.02f) return first;
+  for (Wisp& w : style.wisps)
+    if (w.params.strands == 0) w.params.density *= scale;
+  return buildMemberStrands(style, model);
+}
+
+// One strand per scalp sample, hung like the particles (SPEC §6.1):
+// samples uniform in area from the scene's seed.
+StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target, int points) {
+  const HangingHair hanging(scene, model);
+  const ScalpSurface& scalp = model.scalp();
+  // the particles' clearance off the head, for a typical particle spacing
+  const float rp = std::cbrt(static_cast<float>(scalp.area()) * hanging.maxLength() /
+                             static_cast<float>(std::max(scene.hair.particles, 1)));
+  const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
+  Random rng(scene.seed ^ 0x5bd1e995c0ffee11ULL);
+  StrandSet out;
+  out.first.assign(1, 0);
+  const int segments = std::max(2 * points, 16);
+  for (std::size_t k = 0; k < target; ++k) {
+    const glm::vec2 uv = scalp.sampleByArea(rng);
+    const CantileverStrand strand = hanging.strand(uv, segments, clearance);
+    const float length = strand.length();
+    for (int j = 0; j < points; ++j)
+      out.points.push_back(j == 0 ? scalp.point(uv)
+                                  : strand.position(length * static_cast<float>(j) /
+                                                    static_cast<float>(points - 1)));
+    out.first.push_back(static_cast<std::uint32_t>(out.points.size()));
+    out.wisp.push_back(0);
+    out.root_uv.push_back(uv);
+  }
+  return out;
+}
+
+}  // namespace
+
+StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, const RenderStrandOptions& options) {
+  if (options.strands < 1 || options.strands > 2'000'000)
+    throw std::invalid_argument("strands " + std::to_string(options.strands) + " is outside 1..2000000");
+  if (options.points < 2 || options.points > 256)
+    throw std::invalid_argument("points per strand " + std::to_string(options.points) + " is outside 2..256");
+  const bool styled = scene.hair.style_data || !scene.hair.style.empty();
+  if (styled) return resampleStrands(styleStrands(scene, model, options.strands), options.points);
+  return hangingStrands(scene, model, options.strands, options.points);
+}
+
+StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, float spacing,
+                             const RenderStrandOptions& options, int threads) {
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells);
+  StrandFieldOptions field;
+  field.support = 2.0f * std::max(spacing, 1e-4f);
+  return StrandField(growRenderStrands(scene, model, options), solver.particles(), field, threads);
+}
+
+}  // namespace loosehair
