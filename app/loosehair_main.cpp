@@ -16,6 +16,7 @@
 #include "scene_bodies.hpp"
 #include "style_command.hpp"
 #include "loosehair/loosehair.hpp"
+#include "loosehair/strand_files.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
 
@@ -41,6 +42,7 @@ constexpr const char* kSimulateUsage =
     "                            [--dump DIR [--overwrite]]\n"
     "                            [--save-state FILE [--save-every N]] [--resume FILE]\n"
     "                            [--style STYLE.json] [--no-shape-keeping] [--motion FILE]\n"
+    "                            [--dump-strands DIR [--strands N] [--strand-points P]]\n"
     "\n"
     "  Runs SCENE (a JSON scene file) headless and prints the state hash.\n"
     "    --frames N       number of frames (default: the scene's \"frames\"); with\n"
@@ -48,6 +50,11 @@ constexpr const char* kSimulateUsage =
     "    --threads T      exactly T worker threads (default: all cores, or one while\n"
     "                     other programs keep them busy); results do not depend on it\n"
     "    --dump DIR       write DIR/frame_00001.ply ... (binary PLY, world coordinates)\n"
+    "    --dump-strands DIR  write each frame's render strands, carried by the\n"
+    "                     particles, to DIR/strands_00001.ply (polylines) and .hair\n"
+    "                     (cyHair), world coordinates, for other renderers\n"
+    "    --strands N      about N render strands (default 20000)\n"
+    "    --strand-points P  points a strand, 2..256 (default 24)\n"
     "    --overwrite      let --dump (or render's --out) replace the frames of an\n"
     "                     earlier run in DIR (they are removed first)\n"
     "    --seed S         random seed of the hair sampling (default: the scene's \"seed\")\n"
@@ -146,7 +153,7 @@ void prepareOutputDirectory(const std::string& dir, bool overwrite, const char* 
                              " entries, e.g. " + entries.front().filename().string() + "); choose an "
                              "empty one or give --overwrite to replace the frames of the earlier run");
   auto isFrame = [](const std::string& name) {
-    for (const char* prefix : {"frame_", "air_"}) {
+    for (const char* prefix : {"frame_", "air_", "strands_"}) {
       const std::size_t p = std::strlen(prefix);
       if (name.rfind(prefix, 0) != 0 || name.size() < p + 5) continue;
       bool digits = true;
@@ -166,8 +173,10 @@ struct Options {
   std::string scene;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
-  std::string dump_dir, save_state, resume, style, motion;
+  std::string dump_dir, save_state, resume, style, motion, strands_dir;
   int save_every = 0;
+  std::size_t strand_count = 20000;
+  int strand_points = 24;
   bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
 };
 
@@ -189,6 +198,12 @@ Options parseSimulate(const std::vector<std::string>& args) {
       o.dump_dir = value();
     else if (a == "--overwrite")
       o.overwrite = true;
+    else if (a == "--dump-strands")
+      o.strands_dir = value();
+    else if (a == "--strands")
+      o.strand_count = static_cast<std::size_t>(parseInteger(a, value(), 1, 2000000));
+    else if (a == "--strand-points")
+      o.strand_points = static_cast<int>(parseInteger(a, value(), 2, 256));
     else if (a == "--allow-expensive")
       o.allow_expensive = true;
     else if (a == "--save-state")
@@ -238,6 +253,15 @@ int simulate(const Options& o) {
   BuildReport build;
   Solver solver = buildSolver(scene, &build);
   if (!o.dump_dir.empty()) prepareOutputDirectory(o.dump_dir, o.overwrite, "--dump");
+  // the render strands are bound to the rest state, before any snapshot
+  std::optional<StrandField> strands;
+  if (!o.strands_dir.empty()) {
+    if (o.strands_dir != o.dump_dir) prepareOutputDirectory(o.strands_dir, o.overwrite, "--dump-strands");
+    RenderStrandOptions so;
+    so.strands = o.strand_count;
+    so.points = o.strand_points;
+    strands.emplace(bindSceneStrands(scene, solver, build.mean_neighbor_distance, so, solver.threadCount()));
+  }
   const double init_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
   const InitReport& r = solver.initReport();
@@ -260,6 +284,9 @@ int simulate(const Options& o) {
               build.time_step * 1e3, build.substeps, r.stable_time_step * 1e3,
               solver.threadCount(), init_seconds);
   printStyle(build, scene.hair.style);
+  if (strands)
+    std::printf("render strands: %zu of %d points, carried by the particles\n", strands->strandCount(),
+                o.strand_points);
   for (const std::string& w : build.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (r.unanchored > 0)
     std::fprintf(stderr,
@@ -285,6 +312,9 @@ int simulate(const Options& o) {
     saveSnapshot(solver, o.save_state);
   };
 
+  StrandSet strand_set;
+  if (strands) strand_set = strands->rest();
+  double deform_seconds = 0;
   const bool tty = isatty(fileno(stderr)) != 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (int k = 1; k <= to_run; ++k) {
@@ -297,6 +327,16 @@ int simulate(const Options& o) {
       if (solver.hasWind()) {
         std::snprintf(name, sizeof name, "air_%05d.ply", f);
         writeAirPly((std::filesystem::path(o.dump_dir) / name).string(), solver);
+      }
+    }
+    if (strands) {
+      const auto t_def = std::chrono::steady_clock::now();
+      strands->deformWorld(solver, strand_set.points, solver.threadCount());
+      deform_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_def).count();
+      for (const char* ext : {"ply", "hair"}) {
+        char name[32];
+        std::snprintf(name, sizeof name, "strands_%05d.%s", f, ext);
+        writeStrands(strand_set, (std::filesystem::path(o.strands_dir) / name).string());
       }
     }
     if (o.save_every > 0 && k % o.save_every == 0 && k < to_run) save();
@@ -316,6 +356,9 @@ int simulate(const Options& o) {
   const StepStats& st = solver.stats();
   const double steps = static_cast<double>(st.steps);
   const StageTimes& s = st.sum;
+  if (strands && to_run > 0)
+    std::printf("render strands: %.2f ms a frame to carry (%d threads)\n", 1e3 * deform_seconds / to_run,
+                solver.threadCount());
   std::printf("simulated %.3f s in %" PRIu64 " steps, %.2f s wall (%.1f frames/s)\n", solver.time(),
               st.steps, wall, wall > 0 ? to_run / wall : 0.0);
   std::printf("stage timings, ms per step (mean):\n");

@@ -75,6 +75,9 @@ class StrandField {
               const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads = 1) const;
   /// The same for a solver's current state, head frame, out of its bodies.
   void deform(const Solver& solver, std::vector<glm::vec3>& out, int threads = 1) const;
+  /// The same in world coordinates (the head frame placed by the head's
+  /// pose now), for drawing and export.
+  void deformWorld(const Solver& solver, std::vector<glm::vec3>& out, int threads = 1) const;
 
   const StrandSet& rest() const { return rest_; }
   std::size_t strandCount() const { return rest_.size(); }

@@ -461,4 +461,12 @@ void StrandField::deform(const Solver& solver, std::vector<glm::vec3>& out, int 
   deform(solver.particles().position, solver.particles().direction, &bodies, out, threads);
 }
 
+void StrandField::deformWorld(const Solver& solver, std::vector<glm::vec3>& out, int threads) const {
+  deform(solver, out, threads);
+  const HeadPose pose = solver.head().pose;
+  const glm::mat3 r(pose.rotation);
+  const glm::vec3 c(pose.center);
+  parallel::forEach(threads, out.size(), [&](std::size_t q) { out[q] = r * out[q] + c; });
+}
+
 }  // namespace loosehair
