@@ -75,6 +75,8 @@ constexpr const char* kRenderUsage =
     "                              [--color C] [--no-shadows] [--debug VIEW] [--yaw D]\n"
     "                              [--pitch D] [--distance M] [--fov D] [--light X,Y,Z]\n"
     "                              [--style STYLE.json] [--no-shape-keeping]\n"
+    "                              [--hair strands|billboards] [--shading kajiya-kay|marschner]\n"
+    "                              [--supersample N] [--strands N] [--strand-points P]\n"
     "\n"
     "  Simulates SCENE and draws every frame to DIR/frame_00001.png ... with\n"
     "  software OpenGL (OSMesa: no display, no GPU).\n"
@@ -88,6 +90,12 @@ constexpr const char* kRenderUsage =
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
     "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
     "    --light X,Y,Z    direction towards the (parallel) light\n"
+    "    --hair H         strands (default: thin strands the particles carry) or\n"
+    "                     billboards (one a particle, the LCP paper's picture)\n"
+    "    --shading S      strands lit by kajiya-kay (default) or marschner\n"
+    "    --supersample N  draw N x N times the pixels and filter down (1..4;\n"
+    "                     default 2 for strands, 1 for billboards)\n"
+    "    --strands N      about N strands (default 20000); --strand-points P, 2..256\n"
     "    --frames, --threads, --seed, --allow-expensive, --style,\n"
     "    --no-shape-keeping   as for simulate\n";
 
@@ -260,7 +268,7 @@ int simulate(const Options& o) {
     RenderStrandOptions so;
     so.strands = o.strand_count;
     so.points = o.strand_points;
-    strands.emplace(bindSceneStrands(scene, solver, build.mean_neighbor_distance, so, solver.threadCount()));
+    strands.emplace(bindSceneStrands(scene, solver, build, so, solver.threadCount()));
   }
   const double init_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
@@ -390,6 +398,14 @@ int simulate(const Options& o) {
 }
 
 // ---- render -------------------------------------------------------------------
+// What render draws unless told otherwise: strands, 2x2 supersampled.
+loosehair::render::RenderSettings defaultRenderSettings() {
+  loosehair::render::RenderSettings s;
+  s.hair = loosehair::render::HairGeometry::Strands;
+  s.supersample = 2;
+  return s;
+}
+
 struct RenderOptions {
   std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter", style;
@@ -397,7 +413,10 @@ struct RenderOptions {
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
   int width = 640, height = 480;
-  loosehair::render::RenderSettings settings;
+  std::size_t strand_count = 20000;
+  int strand_points = 24;
+  bool supersample_given = false;
+  loosehair::render::RenderSettings settings = defaultRenderSettings();
 };
 
 RenderOptions parseRender(const std::vector<std::string>& args) {
@@ -424,6 +443,14 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       } else if (a == "--color") o.settings.color = loosehair::render::parseHairColor(value());
       else if (a == "--debug") o.settings.debug = loosehair::render::parseDebugView(value());
       else if (a == "--no-shadows") o.settings.shadows = false;
+      else if (a == "--hair") o.settings.hair = loosehair::render::parseHairGeometry(value());
+      else if (a == "--shading") o.settings.shading = loosehair::render::parseHairShading(value());
+      else if (a == "--supersample") {
+        o.settings.supersample = static_cast<int>(parseInteger(a, value(), 1, 4));
+        o.supersample_given = true;
+      }
+      else if (a == "--strands") o.strand_count = static_cast<std::size_t>(parseInteger(a, value(), 1, 2000000));
+      else if (a == "--strand-points") o.strand_points = static_cast<int>(parseInteger(a, value(), 2, 256));
       else if (a == "--yaw") o.yaw = parseReal(a, value(), -360, 360);
       else if (a == "--pitch") o.pitch = parseReal(a, value(), -89, 89);
       else if (a == "--distance") o.distance = parseReal(a, value(), 0.05, 100);
@@ -450,6 +477,9 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
     }
   }
   if (o.scene.empty()) throw UsageError{"render needs a scene file", kRenderUsage};
+  // billboards are drawn as before unless supersampling is asked for
+  if (o.settings.hair == loosehair::render::HairGeometry::Billboards && !o.supersample_given)
+    o.settings.supersample = 1;
   return o;
 }
 
@@ -489,24 +519,46 @@ int renderScene(const RenderOptions& o) {
   if (o.pitch) camera.pitch_deg = static_cast<float>(*o.pitch);
   if (o.distance) camera.distance = static_cast<float>(*o.distance);
   if (o.fov) camera.fov_deg = static_cast<float>(*o.fov);
+  std::optional<StrandField> strands;
+  if (o.settings.hair == render::HairGeometry::Strands) {
+    RenderStrandOptions so;
+    so.strands = o.strand_count;
+    so.points = o.strand_points;
+    strands.emplace(bindSceneStrands(scene, solver, build, so, solver.threadCount()));
+  }
   std::printf("scene: %s, %zu particles, %d frames of %dx%d, camera %s, %s\n", scene.name.c_str(),
               solver.particles().size(), frames, o.width, o.height, o.camera.c_str(), gl.renderer().c_str());
+  if (strands)
+    std::printf("hair: %zu strands of %d points carried by the particles, %s shading, %dx%d supersampling\n",
+                strands->strandCount(), o.strand_points,
+                o.settings.shading == render::HairShading::Marschner ? "Marschner" : "Kajiya-Kay",
+                o.settings.supersample, o.settings.supersample);
+  else
+    std::printf("hair: a billboard a particle, %dx%d supersampling\n", o.settings.supersample,
+                o.settings.supersample);
 
   const bool tty = isatty(fileno(stderr)) != 0;
   const auto t0 = std::chrono::steady_clock::now();
   render::FrameTimes sum;
-  double sim_seconds = 0;
+  double sim_seconds = 0, deform_seconds = 0;
   for (int f = 1; f <= frames; ++f) {
     const auto ts = std::chrono::steady_clock::now();
     solver.advance(build.substeps);
     sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
-    const render::FrameInput input = render::frameFromSolver(solver, build.mean_neighbor_distance);
+    render::FrameInput input = render::frameFromSolver(solver, build.mean_neighbor_distance);
+    if (strands) {
+      const auto td = std::chrono::steady_clock::now();
+      strands->deformWorld(solver, input.strand_points, solver.threadCount());
+      input.strand_points_each = o.strand_points;
+      deform_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count();
+    }
     renderer.render(input, camera, o.settings, o.width, o.height);
     const auto& t = renderer.lastTimes();
     sum.sort += t.sort;
     sum.upload += t.upload;
     sum.light_pass += t.light_pass;
     sum.camera_pass += t.camera_pass;
+    sum.resolve += t.resolve;
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05d.png", f);
     app::writePng((std::filesystem::path(o.out_dir) / name).string(), gl.pixels(), o.width, o.height);
@@ -514,10 +566,11 @@ int renderScene(const RenderOptions& o) {
       drawProgress(f, frames, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("rendered %d frames in %.2f s (%.1f frames/s); per frame: simulation %.1f ms, sort %.2f ms, "
-              "light pass %.1f ms, camera pass %.1f ms\n",
-              frames, wall, frames / wall, 1e3 * sim_seconds / frames, 1e3 * sum.sort / frames,
-              1e3 * sum.light_pass / frames, 1e3 * sum.camera_pass / frames);
+  std::printf("rendered %d frames in %.2f s (%.1f frames/s); per frame: simulation %.1f ms, strands %.1f ms, "
+              "sort %.2f ms, upload %.1f ms, light pass %.1f ms, camera pass %.1f ms, resolve %.1f ms\n",
+              frames, wall, frames / wall, 1e3 * sim_seconds / frames, 1e3 * deform_seconds / frames,
+              1e3 * sum.sort / frames, 1e3 * sum.upload / frames, 1e3 * sum.light_pass / frames,
+              1e3 * sum.camera_pass / frames, 1e3 * sum.resolve / frames);
   std::printf("frames: %s/frame_00001.png ... frame_%05d.png\n", o.out_dir.c_str(), frames);
   if (!o.video.empty()) {
     loosehair::app::encodeVideo(ffmpeg, o.out_dir, o.video, scene.frame_rate);

@@ -1,26 +1,12 @@
-// Pass 1: every fragment adds its opacity to the slices behind it, with a
-// one-slice ramp (so the lookup interpolates). Layer l of the slice array
-// holds slices 3l .. 3l+3 (neighbouring layers share one slice), so any two
-// adjacent slices k, k+1 are in one layer and the lookup reads one texel.
-#version 330 core
+// Pass 1 for billboards: the strand texture's alpha, into the slices.
 in vec2 v_uv;
 flat in int v_level;
 in vec3 v_light;  // z: position in slices
 in float v_alpha;
 uniform sampler2D u_hair;
-layout(location = 0) out vec4 o0;
-layout(location = 1) out vec4 o1;
-layout(location = 2) out vec4 o2;
-layout(location = 3) out vec4 o3;
-layout(location = 4) out vec4 o4;
 void main() {
   ivec2 size = textureSize(u_hair, v_level);
   float a = texelFetch(u_hair, min(ivec2(v_uv * vec2(size)), size - 1), v_level).a * v_alpha;
   if (a < 1e-4) discard;
-  vec4 z = vec4(v_light.z) - vec4(0.0, 1.0, 2.0, 3.0);
-  o0 = a * clamp(0.0 - z, 0.0, 1.0);
-  o1 = a * clamp(3.0 - z, 0.0, 1.0);
-  o2 = a * clamp(6.0 - z, 0.0, 1.0);
-  o3 = a * clamp(9.0 - z, 0.0, 1.0);
-  o4 = a * clamp(12.0 - z, 0.0, 1.0);
+  writeSlices(a, v_light.z);
 }

@@ -1,6 +1,8 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include "gl_program.hpp"
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "loosehair/render/renderer.hpp"
 
 namespace loosehair::render {
@@ -39,5 +41,11 @@ GLuint program(const std::string& vs, const std::string& fs) {
   }
   return p;
 }
+
+GLint loc(GLuint p, const char* name) { return glGetUniformLocation(p, name); }
+void setMat(GLuint p, const char* n, const glm::mat4& m) { glUniformMatrix4fv(loc(p, n), 1, GL_FALSE, glm::value_ptr(m)); }
+void setVec(GLuint p, const char* n, const glm::vec3& v) { glUniform3fv(loc(p, n), 1, glm::value_ptr(v)); }
+void setF(GLuint p, const char* n, float v) { glUniform1f(loc(p, n), v); }
+void setI(GLuint p, const char* n, int v) { glUniform1i(loc(p, n), v); }
 
 }  // namespace loosehair::render

@@ -3,11 +3,21 @@
 
 #include <GL/glcorearb.h>
 
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
 #include <string>
 
 namespace loosehair::render {
 
 GLuint compile(GLenum type, const std::string& src);
 GLuint program(const std::string& vs, const std::string& fs);
+
+// Uniforms of the program in use, by name.
+GLint loc(GLuint p, const char* name);
+void setMat(GLuint p, const char* name, const glm::mat4& m);
+void setVec(GLuint p, const char* name, const glm::vec3& v);
+void setF(GLuint p, const char* name, float v);
+void setI(GLuint p, const char* name, int v);
 
 }  // namespace loosehair::render

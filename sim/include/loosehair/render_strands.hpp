@@ -22,6 +22,10 @@ struct RenderStrandOptions {
   std::size_t strands = 20000;
   /// Points a strand, root included, evenly spaced in arc length (2..256).
   int points = 24;
+  /// A scene without a style: the Poisson radius its particles were sampled
+  /// with (BuildReport::poisson_radius), so that its strands hang as the
+  /// particles' do; 0 estimates it from the particle count.
+  float poisson_radius = 0.0f;
 };
 
 /// The rest strands of `scene` on its head `model` (head frame), each with
@@ -34,12 +38,13 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model,
 class Solver;
 class StrandField;
 struct StrandFieldOptions;
+struct BuildReport;
 /// The render strands of `scene` bound to `solver` as it is now (the rest
-/// state, right after buildSolver(scene)), with a binding radius of twice
-/// `spacing` (the mean particle spacing, BuildReport::mean_neighbor_distance).
-/// Builds the scene's head again. Throws as growRenderStrands.
-StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, float spacing,
-                             const RenderStrandOptions& options = {}, int threads = 1);
+/// state, right after buildSolver(scene, &build)), with a binding radius of
+/// twice the mean particle spacing. Builds the scene's head again. Throws
+/// as growRenderStrands.
+StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, const BuildReport& build,
+                             RenderStrandOptions options = {}, int threads = 1);
 
 /// `strands` resampled to `points` points each, evenly in arc length
 /// (strands of zero length are dropped).

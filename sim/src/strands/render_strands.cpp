@@ -70,19 +70,24 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
 
 // One strand per scalp sample, hung like the particles (SPEC §6.1):
 // samples uniform in area from the scene's seed.
-StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target, int points) {
+StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target, int points,
+                         float poisson_radius) {
   const HangingHair hanging(scene, model);
   const ScalpSurface& scalp = model.scalp();
-  // the particles' clearance off the head, for a typical particle spacing
-  const float rp = std::cbrt(static_cast<float>(scalp.area()) * hanging.maxLength() /
-                             static_cast<float>(std::max(scene.hair.particles, 1)));
+  // the particles' Poisson radius (or an estimate of it), for their
+  // clearance off the head and the pieces of their cantilevers: the same
+  // pieces give the same curve
+  const float rp = poisson_radius > 0.0f
+                       ? poisson_radius
+                       : std::cbrt(static_cast<float>(scalp.area()) * hanging.maxLength() /
+                                   static_cast<float>(std::max(scene.hair.particles, 1)));
   const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
   Random rng(scene.seed ^ 0x5bd1e995c0ffee11ULL);
   StrandSet out;
   out.first.assign(1, 0);
-  const int segments = std::max(2 * points, 16);
   for (std::size_t k = 0; k < target; ++k) {
     const glm::vec2 uv = scalp.sampleByArea(rng);
+    const int segments = std::max(8, static_cast<int>(std::ceil(hanging.length(uv) / (0.5f * rp))));
     const CantileverStrand strand = hanging.strand(uv, segments, clearance);
     const float length = strand.length();
     for (int j = 0; j < points; ++j)
@@ -105,14 +110,15 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, cons
     throw std::invalid_argument("points per strand " + std::to_string(options.points) + " is outside 2..256");
   const bool styled = scene.hair.style_data || !scene.hair.style.empty();
   if (styled) return resampleStrands(styleStrands(scene, model, options.strands), options.points);
-  return hangingStrands(scene, model, options.strands, options.points);
+  return hangingStrands(scene, model, options.strands, options.points, options.poisson_radius);
 }
 
-StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, float spacing,
-                             const RenderStrandOptions& options, int threads) {
+StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, const BuildReport& build,
+                             RenderStrandOptions options, int threads) {
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells);
   StrandFieldOptions field;
-  field.support = 2.0f * std::max(spacing, 1e-4f);
+  field.support = 2.0f * std::max(build.mean_neighbor_distance, 1e-4f);
+  if (options.poisson_radius <= 0.0f) options.poisson_radius = build.poisson_radius;
   return StrandField(growRenderStrands(scene, model, options), solver.particles(), field, threads);
 }
 

@@ -57,6 +57,17 @@ HairColor parseHairColor(const std::string& name);
 enum class DebugView { None, Density, Speed, Connections, Directions };
 DebugView parseDebugView(const std::string& name);
 
+/// What the hair is drawn as: a billboard a particle (SPEC §7.1) or the
+/// thin strands the particles carry (FrameInput::strand_points).
+enum class HairGeometry { Billboards, Strands };
+/// "billboards" or "strands"; throws RenderError otherwise.
+HairGeometry parseHairGeometry(const std::string& name);
+/// How strands are lit: Kajiya-Kay with Goldman's directionality (SPEC
+/// §7.3), or Marschner's R, TT and TRT lobes from lookup tables.
+enum class HairShading { KajiyaKay, Marschner };
+/// "kajiya-kay" or "marschner"; throws RenderError otherwise.
+HairShading parseHairShading(const std::string& name);
+
 struct RenderSettings {
   HairColor color = HairColor::Brown;
   /// A colour of one's own (linear RGB in [0, 1]) instead of the preset's;
@@ -74,6 +85,17 @@ struct RenderSettings {
   float hair_opacity = 0.8f;       // alpha of one billboard at its brightest
   glm::vec3 background{0.92f, 0.93f, 0.95f};
   DebugView debug = DebugView::None;
+  /// Strands where the frame has them (else billboards).
+  HairGeometry hair = HairGeometry::Billboards;
+  HairShading shading = HairShading::KajiyaKay;
+  /// Strand half-width (m; one render strand stands for a few hairs) and
+  /// the opacity of a strand that covers a whole pixel.
+  float strand_radius = 1.5e-4f;
+  float strand_opacity = 0.75f;
+  /// Relative brightness variation between strands.
+  float strand_variation = 0.15f;
+  /// Supersampling: draw at factor x factor the size and filter down (1..4).
+  int supersample = 1;
 };
 
 /// What one frame shows, in world coordinates.
@@ -83,12 +105,17 @@ struct FrameInput {
   /// Connection lines (pairs of indices into position) for DebugView::Connections.
   std::vector<std::uint32_t> connections;
   float spacing = 0.01f;  // typical distance between neighbouring particles (m)
+  /// Render strands (RenderSettings::hair): strand after strand, each of
+  /// strand_points_each points (loosehair::StrandField::deformWorld).
+  std::vector<glm::vec3> strand_points;
+  int strand_points_each = 0;
   glm::mat4 head_pose{1.0f};  // head frame -> world for the head mesh
 };
 
 /// Wall-clock seconds of the last frame's parts.
 struct FrameTimes {
   double sort = 0, light_pass = 0, camera_pass = 0, upload = 0;
+  double resolve = 0;  // transparency composite and supersampling filter
 };
 
 class Renderer {

@@ -1,0 +1,63 @@
+// Strands as thin ribbons facing the viewer (issue "strands"), shared by the
+// light pass and the camera pass: strand k is a triangle strip of 2P
+// vertices addressed by gl_VertexID (drawn with glMultiDrawArrays, no
+// instancing: llvmpipe runs the vertex stage per instance), vertices 2i and
+// 2i + 1 on either side of point i, fetched from a buffer texture. Each
+// point is widened along cross(tangent, view) with the tangent from its
+// neighbours, so segments join without gaps. A strand narrower than a pixel
+// is drawn one pixel wide with its alpha scaled by the part of the pixel it
+// covers.
+uniform samplerBuffer u_points;  // xyz: world position, w: unused
+uniform int u_points_per_strand;
+uniform mat4 u_view_proj;
+uniform vec3 u_proj_dir;  // orthographic projection direction (light pass)
+uniform int u_ortho;
+uniform float u_radius;       // strand half-width, world (m)
+uniform float u_pixel_scale;  // pixels per metre at unit depth (perspective) or per metre (ortho)
+uniform float u_opacity;
+uniform mat4 u_light_coords;
+out vec3 v_world;
+out vec3 v_light;
+out float v_alpha;
+#ifdef SHADE
+out vec3 v_color;  // shaded per vertex: a strand is a pixel or two wide
+#endif
+vec3 fetch(int q) { return texelFetch(u_points, q).xyz; }
+float hash(int k) {
+  uint h = uint(k) * 747796405u + 2891336453u;
+  h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+  return float((h >> 22u) ^ h) * (1.0 / 4294967296.0);
+}
+void main() {
+  int per = u_points_per_strand - 1;
+  int strand = gl_VertexID / (2 * u_points_per_strand);
+  int local = gl_VertexID - strand * 2 * u_points_per_strand;
+  int base = strand * u_points_per_strand;
+  int i = local / 2;  // the point this vertex sits at
+  float side = (local & 1) == 0 ? -1.0 : 1.0;
+  vec3 p = fetch(base + i);
+  vec3 prev = fetch(base + max(i - 1, 0));
+  vec3 next = fetch(base + min(i + 1, per));
+  vec3 T = next - prev;
+  float tl = length(T);
+  T = tl > 1e-9 ? T / tl : vec3(0.0, -1.0, 0.0);
+  vec3 d = u_ortho == 1 ? u_proj_dir : normalize(p - u_eye);
+  vec3 across = cross(T, d);
+  float al = length(across);
+  vec3 helper = abs(d.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+  across = al > 1e-6 ? across / al : normalize(cross(d, helper));
+  float depth = u_ortho == 1 ? 1.0 : max(1e-4, length(p - u_eye));
+  float half_pixel = 0.5 * depth / u_pixel_scale;  // half a pixel, world
+  float r = max(u_radius, half_pixel);
+  vec3 w = p + (side * r) * across;
+  // fades over the last tenth of the strand (tips are thin)
+  float s = float(i) / float(per);
+  float tip = clamp((1.0 - s) * 10.0, 0.0, 1.0);
+  v_alpha = u_opacity * (u_radius / r) * (0.35 + 0.65 * tip);
+  v_world = w;
+  v_light = (u_light_coords * vec4(w, 1.0)).xyz;
+#ifdef SHADE
+  v_color = shadeStrand(T, p, hash(strand), transmittance(v_light));
+#endif
+  gl_Position = u_view_proj * vec4(w, 1.0);
+}

@@ -1,0 +1,80 @@
+#define GL_GLEXT_PROTOTYPES 1
+#include "offscreen_target.hpp"
+
+#include "loosehair/render/renderer.hpp"
+
+namespace loosehair::render {
+
+namespace {
+GLuint texture(GLenum internal, GLenum format, GLenum type, int w, int h) {
+  GLuint t = 0;
+  glGenTextures(1, &t);
+  glBindTexture(GL_TEXTURE_2D, t);
+  glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal), w, h, 0, format, type, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+void check(const char* what) {
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw RenderError(std::string("the ") + what + " framebuffer is incomplete");
+}
+}  // namespace
+
+OffscreenTarget::~OffscreenTarget() { release(); }
+
+void OffscreenTarget::release() {
+  glDeleteFramebuffers(1, &opaque_fbo_);
+  glDeleteFramebuffers(1, &oit_fbo_);
+  for (GLuint* t : {&color_, &depth_, &accum_, &reveal_}) glDeleteTextures(1, t);
+  opaque_fbo_ = oit_fbo_ = color_ = depth_ = accum_ = reveal_ = 0;
+  width_ = height_ = 0;
+}
+
+void OffscreenTarget::resize(int width, int height, bool transparency) {
+  if (width == width_ && height == height_ && transparency == transparency_ && opaque_fbo_) return;
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  if (width > max_size || height > max_size)
+    throw RenderError("a " + std::to_string(width) + "x" + std::to_string(height) +
+                      " picture is larger than this OpenGL draws (" + std::to_string(max_size) +
+                      "); lower the size or the supersampling");
+  release();
+  width_ = width;
+  height_ = height;
+  transparency_ = transparency;
+  color_ = texture(GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, width, height);
+  depth_ = texture(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, width, height);
+  glGenFramebuffers(1, &opaque_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
+  check("picture");
+  if (transparency) {
+    accum_ = texture(GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, width, height);
+    reveal_ = texture(GL_R16F, GL_RED, GL_HALF_FLOAT, width, height);
+    glGenFramebuffers(1, &oit_fbo_);
+    glBindFramebuffer(GL_FRAMEBUFFER, oit_fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, accum_, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, reveal_, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, bufs);
+    check("transparency");
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void OffscreenTarget::bindOpaque() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_);
+  glViewport(0, 0, width_, height_);
+}
+
+void OffscreenTarget::bindTransparency() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, oit_fbo_);
+  glViewport(0, 0, width_, height_);
+}
+
+}  // namespace loosehair::render

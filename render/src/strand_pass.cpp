@@ -1,0 +1,182 @@
+#define GL_GLEXT_PROTOTYPES 1
+#include "strand_pass.hpp"
+
+#include "gl_program.hpp"
+#include "loosehair/render/renderer.hpp"
+#include "loosehair/render/shaders.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace loosehair::render {
+
+namespace {
+// strands drawn into the opacity maps at most (about)
+constexpr std::size_t kLightStrands = 4000;
+}  // namespace
+
+StrandPass::StrandPass() {
+  const std::string head = "#version 330 core\nuniform vec3 u_eye;\n";
+  camera_prog_ = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
+                             shaders::shadow_lookup_glsl + shaders::strand_shade_glsl + shaders::strand_vert,
+                         std::string("#version 330 core\n") + shaders::strand_frag);
+  opacity_prog_ = program(head + shaders::strand_vert,
+                          std::string("#version 330 core\n") + shaders::opacity_slices_glsl + shaders::strand_opacity_frag);
+  glGenVertexArrays(1, &vao_);  // no attributes: the vertex shader pulls the points
+  glGenBuffers(1, &buffer_);
+  glGenTextures(1, &buffer_tex_);
+  glGenTextures(3, lut_);
+  for (GLuint t : lut_) {
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+}
+
+StrandPass::~StrandPass() {
+  glDeleteProgram(camera_prog_);
+  glDeleteProgram(opacity_prog_);
+  glDeleteVertexArrays(1, &vao_);
+  glDeleteBuffers(1, &buffer_);
+  glDeleteTextures(1, &buffer_tex_);
+  glDeleteTextures(3, lut_);
+}
+
+void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
+  if (per_strand < 2) throw RenderError("strands need at least 2 points each");
+  if (points.size() % static_cast<std::size_t>(per_strand) != 0)
+    throw RenderError(std::to_string(points.size()) + " strand points are not strands of " +
+                      std::to_string(per_strand));
+  GLint max_texels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+  if (points.size() > static_cast<std::size_t>(max_texels))
+    throw RenderError(std::to_string(points.size()) + " strand points are more than this OpenGL holds (" +
+                      std::to_string(max_texels) + "); draw fewer strands");
+  per_strand_ = per_strand;
+  segments_ = points.size() / static_cast<std::size_t>(per_strand) * static_cast<std::size_t>(per_strand - 1);
+  staging_.resize(points.size() * 4);
+  for (std::size_t q = 0; q < points.size(); ++q) {
+    staging_[4 * q + 0] = points[q].x;
+    staging_[4 * q + 1] = points[q].y;
+    staging_[4 * q + 2] = points[q].z;
+    staging_[4 * q + 3] = 0.0f;
+  }
+  glBindBuffer(GL_TEXTURE_BUFFER, buffer_);
+  glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(staging_.size() * sizeof(float)), staging_.data(),
+               GL_STREAM_DRAW);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer_);
+  glBindBuffer(GL_TEXTURE_BUFFER, 0);
+  const std::size_t strands = points.size() / static_cast<std::size_t>(per_strand);
+  strip_first_.resize(strands);
+  strip_count_.assign(strands, 2 * per_strand);
+  for (std::size_t k = 0; k < strands; ++k) strip_first_[k] = static_cast<GLint>(2 * k * static_cast<std::size_t>(per_strand));
+}
+
+void StrandPass::drawStrips() {
+  glBindVertexArray(vao_);
+  glMultiDrawArrays(GL_TRIANGLE_STRIP, strip_first_.data(), strip_count_.data(),
+                    static_cast<GLsizei>(strip_first_.size()));
+  glBindVertexArray(0);
+}
+
+void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
+                             float pixel_scale, float radius, float opacity) {
+  if (segments_ == 0) return;
+  const GLuint p = opacity_prog_;
+  glUseProgram(p);
+  setMat(p, "u_view_proj", view_proj);
+  setMat(p, "u_light_coords", slice_coords);
+  setVec(p, "u_proj_dir", proj_dir);
+  setI(p, "u_ortho", 1);
+  setF(p, "u_pixel_scale", pixel_scale);
+  setF(p, "u_radius", radius);
+  setF(p, "u_opacity", opacity);
+  setI(p, "u_points_per_strand", per_strand_);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  setI(p, "u_points", 0);
+  // Opacity varies smoothly: every stride-th strand, each stride times as
+  // opaque, gives the same maps for far fewer fragments.
+  const std::size_t strands = strip_first_.size();
+  const std::size_t stride = std::max<std::size_t>(1, strands / kLightStrands);
+  setF(p, "u_opacity", opacity * static_cast<float>(stride));
+  if (stride == 1) {
+    drawStrips();
+    return;
+  }
+  light_first_.clear();
+  light_count_.clear();
+  for (std::size_t k = 0; k < strands; k += stride) {
+    light_first_.push_back(strip_first_[k]);
+    light_count_.push_back(strip_count_[k]);
+  }
+  glBindVertexArray(vao_);
+  glMultiDrawArrays(GL_TRIANGLE_STRIP, light_first_.data(), light_count_.data(),
+                    static_cast<GLsizei>(light_first_.size()));
+  glBindVertexArray(0);
+}
+
+void StrandPass::updateTables(const StrandShading& sh) {
+  if (sh.color == lut_color_) return;
+  lut_color_ = sh.color;
+  MarschnerParams par;
+  par.absorption = absorptionForColor(sh.color);
+  const MarschnerTables t = makeMarschnerTables(par);
+  const std::vector<float>* data[3] = {&t.m, &t.n1, &t.n2};
+  for (int k = 0; k < 3; ++k) {
+    glBindTexture(GL_TEXTURE_2D, lut_[k]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, t.size, t.size, 0, GL_RGBA, GL_FLOAT, data[k]->data());
+  }
+}
+
+void StrandPass::drawCamera(const Camera& cam, const StrandShading& sh, float radius, float opacity,
+                            const glm::mat4& lookup_coords, float kappa, bool shadows, GLuint slice_tex) {
+  if (segments_ == 0) return;
+  if (sh.marschner) updateTables(sh);
+  const GLuint p = camera_prog_;
+  glUseProgram(p);
+  setMat(p, "u_view_proj", cam.view_proj);
+  setVec(p, "u_eye", cam.eye);
+  setI(p, "u_ortho", 0);
+  setF(p, "u_pixel_scale", cam.pixel_scale);
+  setF(p, "u_radius", radius);
+  setF(p, "u_opacity", opacity);
+  setI(p, "u_points_per_strand", per_strand_);
+  setMat(p, "u_light_coords", lookup_coords);
+  setF(p, "u_kappa", kappa);
+  setI(p, "u_shadows", shadows ? 1 : 0);
+  glUniform2f(loc(p, "u_depth_range"), cam.near_depth, cam.far_depth);
+  setF(p, "u_depth_falloff", 6.0f);
+  setVec(p, "u_light", glm::normalize(sh.light));
+  setVec(p, "u_color", sh.color);
+  setVec(p, "u_spec_color", sh.spec);
+  setF(p, "u_kd", 1.0f);
+  setF(p, "u_ks", 0.6f);
+  setF(p, "u_shine", 40.0f);
+  setF(p, "u_reflect", 1.0f);
+  setF(p, "u_transmit", 0.45f);
+  setF(p, "u_ambient", sh.ambient);
+  setF(p, "u_variation", sh.variation);
+  setI(p, "u_marschner", sh.marschner ? 1 : 0);
+  setF(p, "u_marschner_gain", 1.6f);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  setI(p, "u_points", 0);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, slice_tex);
+  setI(p, "u_slices", 1);
+  for (int k = 0; k < 3; ++k) {
+    glActiveTexture(GL_TEXTURE2 + static_cast<GLenum>(k));
+    glBindTexture(GL_TEXTURE_2D, lut_[k]);
+  }
+  setI(p, "u_lut_m", 2);
+  setI(p, "u_lut_n1", 3);
+  setI(p, "u_lut_n2", 4);
+  glActiveTexture(GL_TEXTURE0);
+  drawStrips();
+}
+
+}  // namespace loosehair::render

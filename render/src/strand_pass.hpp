@@ -1,0 +1,69 @@
+// Drawing strands (issue "strands"): thin ribbons facing the eye from a
+// buffer of strand points, into the opacity shadow maps (SPEC §7.2, from the
+// light) and into weighted blended transparency sums (from the camera),
+// shaded by Kajiya-Kay or by Marschner's lobes from lookup tables.
+#pragma once
+
+#include <GL/glcorearb.h>
+
+#include "marschner_lut.hpp"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace loosehair::render {
+
+struct StrandShading {
+  glm::vec3 light{0, 1, 0}, color{0.3f, 0.2f, 0.1f}, spec{0.4f};
+  bool marschner = false;
+  float variation = 0.12f;
+  float ambient = 0.2f;
+};
+
+class StrandPass {
+ public:
+  /// Compiles the programs; `shadow_lookup` is the GLSL of the opacity lookup.
+  StrandPass();
+  ~StrandPass();
+  StrandPass(const StrandPass&) = delete;
+  StrandPass& operator=(const StrandPass&) = delete;
+
+  /// The strands to draw: `count` strands of `per_strand` points each.
+  void upload(const std::vector<glm::vec3>& points, int per_strand);
+  std::size_t segments() const { return segments_; }
+
+  /// Opacity slices from the light (orthographic): `slice_coords` maps world
+  /// to (s, t, slice), `pixel_scale` is light pixels per metre.
+  void drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
+                   float pixel_scale, float radius, float opacity);
+  /// Into the bound transparency sums from the camera. The slice texture is
+  /// bound by the caller to unit 1 with the lookup uniforms set by `setShadow`.
+  struct Camera {
+    glm::mat4 view_proj{1.0f};
+    glm::vec3 eye{0.0f};
+    float pixel_scale = 1.0f;  // pixels per metre at unit depth
+    float near_depth = 0.0f, far_depth = 1.0f;  // the hair's range of eye distances
+  };
+  void drawCamera(const Camera& cam, const StrandShading& shading, float radius, float opacity,
+                  const glm::mat4& lookup_coords, float kappa, bool shadows, GLuint slice_tex);
+
+ private:
+  void updateTables(const StrandShading& shading);
+  void drawStrips();
+  std::vector<GLint> strip_first_;
+  std::vector<GLsizei> strip_count_;
+  std::vector<GLint> light_first_;
+  std::vector<GLsizei> light_count_;
+  GLuint camera_prog_ = 0, opacity_prog_ = 0;
+  GLuint vao_ = 0, buffer_ = 0, buffer_tex_ = 0;
+  GLuint lut_[3] = {0, 0, 0};
+  glm::vec3 lut_color_{-1.0f};
+  std::size_t segments_ = 0;
+  int per_strand_ = 2;
+  std::vector<float> staging_;
+};
+
+}  // namespace loosehair::render
