@@ -51,8 +51,13 @@ struct StrandFieldOptions {
 /// `points`, exact where phi < limit (`rough`: the bodies' fast
 /// approximation there, Body::roughDistanceBelow); elsewhere phi is a lower
 /// bound >= limit.
-using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, bool rough,
-                                        std::span<float> phi, std::span<glm::vec3> normal)>;
+struct BodyContacts {
+  std::function<void(std::span<const glm::vec3> points, float limit, bool rough, std::span<float> phi,
+                     std::span<glm::vec3> normal)>
+      query;
+  /// The fast approximation's largest error (m; Body::roughError).
+  float rough_error = 0.0f;
+};
 
 /// The head and the world bodies of `solver` at its current time, for
 /// head-frame points.
