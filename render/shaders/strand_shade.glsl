@@ -39,8 +39,11 @@ vec3 shadeStrand(vec3 T, vec3 world, float strand, float light) {
   vec3 n2 = texture(u_lut_n2, nuv).rgb;
   vec3 s = m.r * n1.r * u_spec_color + m.g * n1.gba * vary + m.b * n2 * vary;
   // divided by cos^2(theta_d) as in Marschner's model; the cosine of the
-  // incident light to the strand's normal plane is the irradiance factor
+  // incident light to the strand's normal plane is the irradiance factor.
+  // Marschner's lobes are single scattering: the light scattered many
+  // times in a head of hair is added as a soft diffuse term.
   float cd = max(m.a, 0.2);
   float cos_i = sqrt(max(0.0, 1.0 - sin_i * sin_i));
-  return ambient + u_marschner_gain * s * (cos_i / (cd * cd)) * light;
+  vec3 multiple = base * (0.5 * u_kd * cos_i);
+  return ambient + (multiple + u_marschner_gain * s * (cos_i / (cd * cd))) * light;
 }

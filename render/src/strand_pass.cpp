@@ -161,7 +161,7 @@ void StrandPass::drawCamera(const Camera& cam, const StrandShading& sh, float ra
   setF(p, "u_ambient", sh.ambient);
   setF(p, "u_variation", sh.variation);
   setI(p, "u_marschner", sh.marschner ? 1 : 0);
-  setF(p, "u_marschner_gain", 1.6f);
+  setF(p, "u_marschner_gain", 10.0f);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
   setI(p, "u_points", 0);
