@@ -95,7 +95,7 @@ constexpr const char* kRenderUsage =
     "    --shading S      strands lit by kajiya-kay (default) or marschner\n"
     "    --supersample N  draw N x N times the pixels and filter down (1..4;\n"
     "                     default 2 for strands, 1 for billboards)\n"
-    "    --strands N      about N strands (default 20000); --strand-points P, 2..256\n"
+    "    --strands N      about N strands (default 12000); --strand-points P, 2..256\n"
     "    --frames, --threads, --seed, --allow-expensive, --style,\n"
     "    --no-shape-keeping   as for simulate\n";
 
@@ -413,7 +413,9 @@ struct RenderOptions {
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
   int width = 640, height = 480;
-  std::size_t strand_count = 20000;
+  // 12,000 strands keep the README's default render under a minute on two
+  // cores (43 s with the video; 20,000 took 62 s): docs/performance.md
+  std::size_t strand_count = 12000;
   int strand_points = 24;
   bool supersample_given = false;
   loosehair::render::RenderSettings settings = defaultRenderSettings();

@@ -18,6 +18,27 @@ for style in long-straight bob side-swept swept-back wavy ponytail; do
   cp "$work/$style/frame_00090.png" "$out/style-$style-3s.png"
   echo "$out/style-$style-styled.png, $out/style-$style-3s.png"
 done
+# the same frame (hang.json after 3 s) as billboards and as strands, front
+# and side, with and without shadows, and with Marschner shading
+for view in front side; do
+  for hair in billboards strands; do
+    "$bin" render data/scenes/hang.json --frames 90 --size 320x240 --camera "$view" --hair "$hair" \
+      --out "$work/$hair-$view" >/dev/null
+    cp "$work/$hair-$view/frame_00090.png" "$out/hang-$hair-$view.png"
+    echo "$out/hang-$hair-$view.png"
+  done
+done
+"$bin" render data/scenes/hang.json --frames 90 --size 320x240 --camera front --no-shadows --out "$work/noshadow" >/dev/null
+cp "$work/noshadow/frame_00090.png" "$out/hang-strands-front-no-shadows.png"
+"$bin" render data/scenes/hang.json --frames 90 --size 320x240 --camera front --hair billboards --no-shadows \
+  --out "$work/noshadow-bb" >/dev/null
+cp "$work/noshadow-bb/frame_00090.png" "$out/hang-billboards-front-no-shadows.png"
+"$bin" render data/scenes/hang.json --frames 90 --size 320x240 --camera three-quarter --shading marschner \
+  --out "$work/marschner" >/dev/null
+cp "$work/marschner/frame_00090.png" "$out/hang-strands-marschner.png"
+"$bin" render data/scenes/hang.json --frames 90 --size 320x240 --camera three-quarter --out "$work/kk" >/dev/null
+cp "$work/kk/frame_00090.png" "$out/hang-strands-kajiya-kay.png"
+echo "$out/hang-strands-front-no-shadows.png, $out/hang-strands-marschner.png"
 # the viewer with its panel, and its styling mode (on a virtual X server)
 view="${LOOSEHAIR_VIEW:-$(dirname "$bin")/loosehair-view}"
 for script in viewer-panel styling-mode; do

@@ -1,0 +1,57 @@
+// Carrying render strands with the particles (issue "strands"): the bundled
+// hang scene settled for a second, then StrandField::deform with and
+// without the push out of the bodies, for 10k and 50k strands of 24 points,
+// on two threads. Run: build/release/benchmarks/loosehair_bench_strands
+#include "loosehair/loosehair.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+using namespace loosehair;
+
+namespace {
+
+struct Setup {
+  SceneDesc scene;
+  BuildReport build;
+  std::unique_ptr<Solver> solver;
+  std::unique_ptr<StrandField> field;
+};
+
+Setup& setup(std::size_t strands) {
+  static std::map<std::size_t, std::unique_ptr<Setup>> cache;
+  auto& s = cache[strands];
+  if (!s) {
+    s = std::make_unique<Setup>();
+    s->scene = loadScene(std::string(LOOSEHAIR_SOURCE_DIR) + "/data/scenes/hang.json");
+    s->solver = std::make_unique<Solver>(buildSolver(s->scene, &s->build));
+    RenderStrandOptions so;
+    so.strands = strands;
+    so.points = 24;
+    s->field = std::make_unique<StrandField>(bindSceneStrands(s->scene, *s->solver, s->build, so, 2));
+    s->solver->advance(30 * s->build.substeps);
+  }
+  return *s;
+}
+
+void BM_CarryStrands(benchmark::State& state) {
+  Setup& s = setup(static_cast<std::size_t>(state.range(0)));
+  const bool bodies = state.range(1) != 0;
+  std::vector<glm::vec3> out;
+  for (auto _ : state) {
+    if (bodies)
+      s.field->deform(*s.solver, out, 2);
+    else
+      s.field->deform(s.solver->particles().position, s.solver->particles().direction, nullptr, out, 2);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["points"] = static_cast<double>(out.size());
+}
+
+}  // namespace
+
+BENCHMARK(BM_CarryStrands)->ArgsProduct({{10000, 50000}, {0, 1}})->ArgNames({"strands", "bodies"})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_MAIN();
