@@ -77,6 +77,7 @@ constexpr const char* kRenderUsage =
     "                              [--style STYLE.json] [--no-shape-keeping]\n"
     "                              [--hair strands|billboards] [--shading kajiya-kay|marschner]\n"
     "                              [--supersample N] [--strands N] [--strand-points P]\n"
+    "                              [--gl osmesa|egl]\n"
     "\n"
     "  Simulates SCENE and draws every frame to DIR/frame_00001.png ... with\n"
     "  software OpenGL (OSMesa: no display, no GPU).\n"
@@ -96,6 +97,8 @@ constexpr const char* kRenderUsage =
     "    --supersample N  draw N x N times the pixels and filter down (1..4;\n"
     "                     default 2 for strands, 1 for billboards)\n"
     "    --strands N      about N strands (default 12000); --strand-points P, 2..256\n"
+    "    --gl P           osmesa (default: software, llvmpipe) or egl (a GPU where\n"
+    "                     there is one, else Mesa's surfaceless platform); no X server\n"
     "    --frames, --threads, --seed, --allow-expensive, --style,\n"
     "    --no-shape-keeping   as for simulate\n";
 
@@ -415,6 +418,7 @@ struct RenderOptions {
   int width = 640, height = 480;
   // 12,000 strands keep the README's default render under a minute on two
   // cores (43 s with the video; 20,000 took 62 s): docs/performance.md
+  loosehair::app::GLProvider gl = loosehair::app::GLProvider::OSMesa;
   std::size_t strand_count = 12000;
   int strand_points = 24;
   bool supersample_given = false;
@@ -445,7 +449,13 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       } else if (a == "--color") o.settings.color = loosehair::render::parseHairColor(value());
       else if (a == "--debug") o.settings.debug = loosehair::render::parseDebugView(value());
       else if (a == "--no-shadows") o.settings.shadows = false;
-      else if (a == "--hair") o.settings.hair = loosehair::render::parseHairGeometry(value());
+      else if (a == "--gl") {
+        try {
+          o.gl = loosehair::app::parseGLProvider(value());
+        } catch (const std::invalid_argument& e) {
+          throw UsageError{std::string("--gl: ") + e.what(), kRenderUsage};
+        }
+      } else if (a == "--hair") o.settings.hair = loosehair::render::parseHairGeometry(value());
       else if (a == "--shading") o.settings.shading = loosehair::render::parseHairShading(value());
       else if (a == "--supersample") {
         o.settings.supersample = static_cast<int>(parseInteger(a, value(), 1, 4));
@@ -512,7 +522,7 @@ int renderScene(const RenderOptions& o) {
   printStyle(build, scene.hair.style);
   for (const std::string& w : build.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   prepareOutputDirectory(o.out_dir, o.overwrite, "--out");
-  app::HeadlessGL gl(o.width, o.height);
+  app::HeadlessGL gl(o.width, o.height, o.gl);
   render::Renderer renderer;
   const app::DrawableBodies bodies = app::drawableBodies(scene);
   renderer.setBodies(&bodies.head, bodies.torso ? &*bodies.torso : nullptr);

@@ -12,6 +12,7 @@
 // (SPEC §7.4).
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
+#include "loosehair/render/gl_loader.hpp"
 #include "loosehair/render/renderer.hpp"
 #include "png.hpp"
 #include "scene_bodies.hpp"
@@ -607,6 +608,7 @@ int run(const ViewOptions& o) {
       glfwDestroyWindow);
   if (!window) throw std::runtime_error("cannot open a window with an OpenGL 3.3 core context");
   glfwMakeContextCurrent(window.get());
+  render::loadGL([](const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); });
   glfwSwapInterval(script || o.frames ? 0 : 1);
 
   render::Renderer renderer;

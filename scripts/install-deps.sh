@@ -16,6 +16,8 @@ packages=(
   libglfw3-dev libgl-dev  # interactive viewer window
   libimgui-dev          # the viewer's panel (Dear ImGui with its GLFW and OpenGL 3 backends)
   libosmesa6-dev        # headless OpenGL (software, no X server)
+  libegl-dev            # headless OpenGL on a GPU where there is one (EGL, no X server)
+  libegl-mesa0          # Mesa's EGL: its surfaceless platform on llvmpipe elsewhere
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev      # benchmarks
   ffmpeg                # video encoding of rendered frames

@@ -84,7 +84,8 @@ if(BASH)
       set(extra "--out ${OUT}/full-video-frames")
     endif()
     if(cmd STREQUAL "render")
-      set(extra "${extra} --size 200x150")
+      # large enough that a frame (and the video) is more than the limit
+      set(extra "${extra} --size 400x300")
     endif()
     execute_process(COMMAND ${BASH} -c
         "trap '' XFSZ; ulimit -f 24; exec \"$0\" ${cmd} \"$1\" --frames 6 ${extra} ${flag} \"$2\""

@@ -66,9 +66,10 @@ RenderSettings strands() {
   return st;
 }
 
-Image draw(int w, int h, const Camera& cam, const RenderSettings& st) {
+Image draw(int w, int h, const Camera& cam, const RenderSettings& st,
+           app::GLProvider provider = app::GLProvider::OSMesa) {
   const HangStrands& s = hang();
-  app::HeadlessGL gl(w, h);
+  app::HeadlessGL gl(w, h, provider);
   Renderer r;
   r.setBodies(&s.head, &s.torso);
   r.render(s.input, cam, st, w, h);
@@ -216,4 +217,21 @@ TEST(RenderStrands, StillFrameMatchesTheReferenceImage) {
   stbi_image_free(ref);
   EXPECT_LT(sum / (w * h * 4), 2.0) << "mean difference per channel (of 255)";
   EXPECT_LT(far, w * h * 4 / 100) << "channels off by more than 48";
+}
+
+// SPEC §7.4: the same executable draws with EGL (here Mesa's surfaceless
+// platform or a device, on llvmpipe) and OSMesa, to the same picture.
+TEST(RenderStrands, EglAndOSMesaDrawTheSameImages) {
+  const Camera cam = Camera::preset("three-quarter");
+  RenderSettings billboards = strands();
+  billboards.hair = HairGeometry::Billboards;
+  for (const RenderSettings& st : {strands(), billboards}) {
+    const Image b = draw(160, 120, cam, st, app::GLProvider::EGL);
+    const Image a = draw(160, 120, cam, st, app::GLProvider::OSMesa);
+    int worst = 0;
+    for (std::size_t k = 0; k < a.rgba.size(); ++k)
+      worst = std::max(worst, std::abs(static_cast<int>(a.rgba[k]) - static_cast<int>(b.rgba[k])));
+    EXPECT_LT(meanDifference(a, b), 1.0) << (st.hair == HairGeometry::Strands ? "strands" : "billboards");
+    EXPECT_LE(worst, 64);
+  }
 }

@@ -1,4 +1,4 @@
-#define GL_GLEXT_PROTOTYPES 1
+
 #include "gl_program.hpp"
 
 #include <glm/gtc/type_ptr.hpp>

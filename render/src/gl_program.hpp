@@ -1,7 +1,7 @@
 // Compiling and linking GLSL programs (errors as RenderError with the log).
 #pragma once
 
-#include <GL/glcorearb.h>
+#include "loosehair/render/gl_functions.hpp"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>

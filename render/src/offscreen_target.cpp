@@ -1,4 +1,4 @@
-#define GL_GLEXT_PROTOTYPES 1
+
 #include "offscreen_target.hpp"
 
 #include "loosehair/render/renderer.hpp"
@@ -41,6 +41,10 @@ void OffscreenTarget::resize(int width, int height, bool transparency) {
     throw RenderError("a " + std::to_string(width) + "x" + std::to_string(height) +
                       " picture is larger than this OpenGL draws (" + std::to_string(max_size) +
                       "); lower the size or the supersampling");
+  // leaves the caller's framebuffer bound, whichever it is (an EGL
+  // picture has no default framebuffer)
+  GLint previous = 0;
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous);
   release();
   width_ = width;
   height_ = height;
@@ -64,7 +68,7 @@ void OffscreenTarget::resize(int width, int height, bool transparency) {
     glDrawBuffers(2, bufs);
     check("transparency");
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous));
 }
 
 void OffscreenTarget::bindOpaque() const {

@@ -4,7 +4,7 @@
 // supersampling into the caller's framebuffer.
 #pragma once
 
-#include <GL/glcorearb.h>
+#include "loosehair/render/gl_functions.hpp"
 
 namespace loosehair::render {
 

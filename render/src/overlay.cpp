@@ -1,5 +1,5 @@
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/glcorearb.h>
+
+#include "loosehair/render/gl_functions.hpp"
 
 #include "loosehair/render/overlay.hpp"
 #include "loosehair/render/shaders.hpp"

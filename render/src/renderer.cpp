@@ -1,10 +1,11 @@
 // SPEC §7: billboards (7.1), opacity shadow maps (7.2), Goldman shading
 // (7.3). Built against the GL headers only; the executable links the one
 // library that provides the GL functions (SPEC §7.4).
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/glcorearb.h>
+
+#include "loosehair/render/gl_functions.hpp"
 
 #include "loosehair/render/renderer.hpp"
+#include "loosehair/render/gl_loader.hpp"
 #include "loosehair/render/shaders.hpp"
 #include "gl_program.hpp"
 #include "offscreen_target.hpp"
@@ -223,7 +224,9 @@ struct Renderer::Impl {
   }
 };
 
-Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
+Renderer::Renderer() {
+  if (!openGLLoaded()) throw RenderError("OpenGL is not loaded: call render::loadGL with the context's get-proc-address first");
+  impl_ = std::make_unique<Impl>();
   const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
   if (!version) throw RenderError("no current OpenGL context");
   Impl& r = *impl_;
@@ -278,6 +281,8 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   glBindVertexArray(0);
 
   // 16 opacity slices in 5 RGBA targets, neighbouring layers sharing a slice (SPEC §7.2).
+  GLint previous_fbo = 0;  // restored below: the caller's picture may be a framebuffer object
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
   glGenFramebuffers(1, &r.shadow_fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
   glGenTextures(1, &r.slice_tex);
@@ -301,7 +306,7 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   glDrawBuffers(kSliceLayers, bufs);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw RenderError("the opacity-map framebuffer is incomplete");
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
 }
 
 Renderer::~Renderer() = default;

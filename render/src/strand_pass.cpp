@@ -1,4 +1,4 @@
-#define GL_GLEXT_PROTOTYPES 1
+
 #include "strand_pass.hpp"
 
 #include "gl_program.hpp"

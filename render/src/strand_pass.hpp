@@ -4,7 +4,7 @@
 // shaded by Kajiya-Kay or by Marschner's lobes from lookup tables.
 #pragma once
 
-#include <GL/glcorearb.h>
+#include "loosehair/render/gl_functions.hpp"
 
 #include "marschner_lut.hpp"
 
