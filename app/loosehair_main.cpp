@@ -271,7 +271,7 @@ int simulate(const Options& o) {
     RenderStrandOptions so;
     so.strands = o.strand_count;
     so.points = o.strand_points;
-    strands.emplace(bindSceneStrands(scene, solver, build, so, solver.threadCount()));
+    strands.emplace(bindSceneStrands(scene, solver.particles(), build, so, solver.threadCount()));
   }
   const double init_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
@@ -536,7 +536,7 @@ int renderScene(const RenderOptions& o) {
     RenderStrandOptions so;
     so.strands = o.strand_count;
     so.points = o.strand_points;
-    strands.emplace(bindSceneStrands(scene, solver, build, so, solver.threadCount()));
+    strands.emplace(bindSceneStrands(scene, solver.particles(), build, so, solver.threadCount()));
   }
   std::printf("scene: %s, %zu particles, %d frames of %dx%d, camera %s, %s\n", scene.name.c_str(),
               solver.particles().size(), frames, o.width, o.height, o.camera.c_str(), gl.renderer().c_str());

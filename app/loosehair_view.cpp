@@ -52,7 +52,7 @@ using namespace loosehair;
 constexpr const char* kUsage =
     "usage: loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
     "                              [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
-    "                              [--script FILE] [--seconds S] [--no-shadows]\n"
+    "                              [--script FILE] [--seconds S] [--no-shadows] [--hair H]\n"
     "\n"
     "Plays SCENE (default: the bundled data/scenes/hang.json) in a window with a\n"
     "panel, in real time at most (the panel sets the speed).\n"
@@ -63,6 +63,8 @@ constexpr const char* kUsage =
     "  --seed S            sampling seed (default: the scene's)\n"
     "  --paused            start paused\n"
     "  --no-shadows        start without self-shadowing\n"
+    "  --hair H            billboards (default: interactive on software OpenGL) or\n"
+    "                      strands (thin strands the particles carry; the panel switches)\n"
     "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
     "  --screenshot FILE   with --frames: save that frame as a PNG\n"
     "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
@@ -136,6 +138,8 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.seed = static_cast<std::uint64_t>(parseInteger("--seed", value(), 0, INT64_MAX));
       } else if (a == "--no-shadows") {
         o.settings.shadows = false;
+      } else if (a == "--hair") {
+        o.settings.hair = render::parseHairGeometry(value());
       } else if (a == "--paused") {
         o.paused = true;
       } else if (a == "--frames") {
@@ -452,6 +456,10 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       v.camera = render::Camera::preset(val.get<std::string>());
     } else if (name == "shadows") {
       v.settings.shadows = val.get<bool>();
+    } else if (name == "hair") {
+      c.setHair(render::parseHairGeometry(val.get<std::string>()));
+    } else if (name == "shading") {
+      v.settings.shading = render::parseHairShading(val.get<std::string>());
     } else if (name == "debug") {
       v.settings.debug = render::parseDebugView(val.get<std::string>());
     } else if (name == "color") {
@@ -626,6 +634,7 @@ int run(const ViewOptions& o) {
   controller.pending().sim = sim.latest()->params;
   view.camera = render::Camera::preset(o.camera);
   view.settings = o.settings;
+  if (view.settings.hair == render::HairGeometry::Strands) controller.setHair(render::HairGeometry::Strands);
   {
     const glm::vec3 l = glm::normalize(o.settings.light_direction);
     view.light_yaw_deg = glm::degrees(std::atan2(l.x, l.z));

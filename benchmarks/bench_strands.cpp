@@ -30,7 +30,7 @@ Setup& setup(std::size_t strands) {
     RenderStrandOptions so;
     so.strands = strands;
     so.points = 24;
-    s->field = std::make_unique<StrandField>(bindSceneStrands(s->scene, *s->solver, s->build, so, 2));
+    s->field = std::make_unique<StrandField>(bindSceneStrands(s->scene, s->solver->particles(), s->build, so, 2));
     s->solver->advance(30 * s->build.substeps);
   }
   return *s;

@@ -46,7 +46,7 @@ struct HangStrands {
     RenderStrandOptions so;
     so.strands = 6000;
     so.points = 16;
-    field = std::make_unique<StrandField>(bindSceneStrands(scene, *solver, build, so, 2));
+    field = std::make_unique<StrandField>(bindSceneStrands(scene, solver->particles(), build, so, 2));
     solver->advance(10 * build.substeps);
     head = decimate(loadMesh(scene.head_mesh.path), 16000);
     torso = decimate(loadMesh(scene.torso_mesh.path), 8000);

@@ -32,7 +32,7 @@ Bound bindSphere(int particles, std::size_t strands, const std::string& motion =
   RenderStrandOptions opt;
   opt.strands = strands;
   opt.points = 24;
-  StrandField field = bindSceneStrands(scene, solver, build, opt, 2);
+  StrandField field = bindSceneStrands(scene, solver.particles(), build, opt, 2);
   return Bound{std::move(scene), std::move(solver), build, std::move(field)};
 }
 

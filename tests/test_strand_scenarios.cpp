@@ -21,7 +21,7 @@ void carryThrough(const std::string& name, int every) {
   Solver solver = buildSolver(scene, &build);
   RenderStrandOptions opt;
   opt.strands = 10000;
-  const StrandField field = bindSceneStrands(scene, solver, build, opt, 2);
+  const StrandField field = bindSceneStrands(scene, solver.particles(), build, opt, 2);
   std::vector<glm::vec3> pts;
   std::vector<float> phi, turns;
   float worst_len = 0, min_phi = INFINITY;

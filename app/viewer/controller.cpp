@@ -106,6 +106,11 @@ bool Controller::setParam(const std::string& name, double value) {
   return true;
 }
 
+void Controller::setHair(render::HairGeometry hair) {
+  view_.settings.hair = hair;
+  sim_.setPublishStrands(hair == render::HairGeometry::Strands ? static_cast<std::size_t>(std::max(1, view_.strands)) : 0);
+}
+
 void Controller::setWind(bool on) {
   pending_.has_wind = on;
   if (!on) return;  // the air particles go with a restart

@@ -61,6 +61,11 @@ class Controller {
   /// Wind on (or changed) from now, or off (off applies on restart).
   void setWind(bool on);
 
+  // ---- picture ------------------------------------------------------------
+  /// Billboards, or the strands the particles carry (view().strands of
+  /// them; bound on the simulation thread the first time, a second or two).
+  void setHair(render::HairGeometry hair);
+
   // ---- head ---------------------------------------------------------------
   void shake(double amplitude_deg, double frequency_hz, bool nod);
   void centreHead();

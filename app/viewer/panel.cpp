@@ -292,6 +292,21 @@ void Panel::rendering() {
     ImGui::SliderFloat("light pitch", &view.light_pitch_deg, -10.0f, 90.0f, "%.0f deg");
     ImGui::Checkbox("light arrow", &view.show_light_arrow);
   }
+  static const char* hairs[] = {"billboards", "strands"};
+  int hair = view.settings.hair == render::HairGeometry::Strands ? 1 : 0;
+  if (ImGui::Combo("hair", &hair, hairs, 2))
+    c_.setHair(hair == 1 ? render::HairGeometry::Strands : render::HairGeometry::Billboards);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("billboards: one a particle (the LCP paper); strands: thin strands the particles carry");
+  if (view.settings.hair == render::HairGeometry::Strands) {
+    ImGui::SliderInt("strands", &view.strands, 1000, 100000, "%d");
+    if (ImGui::IsItemDeactivatedAfterEdit()) c_.setHair(render::HairGeometry::Strands);
+    static const char* shadings[] = {"Kajiya-Kay", "Marschner"};
+    int sh = view.settings.shading == render::HairShading::Marschner ? 1 : 0;
+    if (ImGui::Combo("shading", &sh, shadings, 2))
+      view.settings.shading = sh == 1 ? render::HairShading::Marschner : render::HairShading::KajiyaKay;
+    ImGui::SliderInt("supersampling", &view.settings.supersample, 1, 3, "%dx");
+  }
   ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing");
   ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing");
   ImGui::SliderFloat("opacity", &view.settings.hair_opacity, 0.05f, 1.0f, "%.2f");

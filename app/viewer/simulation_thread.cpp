@@ -1,7 +1,9 @@
 #include "viewer/simulation_thread.hpp"
 
 #include "loosehair/render/frame.hpp"
+#include "loosehair/render_strands.hpp"
 #include "loosehair/snapshot.hpp"
+#include "loosehair/strand_field.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>
@@ -24,6 +26,7 @@ double wallNow() {
 
 SimulationThread::SimulationThread(const SceneDesc& scene, bool paused) : scene_(scene), paused_(paused) {
   solver_ = std::make_unique<Solver>(buildSolver(scene_, &build_));
+  rest_ = solver_->particles();
   publish(0.0);
   pace_wall_ = wallNow();
   pace_sim_ = solver_->time();
@@ -199,6 +202,15 @@ void SimulationThread::setPublishAir(bool on) {
   publish_air_ = on;
 }
 
+void SimulationThread::setPublishStrands(std::size_t count) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    strand_count_ = count;
+  }
+  // shown at once, also while paused
+  apply([](Solver&) {});
+}
+
 bool SimulationThread::waitForFrame(std::int64_t n) const {
   std::unique_lock<std::mutex> lk(mutex_);
   published_.wait(lk, [&] { return stop_ || latest_->frame >= n || (paused_ && !step_once_ && !restart_); });
@@ -231,6 +243,9 @@ void SimulationThread::loop() {
       scene_ = next;
       build_ = report;
       solver_ = std::move(solver);
+      rest_ = solver_->particles();
+      strands_.reset();
+      strands_bound_ = 0;
       ++generation_;
       live_head_.reset();
       head_target_.reset();
@@ -343,11 +358,34 @@ void SimulationThread::publish(double frame_ms) {
   f->params = solver_->params();
   f->wind = solver_->hasWind();
   bool grid = false, air = false;
+  std::size_t strand_count = 0;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     grid = publish_grid_;
     air = publish_air_;
+    strand_count = strand_count_;
     f->generation = generation_;
+  }
+  if (strand_count > 0) {
+    // on this thread, from the particles as built (the rest state)
+    if (!strands_ || strands_bound_ != strand_count) {
+      try {
+        RenderStrandOptions so;
+        so.strands = strand_count;
+        strands_ = std::make_unique<StrandField>(bindSceneStrands(scene_, rest_, build_, so, solver_->threadCount()));
+        strands_bound_ = strand_count;
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lk(mutex_);
+        error_ = std::string("strands: ") + e.what();
+        strand_count_ = 0;
+        strand_count = 0;
+        strands_.reset();
+      }
+    }
+    if (strands_) {
+      strands_->deformWorld(*solver_, f->input.strand_points, solver_->threadCount());
+      f->input.strand_points_each = static_cast<int>(strands_->rest().pointCount(0));
+    }
   }
   if (air && f->wind) solver_->worldAirPositions(f->air);
   if (grid && f->grid_cell > 0) {

@@ -12,6 +12,7 @@
 #include "loosehair/render/renderer.hpp"
 #include "loosehair/scene.hpp"
 #include "loosehair/solver.hpp"
+#include "loosehair/strand_field.hpp"
 
 #include <condition_variable>
 #include <cstdint>
@@ -107,6 +108,11 @@ class SimulationThread {
   /// with each frame (debug views; copied only while asked for).
   void setPublishGrid(bool on);
   void setPublishAir(bool on);
+  /// Publishes the render strands the particles carry with each frame
+  /// (PublishedFrame::input.strand_points), about `count` of them: bound to
+  /// the scene's rest state the first time they are asked for (a second or
+  /// two), carried on the simulation thread. 0 stops them.
+  void setPublishStrands(std::size_t count);
 
   /// Waits until frame `n` has been published (for scripts and tests).
   /// False if the thread stopped or it is paused before reaching it.
@@ -120,6 +126,9 @@ class SimulationThread {
   SceneDesc scene_;
   BuildReport build_;
   std::unique_ptr<Solver> solver_;  // the simulation thread's only
+  Particles rest_;                  // the solver's particles as built, to bind strands to
+  std::unique_ptr<StrandField> strands_;  // bound on the simulation thread when asked for
+  std::size_t strand_count_ = 0, strands_bound_ = 0;
   std::optional<LiveHead> live_head_;
   std::int64_t frame_ = 0;
 

@@ -24,6 +24,8 @@ struct ViewState {
   // debug views the renderer does not draw itself (overlay lines)
   bool show_grid = false, show_air = false;
   bool show_wind_arrow = true, show_light_arrow = true;
+  /// Render strands drawn when settings.hair is Strands (Controller::setHair).
+  int strands = 12000;
 };
 
 }  // namespace loosehair::viewer

@@ -35,15 +35,15 @@ struct RenderStrandOptions {
 StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model,
                             const RenderStrandOptions& options = {});
 
-class Solver;
+struct Particles;
 class StrandField;
 struct StrandFieldOptions;
 struct BuildReport;
-/// The render strands of `scene` bound to `solver` as it is now (the rest
-/// state, right after buildSolver(scene, &build)), with a binding radius of
-/// twice the mean particle spacing. Builds the scene's head again. Throws
-/// as growRenderStrands.
-StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, const BuildReport& build,
+/// The render strands of `scene` bound to its particles' rest state `rest`
+/// (Solver::particles() right after buildSolver(scene, &build)), with a
+/// binding radius of twice the mean particle spacing. Builds the scene's
+/// head again. Throws as growRenderStrands.
+StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, const BuildReport& build,
                              RenderStrandOptions options = {}, int threads = 1);
 
 /// `strands` resampled to `points` points each, evenly in arc length

@@ -113,13 +113,13 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, cons
   return hangingStrands(scene, model, options.strands, options.points, options.poisson_radius);
 }
 
-StrandField bindSceneStrands(const SceneDesc& scene, const Solver& solver, const BuildReport& build,
+StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, const BuildReport& build,
                              RenderStrandOptions options, int threads) {
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells);
   StrandFieldOptions field;
   field.support = 2.0f * std::max(build.mean_neighbor_distance, 1e-4f);
   if (options.poisson_radius <= 0.0f) options.poisson_radius = build.poisson_radius;
-  return StrandField(growRenderStrands(scene, model, options), solver.particles(), field, threads);
+  return StrandField(growRenderStrands(scene, model, options), rest, field, threads);
 }
 
 }  // namespace loosehair
