@@ -1,7 +1,9 @@
-// Frame time of the renderer on this machine's software OpenGL (OSMesa,
-// llvmpipe), split into the back-to-front sort, the light pass (16 opacity
-// slices) and the camera pass, for the hang scene at 2k, 20k and 100k
-// particles and two image sizes, shadows on.
+// Frame time of the renderer on this machine's OpenGL, split into the
+// back-to-front sort, the light pass (16 opacity slices) and the camera
+// pass: billboards for the hang scene at 2k, 20k and 100k particles and two
+// image sizes; strands (10k and 50k, 24 points, 2x2 supersampled) with the
+// time to carry them, at 640x480 and 1280x720, through OSMesa and through
+// EGL (a GPU where there is one; llvmpipe here). Shadows on.
 //
 //   build/release/benchmarks/loosehair_bench_render
 #include "headless_gl.hpp"
@@ -11,6 +13,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 
@@ -73,6 +76,79 @@ BENCHMARK(BM_RenderFrame)
     ->Args({20000, 1280, 720})
     ->Args({100000, 512, 512})
     ->Args({100000, 1280, 720})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The default scene after 1 s with its strands carried (the rest of the
+// state as above); 6k particles.
+struct StrandScene {
+  SceneDesc desc;
+  BuildReport build;
+  std::unique_ptr<Solver> solver;
+  std::unique_ptr<StrandField> field;
+  render::FrameInput frame;
+  TriangleMesh head, torso;
+};
+
+StrandScene& strandScene(std::size_t strands) {
+  static std::map<std::size_t, std::unique_ptr<StrandScene>> cache;
+  auto& slot = cache[strands];
+  if (!slot) {
+    slot = std::make_unique<StrandScene>();
+    slot->desc = loadScene(LOOSEHAIR_SOURCE_DIR "/data/scenes/hang.json");
+    slot->solver = std::make_unique<Solver>(buildSolver(slot->desc, &slot->build));
+    RenderStrandOptions so;
+    so.strands = strands;
+    so.points = 24;
+    slot->field = std::make_unique<StrandField>(
+        bindSceneStrands(slot->desc, slot->solver->particles(), slot->build, so, 2));
+    slot->solver->advance(30 * slot->build.substeps);
+    slot->frame = render::frameFromSolver(*slot->solver, slot->build.mean_neighbor_distance);
+    slot->frame.strand_points_each = so.points;
+    slot->head = decimate(loadMesh(slot->desc.head_mesh.path), 16000);
+    slot->torso = decimate(loadMesh(slot->desc.torso_mesh.path), 8000);
+  }
+  return *slot;
+}
+
+void BM_RenderStrands(benchmark::State& state) {
+  StrandScene& s = strandScene(static_cast<std::size_t>(state.range(0)));
+  const int w = static_cast<int>(state.range(1)), h = static_cast<int>(state.range(2));
+  const auto provider = state.range(3) ? app::GLProvider::EGL : app::GLProvider::OSMesa;
+  app::HeadlessGL gl(w, h, provider);
+  render::Renderer renderer;
+  renderer.setBodies(&s.head, &s.torso);
+  const render::Camera camera = render::Camera::preset("three-quarter");
+  render::RenderSettings settings;
+  settings.hair = render::HairGeometry::Strands;
+  settings.supersample = 2;
+  s.field->deformWorld(*s.solver, s.frame.strand_points, 2);
+  renderer.render(s.frame, camera, settings, w, h);
+  render::FrameTimes sum;
+  double carry = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    s.field->deformWorld(*s.solver, s.frame.strand_points, 2);
+    carry += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    renderer.render(s.frame, camera, settings, w, h);
+    const auto& t = renderer.lastTimes();
+    sum.upload += t.upload;
+    sum.light_pass += t.light_pass;
+    sum.camera_pass += t.camera_pass;
+    sum.resolve += t.resolve;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["carry_ms"] = 1e3 * carry / n;
+  state.counters["upload_ms"] = 1e3 * sum.upload / n;
+  state.counters["light_ms"] = 1e3 * sum.light_pass / n;
+  state.counters["camera_ms"] = 1e3 * sum.camera_pass / n;
+  state.counters["resolve_ms"] = 1e3 * sum.resolve / n;
+  state.SetLabel(gl.renderer());
+}
+BENCHMARK(BM_RenderStrands)
+    ->ArgNames({"strands", "w", "h", "egl"})
+    ->ArgsProduct({{10000, 50000}, {640}, {480}, {0, 1}})
+    ->ArgsProduct({{10000, 50000}, {1280}, {720}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
