@@ -50,3 +50,55 @@ void carryThrough(const std::string& name, int every) {
 TEST(StrandScenario, HangKeepsStrandLengthsAndBodiesOut) { carryThrough("hang.json", 10); }
 TEST(StrandScenario, HeadShakeKeepsStrandLengthsAndBodiesOut) { carryThrough("head-shake.json", 10); }
 TEST(StrandScenario, WindKeepsStrandLengthsAndBodiesOut) { carryThrough("wind.json", 10); }
+
+// Strands follow the particles where the hair splits: in back-hair-split a
+// rod parts the back hair in two; the strands' points stay near particles
+// (none left hanging in the gap) at every checked frame.
+TEST(StrandScenario, StrandsFollowTheBackHairWhereItSplits) {
+  SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/back-hair-split.json");
+  BuildReport build;
+  Solver solver = buildSolver(scene, &build);
+  RenderStrandOptions opt;
+  opt.strands = 4000;
+  const StrandField field = bindSceneStrands(scene, solver.particles(), build, opt, 2);
+  std::vector<glm::vec3> pts;
+  float worst_p95 = 0;
+  for (int f = 1; f <= scene.frames; ++f) {
+    for (int k = 0; k < build.substeps; ++k) solver.step();
+    if (f % 30) continue;
+    field.deform(solver, pts, 2);
+    // distance of every 7th strand point to its nearest particle
+    const auto& x = solver.particles().position;
+    std::vector<float> d;
+    for (std::size_t q = 0; q < pts.size(); q += 7) {
+      float best = INFINITY;
+      for (const glm::vec3& p : x) best = std::min(best, glm::length(p - pts[q]));
+      d.push_back(best);
+    }
+    std::sort(d.begin(), d.end());
+    worst_p95 = std::max(worst_p95, d[d.size() * 95 / 100]);
+  }
+  std::printf("back-hair-split: 95th percentile distance of a strand point to a particle %.4f m (spacing %.4f m)\n",
+              worst_p95, build.mean_neighbor_distance);
+  EXPECT_LT(worst_p95, 3.0f * build.mean_neighbor_distance);
+}
+
+// A styled scene draws its style's member strands, scaled to the count asked.
+TEST(StrandScenario, AStyledSceneDrawsItsMemberStrands) {
+  SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
+  scene.hair.particles = 3000;
+  scene.hair.style = lhtest::sourceDir() + "/data/styles/bob.json";
+  BuildReport build;
+  Solver solver = buildSolver(scene, &build);
+  RenderStrandOptions opt;
+  opt.strands = 5000;
+  opt.points = 20;
+  const StrandField field = bindSceneStrands(scene, solver.particles(), build, opt, 2);
+  EXPECT_GT(field.strandCount(), 3500u);
+  EXPECT_LT(field.strandCount(), 6500u);
+  for (std::size_t s = 0; s < field.strandCount(); ++s) ASSERT_EQ(field.rest().pointCount(s), 20u);
+  std::vector<glm::vec3> pts;
+  for (int k = 0; k < 15 * build.substeps; ++k) solver.step();
+  field.deform(solver, pts, 2);
+  EXPECT_LT(lhtest::strandLengthError(field, pts), 0.02f);
+}
