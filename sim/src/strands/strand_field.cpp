@@ -103,7 +103,7 @@ void checkFinite(const std::vector<glm::vec3>& v, const char* what) {
 
 // Rounds of (push out, length limit): by the bodies' fast approximation,
 // then exact; then exact pushes alone.
-constexpr int kRoughRounds = 3, kExactRounds = 2, kFinalPushes = 4, kTrimRounds = 2;
+constexpr int kRoughRounds = 3, kExactRounds = 0, kFinalPushes = 4, kTrimRounds = 2;
 
 // The smoothing along a strand: a binomial window of 2 kSmoothHalf + 1
 // points, cut at the strand's ends and renormalised (the weights always sum
