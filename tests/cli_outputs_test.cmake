@@ -75,7 +75,8 @@ endif()
 # a full disk, imitated by a file-size limit (bash: ulimit -f, SIGXFSZ
 # ignored so that writes fail with EFBIG): exit 1, no partial file
 if(BASH)
-  foreach(what "render;--out;${OUT}/full-frames" "render;--video;${OUT}/full.mp4" "simulate;--dump;${OUT}/full-dump")
+  foreach(what "render;--out;${OUT}/full-frames" "render;--video;${OUT}/full.mp4" "simulate;--dump;${OUT}/full-dump"
+      "simulate;--dump-strands;${OUT}/full-strands")
     list(GET what 0 cmd)
     list(GET what 1 flag)
     list(GET what 2 target)
