@@ -1067,12 +1067,6 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t, std::vect
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
-float Solver::roughBodyError() const {
-  float e = head_->roughError();
-  for (const WorldBody& w : world_bodies_) e = std::max(e, w.body->roughError());
-  return e;
-}
-
 void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit,
                           std::span<float> phi, std::span<glm::vec3> normal, bool rough) const {
   if (phi.size() < points.size() || normal.size() < points.size())

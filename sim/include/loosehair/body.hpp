@@ -38,9 +38,6 @@ class Body {
                                   glm::vec3* normal) const {
     signedDistanceBelow(p, n, limit, phi, normal);
   }
-  /// How far roughDistanceBelow's phi may be from the true distance (m);
-  /// 0 where it is exact.
-  virtual float roughError() const { return 0.0f; }
 };
 
 /// An analytic sphere.
@@ -185,7 +182,6 @@ class MeshBody final : public Body {
   const GridSdfBody& grid() const { return *grid_; }
   /// The grid's worst error (m): a Lipschitz bound, sqrt(3) voxels.
   float gridError() const { return grid_error_; }
-  float roughError() const override { return grid_error_; }
 
  private:
   /// The exact query of the points whose grid values are in phi (with the

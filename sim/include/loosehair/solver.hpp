@@ -166,8 +166,6 @@ class Solver {
   /// `rough`: by the bodies' fast approximation (Body::roughDistanceBelow).
   void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit,
                     std::span<float> phi, std::span<glm::vec3> normal, bool rough = false) const;
-  /// The largest error of the bodies' fast approximation (Body::roughError).
-  float roughBodyError() const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay

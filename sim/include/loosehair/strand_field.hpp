@@ -55,8 +55,6 @@ struct BodyContacts {
   std::function<void(std::span<const glm::vec3> points, float limit, bool rough, std::span<float> phi,
                      std::span<glm::vec3> normal)>
       query;
-  /// The fast approximation's largest error (m; Body::roughError).
-  float rough_error = 0.0f;
 };
 
 /// The head and the world bodies of `solver` at its current time, for

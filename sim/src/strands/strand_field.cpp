@@ -140,7 +140,6 @@ constexpr float kRotationRadius = 3.0f;
 
 BodyContacts solverBodyContacts(const Solver& solver) {
   BodyContacts b;
-  b.rough_error = solver.roughBodyError();
   b.query = [&solver](std::span<const glm::vec3> p, float limit, bool rough, std::span<float> phi,
                       std::span<glm::vec3> n) { solver.bodyContacts(p, solver.time(), limit, phi, n, rough); };
   return b;
