@@ -5,11 +5,11 @@
 #include "png.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
+#include "render_reference.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
-#include <stb/stb_image.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -257,26 +257,7 @@ TEST(Render, StillFrameMatchesTheReferenceImage) {
   r.setBodies(&s.head, &s.torso);
   const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
   const Image img = draw(gl, r, in, Camera::preset("three-quarter"), RenderSettings{});
-  const std::string ref_path = lhtest::sourceDir() + "/tests/golden/render_hang_96x72.png";
-  if (std::getenv("LOOSEHAIR_UPDATE_GOLDEN")) {
-    app::writePng(ref_path, img.rgba, w, h);
-    GTEST_SKIP() << "reference renewed";
-  }
-  int rw = 0, rh = 0, rc = 0;
-  unsigned char* ref = stbi_load(ref_path.c_str(), &rw, &rh, &rc, 4);
-  ASSERT_NE(ref, nullptr) << "missing " << ref_path;
-  ASSERT_EQ(rw, w);
-  ASSERT_EQ(rh, h);
-  double sum = 0;
-  int far = 0;
-  for (int k = 0; k < w * h * 4; ++k) {
-    const int d = std::abs(static_cast<int>(ref[k]) - static_cast<int>(img.rgba[static_cast<std::size_t>(k)]));
-    sum += d;
-    far += d > 48 ? 1 : 0;
-  }
-  stbi_image_free(ref);
-  EXPECT_LT(sum / (w * h * 4), 2.0) << "mean difference per channel (of 255)";
-  EXPECT_LT(far, w * h * 4 / 100) << "channels off by more than 48";
+  lhtest::expectMatchesReference(img.rgba, w, h, "render_hang_96x72.png");
 }
 
 TEST(Render, DebugViewsDrawPointsAndLines) {

@@ -4,7 +4,7 @@
 // times the light that reaches the fragment; a small per-strand variation
 // of the colour.
 uniform vec3 u_light, u_color, u_spec_color;
-uniform float u_kd, u_ks, u_shine, u_reflect, u_transmit, u_ambient;
+uniform float u_ambient;
 uniform float u_variation;   // relative colour variation between strands
 uniform int u_marschner;
 uniform sampler2D u_lut_m;   // (sin_i, sin_r) -> M_R, M_TT, M_TRT, cos(theta_d)
@@ -18,15 +18,8 @@ vec3 shadeStrand(vec3 T, vec3 world, float strand, float light) {
   vec3 base = u_color * vary;
   vec3 ambient = base * u_ambient;
   if (u_marschner == 0) {
-    float tl = dot(T, L), te = dot(T, E);
-    float sin_tl = sqrt(max(0.0, 1.0 - tl * tl)), sin_te = sqrt(max(0.0, 1.0 - te * te));
-    float diffuse = u_kd * sin_tl;
-    float specular = u_ks * pow(max(0.0, sin_tl * sin_te - tl * te), u_shine);
-    vec3 txl = cross(T, L), txe = cross(T, E);
-    float denom = length(txl) * length(txe);
-    float kd = denom > 1e-6 ? dot(txl, txe) / denom : 1.0;
-    float f_dir = u_reflect * (1.0 + kd) * 0.5 + u_transmit * (1.0 - kd) * 0.5;
-    return ambient + (base * (f_dir * diffuse) + u_spec_color * (f_dir * specular)) * light;
+    vec2 k = kajiyaKay(T, L, E);
+    return ambient + (base * k.x + u_spec_color * k.y) * light;
   }
   // angles to the normal plane of the strand
   float sin_i = clamp(dot(L, T), -1.0, 1.0), sin_r = clamp(dot(E, T), -1.0, 1.0);

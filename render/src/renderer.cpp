@@ -232,7 +232,7 @@ Renderer::Renderer() {
   Impl& r = *impl_;
   const std::string frag_head = "#version 330 core\n";
   r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
-                            shaders::hair_shade_glsl + shaders::billboard_vert,
+                            shaders::kajiya_kay_glsl + shaders::hair_shade_glsl + shaders::billboard_vert,
                         frag_head + shaders::shadow_lookup_glsl + shaders::hair_frag);
   r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert,
                            frag_head + shaders::opacity_slices_glsl + shaders::opacity_frag);

@@ -18,7 +18,8 @@ constexpr std::size_t kLightStrands = 4000;
 StrandPass::StrandPass() {
   const std::string head = "#version 330 core\nuniform vec3 u_eye;\n";
   camera_prog_ = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
-                             shaders::shadow_lookup_glsl + shaders::strand_shade_glsl + shaders::strand_vert,
+                             shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl + shaders::strand_shade_glsl +
+                             shaders::strand_vert,
                          std::string("#version 330 core\n") + shaders::strand_frag);
   opacity_prog_ = program(head + shaders::strand_vert,
                           std::string("#version 330 core\n") + shaders::opacity_slices_glsl + shaders::strand_opacity_frag);
