@@ -1,11 +1,13 @@
-// A rendered picture against its reference image in tests/golden/ (renewed
-// with LOOSEHAIR_UPDATE_GOLDEN=1): the mean channel difference under 2 of
-// 255 and under 1 % of the channels off by more than 48.
+// Pictures in the render tests: an RGBA8 image, and a rendered picture
+// against its reference image in tests/golden/ (renewed with
+// LOOSEHAIR_UPDATE_GOLDEN=1): the mean channel difference under 2 of 255
+// and under 1 % of the channels off by more than 48.
 #pragma once
 
 #include "png.hpp"
 #include "test_support.hpp"
 
+#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 
@@ -15,6 +17,16 @@
 #include <vector>
 
 namespace lhtest {
+
+/// A picture, RGBA8, top row first.
+struct Image {
+  int w = 0, h = 0;
+  std::vector<std::uint8_t> rgba;
+  glm::vec3 at(int x, int y) const {
+    const std::size_t k = (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4;
+    return glm::vec3(rgba[k], rgba[k + 1], rgba[k + 2]) / 255.0f;
+  }
+};
 
 inline void expectMatchesReference(const std::vector<std::uint8_t>& rgba, int w, int h, const std::string& name) {
   const std::string ref_path = sourceDir() + "/tests/golden/" + name;

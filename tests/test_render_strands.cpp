@@ -22,14 +22,7 @@ using namespace loosehair::render;
 
 namespace {
 
-struct Image {
-  int w = 0, h = 0;
-  std::vector<std::uint8_t> rgba;
-  glm::vec3 at(int x, int y) const {
-    const std::size_t k = (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4;
-    return glm::vec3(rgba[k], rgba[k + 1], rgba[k + 2]) / 255.0f;
-  }
-};
+using lhtest::Image;
 
 // The bundled hang scene with its strands, settled for a moment.
 struct HangStrands {
