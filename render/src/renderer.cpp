@@ -155,7 +155,7 @@ std::vector<std::uint8_t> makeHairTexture(int width, int height, std::uint64_t s
 // ---- the renderer ---------------------------------------------------------------
 struct Renderer::Impl {
   GLuint hair_prog = 0, opacity_prog = 0, body_prog = 0, debug_prog = 0;
-  GLuint composite_prog = 0, downsample_prog = 0, empty_vao = 0;
+  GLuint downsample_prog = 0, empty_vao = 0;
   std::unique_ptr<StrandPass> strands;
   OffscreenTarget target;  // the picture before it reaches the caller's framebuffer
   GLuint hair_tex = 0;
@@ -173,7 +173,6 @@ struct Renderer::Impl {
   std::vector<std::uint32_t> order, scratch;
 
   ~Impl() {
-    glDeleteProgram(composite_prog);
     glDeleteProgram(downsample_prog);
     glDeleteVertexArrays(1, &empty_vao);
     glDeleteProgram(hair_prog);
@@ -194,6 +193,9 @@ struct Renderer::Impl {
       glDeleteBuffers(1, &b->ibo);
     }
   }
+
+  void uploadBillboards(const FrameInput& in, const glm::mat4& view, const std::vector<float>& quad_values,
+                        FrameTimes& times);
 
   void upload(BodyMesh& b, const TriangleMesh* mesh) {
     if (!b.vao) {
@@ -236,7 +238,6 @@ Renderer::Renderer() {
                         frag_head + shaders::shadow_lookup_glsl + shaders::hair_frag);
   r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert,
                            frag_head + shaders::opacity_slices_glsl + shaders::opacity_frag);
-  r.composite_prog = program(shaders::fullscreen_vert, shaders::oit_composite_frag);
   r.downsample_prog = program(shaders::fullscreen_vert, shaders::downsample_frag);
   r.strands = std::make_unique<StrandPass>();
   glGenVertexArrays(1, &r.empty_vao);
@@ -316,6 +317,47 @@ void Renderer::setBodies(const TriangleMesh* head, const TriangleMesh* torso) {
   impl_->upload(impl_->torso, torso);
 }
 
+// The billboards in back-to-front order (SPEC §7.1), by an O(N) sort, as 4
+// vertices each (the index buffer grows with the count).
+void Renderer::Impl::uploadBillboards(const FrameInput& in, const glm::mat4& view,
+                                      const std::vector<float>& quad_values, FrameTimes& times) {
+  Impl& r = *this;
+  const std::size_t n = in.position.size();
+  auto t0 = Clock::now();
+  r.depth.resize(n);
+  for (std::size_t i = 0; i < n; ++i) r.depth[i] = -(view * glm::vec4(in.position[i], 1.0f)).z;
+  sortBackToFront(r.depth, r.order, r.scratch);
+  times.sort = since(t0);
+
+  t0 = Clock::now();
+  r.quads.resize(n * 4 * 7);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t i = r.order[k];
+    const float v[7] = {in.position[i].x,  in.position[i].y,  in.position[i].z, in.direction[i].x,
+                        in.direction[i].y, in.direction[i].z,
+                        i < quad_values.size() ? quad_values[i] : 0.0f};
+    for (int corner = 0; corner < 4; ++corner) std::memcpy(&r.quads[(k * 4 + corner) * 7], v, sizeof v);
+  }
+  glBindVertexArray(r.quad_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, r.quad_vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quads.size() * sizeof(float)), r.quads.data(),
+               GL_STREAM_DRAW);
+  if (r.quad_capacity < n) {
+    r.quad_capacity = std::max<std::size_t>(n, 2 * r.quad_capacity);
+    r.quad_indices.resize(r.quad_capacity * 6);
+    for (std::size_t k = 0; k < r.quad_capacity; ++k) {
+      const auto b = static_cast<std::uint32_t>(4 * k);
+      const std::uint32_t tri[6] = {b, b + 1, b + 2, b + 2, b + 1, b + 3};  // the strip 0 1 2 3
+      std::memcpy(&r.quad_indices[6 * k], tri, sizeof tri);
+    }
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quad_indices.size() * sizeof(std::uint32_t)),
+                 r.quad_indices.data(), GL_STATIC_DRAW);
+  }
+  glBindVertexArray(0);
+  times.upload = since(t0);
+
+}
+
 void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSettings& st, int width,
                       int height) {
   Impl& r = *impl_;
@@ -370,40 +412,9 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   zmax += pad;
   const float dz = std::max(1e-4f, (zmax - zmin) / static_cast<float>(kSlices - 1));
 
-  // ---- back-to-front order (SPEC §7.1), O(N) ----
+  // ---- billboards: back-to-front order (SPEC §7.1) and upload ----
   auto t0 = Clock::now();
-  r.depth.resize(n);
-  for (std::size_t i = 0; i < n; ++i) r.depth[i] = -(view * glm::vec4(in.position[i], 1.0f)).z;
-  sortBackToFront(r.depth, r.order, r.scratch);
-  times_.sort = since(t0);
-
-  t0 = Clock::now();
-  const auto& quad_values = st.debug == DebugView::Density ? in.density : in.speed;
-  r.quads.resize(n * 4 * 7);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::uint32_t i = r.order[k];
-    const float v[7] = {in.position[i].x,  in.position[i].y,  in.position[i].z, in.direction[i].x,
-                        in.direction[i].y, in.direction[i].z,
-                        i < quad_values.size() ? quad_values[i] : 0.0f};
-    for (int corner = 0; corner < 4; ++corner) std::memcpy(&r.quads[(k * 4 + corner) * 7], v, sizeof v);
-  }
-  glBindVertexArray(r.quad_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, r.quad_vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quads.size() * sizeof(float)), r.quads.data(),
-               GL_STREAM_DRAW);
-  if (r.quad_capacity < n) {
-    r.quad_capacity = std::max<std::size_t>(n, 2 * r.quad_capacity);
-    r.quad_indices.resize(r.quad_capacity * 6);
-    for (std::size_t k = 0; k < r.quad_capacity; ++k) {
-      const auto b = static_cast<std::uint32_t>(4 * k);
-      const std::uint32_t tri[6] = {b, b + 1, b + 2, b + 2, b + 1, b + 3};  // the strip 0 1 2 3
-      std::memcpy(&r.quad_indices[6 * k], tri, sizeof tri);
-    }
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quad_indices.size() * sizeof(std::uint32_t)),
-                 r.quad_indices.data(), GL_STATIC_DRAW);
-  }
-  glBindVertexArray(0);
-  times_.upload = since(t0);
+  if (!draw_strands) r.uploadBillboards(in, view, st.debug == DebugView::Density ? in.density : in.speed, times_);
 
   auto billboardUniforms = [&](GLuint p) {
     setF(p, "u_width", bw);
@@ -499,54 +510,26 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   if (draw_strands) {
     // strands: weighted blended transparency against the bodies' depth,
     // then composited over them
-    r.target.bindTransparency();
-    const GLfloat zero[4] = {0, 0, 0, 0};
-    glClearBufferfv(GL_COLOR, 0, zero);
-    glClearBufferfv(GL_COLOR, 1, zero);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glDepthMask(GL_FALSE);
     StrandPass::Camera cam;
     cam.view_proj = vp;
     cam.eye = eye;
     cam.pixel_scale = static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg)));
-    cam.near_depth = INFINITY;
-    cam.far_depth = 0.0f;
-    for (int c = 0; c < 8; ++c) {
-      const glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-      const float d = glm::length(corner - eye);
-      cam.near_depth = std::min(cam.near_depth, d);
-      cam.far_depth = std::max(cam.far_depth, d);
-    }
-    // the box's corners reach farther than the hair: its nearest points
-    cam.near_depth = std::max(0.0f, glm::length(centre - eye) - 0.5f * glm::length(hi - lo));
+    // the hair's eye distances: within the sphere around its box
+    const float box_radius = 0.5f * glm::length(hi - lo), to_centre = glm::length(centre - eye);
+    cam.near_depth = std::max(0.0f, to_centre - box_radius);
+    cam.far_depth = to_centre + box_radius;
     StrandShading sh;
     sh.light = light;
     sh.color = pal.color;
     sh.spec = pal.spec;
     sh.marschner = st.shading == HairShading::Marschner;
     sh.variation = st.strand_variation;
-    r.strands->drawCamera(cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa, st.shadows,
-                          r.slice_tex);
+    r.strands->drawTransparent(r.target, cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa,
+                               st.shadows, r.slice_tex);
     glFinish();
     times_.camera_pass = since(t0);
     t0 = Clock::now();
-    r.target.bindOpaque();
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_TRUE);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    glUseProgram(r.composite_prog);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, r.target.accum());
-    setI(r.composite_prog, "u_accum", 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, r.target.reveal());
-    setI(r.composite_prog, "u_reveal", 1);
-    glActiveTexture(GL_TEXTURE0);
-    glBindVertexArray(r.empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
+    r.strands->composite(r.target, r.empty_vao);
   } else if (st.debug == DebugView::None) {
     // hair: blended back to front, tested against the bodies' depth
     glEnable(GL_BLEND);

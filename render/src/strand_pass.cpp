@@ -21,6 +21,7 @@ StrandPass::StrandPass() {
                              shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl + shaders::strand_shade_glsl +
                              shaders::strand_vert,
                          std::string("#version 330 core\n") + shaders::strand_frag);
+  composite_prog_ = program(shaders::fullscreen_vert, shaders::oit_composite_frag);
   opacity_prog_ = program(head + shaders::strand_vert,
                           std::string("#version 330 core\n") + shaders::opacity_slices_glsl + shaders::strand_opacity_frag);
   glGenVertexArrays(1, &vao_);  // no attributes: the vertex shader pulls the points
@@ -39,6 +40,7 @@ StrandPass::StrandPass() {
 StrandPass::~StrandPass() {
   glDeleteProgram(camera_prog_);
   glDeleteProgram(opacity_prog_);
+  glDeleteProgram(composite_prog_);
   glDeleteVertexArrays(1, &vao_);
   glDeleteBuffers(1, &buffer_);
   glDeleteTextures(1, &buffer_tex_);
@@ -133,9 +135,17 @@ void StrandPass::updateTables(const StrandShading& sh) {
   }
 }
 
-void StrandPass::drawCamera(const Camera& cam, const StrandShading& sh, float radius, float opacity,
-                            const glm::mat4& lookup_coords, float kappa, bool shadows, GLuint slice_tex) {
+void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& sh,
+                                 float radius, float opacity, const glm::mat4& lookup_coords, float kappa,
+                                 bool shadows, GLuint slice_tex) {
+  target.bindTransparency();
+  const GLfloat zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, zero);
+  glClearBufferfv(GL_COLOR, 1, zero);
   if (segments_ == 0) return;
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glDepthMask(GL_FALSE);
   if (sh.marschner) updateTables(sh);
   const GLuint p = camera_prog_;
   glUseProgram(p);
@@ -178,6 +188,27 @@ void StrandPass::drawCamera(const Camera& cam, const StrandShading& sh, float ra
   setI(p, "u_lut_n2", 4);
   glActiveTexture(GL_TEXTURE0);
   drawStrips();
+}
+
+void StrandPass::composite(const OffscreenTarget& target, GLuint empty_vao) {
+  target.bindOpaque();
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_BLEND);
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+  glUseProgram(composite_prog_);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, target.accum());
+  setI(composite_prog_, "u_accum", 0);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, target.reveal());
+  setI(composite_prog_, "u_reveal", 1);
+  glActiveTexture(GL_TEXTURE0);
+  glBindVertexArray(empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
 }
 
 }  // namespace loosehair::render

@@ -7,6 +7,7 @@
 #include "loosehair/render/gl_functions.hpp"
 
 #include "marschner_lut.hpp"
+#include "offscreen_target.hpp"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -25,7 +26,7 @@ struct StrandShading {
 
 class StrandPass {
  public:
-  /// Compiles the programs; `shadow_lookup` is the GLSL of the opacity lookup.
+  /// Compiles the programs (needs a current context with GL loaded).
   StrandPass();
   ~StrandPass();
   StrandPass(const StrandPass&) = delete;
@@ -39,16 +40,21 @@ class StrandPass {
   /// to (s, t, slice), `pixel_scale` is light pixels per metre.
   void drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
                    float pixel_scale, float radius, float opacity);
-  /// Into the bound transparency sums from the camera. The slice texture is
-  /// bound by the caller to unit 1 with the lookup uniforms set by `setShadow`.
+  /// From the camera, into weighted blended transparency sums.
   struct Camera {
     glm::mat4 view_proj{1.0f};
     glm::vec3 eye{0.0f};
     float pixel_scale = 1.0f;  // pixels per metre at unit depth
     float near_depth = 0.0f, far_depth = 1.0f;  // the hair's range of eye distances
   };
-  void drawCamera(const Camera& cam, const StrandShading& shading, float radius, float opacity,
-                  const glm::mat4& lookup_coords, float kappa, bool shadows, GLuint slice_tex);
+  /// Clears the target's transparency sums and draws the strands into them
+  /// (depth-tested against its opaque picture, not written).
+  void drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading,
+                       float radius, float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows,
+                       GLuint slice_tex);
+  /// The sums over the target's opaque picture (a full-screen triangle from
+  /// the attribute-less `empty_vao`).
+  void composite(const OffscreenTarget& target, GLuint empty_vao);
 
  private:
   void updateTables(const StrandShading& shading);
@@ -57,7 +63,7 @@ class StrandPass {
   std::vector<GLsizei> strip_count_;
   std::vector<GLint> light_first_;
   std::vector<GLsizei> light_count_;
-  GLuint camera_prog_ = 0, opacity_prog_ = 0;
+  GLuint camera_prog_ = 0, opacity_prog_ = 0, composite_prog_ = 0;
   GLuint vao_ = 0, buffer_ = 0, buffer_tex_ = 0;
   GLuint lut_[3] = {0, 0, 0};
   glm::vec3 lut_color_{-1.0f};

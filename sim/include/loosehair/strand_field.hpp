@@ -51,11 +51,8 @@ struct StrandFieldOptions {
 /// `points`, exact where phi < limit (`rough`: the bodies' fast
 /// approximation there, Body::roughDistanceBelow); elsewhere phi is a lower
 /// bound >= limit.
-struct BodyContacts {
-  std::function<void(std::span<const glm::vec3> points, float limit, bool rough, std::span<float> phi,
-                     std::span<glm::vec3> normal)>
-      query;
-};
+using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, bool rough,
+                                        std::span<float> phi, std::span<glm::vec3> normal)>;
 
 /// The head and the world bodies of `solver` at its current time, for
 /// head-frame points.
@@ -88,8 +85,6 @@ class StrandField {
   /// 0 where j is a strand's last point).
   std::span<const float> restSegmentLengths() const { return rest_length_; }
   const StrandFieldOptions& options() const { return options_; }
-  /// Points bound to particles only after widening the radius (diagnostics).
-  std::size_t widenedPoints() const { return widened_; }
 
  private:
   // each particle neighbourhood's rigid motion (rotation, shift)
@@ -109,7 +104,6 @@ class StrandField {
   std::vector<glm::vec3> rest_position_, rest_direction_;
   std::vector<std::uint32_t> nb_first_, nb_index_;
   std::vector<float> nb_weight_;
-  std::size_t widened_ = 0;
 };
 
 }  // namespace loosehair

@@ -52,19 +52,22 @@ namespace {
 // `target` strands grow (counted wisps, an imported groom's, stay as made).
 StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target) {
   Style style = sceneStyle(scene, model);
-  StrandSet first = buildMemberStrands(style, model);
+  // counted with coarse polylines: the count does not depend on the spacing
+  // of the points, and the coarse build costs a fraction of the real one
+  constexpr float kCountingSpacing = 0.05f;
+  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing);
   std::size_t counted = 0, dense = 0;
-  for (std::size_t k = 0; k < first.size(); ++k) {
-    if (style.wisps[first.wisp[k]].params.strands > 0)
+  for (std::size_t k = 0; k < counting.size(); ++k) {
+    if (style.wisps[counting.wisp[k]].params.strands > 0)
       ++counted;
     else
       ++dense;
   }
-  if (dense == 0 || target <= counted) return first;
-  const float scale = static_cast<float>(target - counted) / static_cast<float>(dense);
-  if (std::abs(scale - 1.0f) < 0.02f) return first;
-  for (Wisp& w : style.wisps)
-    if (w.params.strands == 0) w.params.density *= scale;
+  if (dense > 0 && target > counted) {
+    const float scale = static_cast<float>(target - counted) / static_cast<float>(dense);
+    for (Wisp& w : style.wisps)
+      if (w.params.strands == 0) w.params.density *= scale;
+  }
   return buildMemberStrands(style, model);
 }
 

@@ -11,7 +11,6 @@
 #include <glm/matrix.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -101,9 +100,10 @@ void checkFinite(const std::vector<glm::vec3>& v, const char* what) {
                                   " is not finite");
 }
 
-// Rounds of (push out, length limit): by the bodies' fast approximation,
-// then exact; then exact pushes alone.
-constexpr int kRoughRounds = 3, kExactRounds = 0, kFinalPushes = 4, kTrimRounds = 2;
+// Rounds of (push out by the bodies' fast approximation, length limit);
+// exact pushes of what is left inside, at most kFinalPushes times; rounds
+// of (mend the length at the tip, exact pushes).
+constexpr int kRoughRounds = 3, kFinalPushes = 4, kTrimRounds = 2;
 
 // The smoothing along a strand: a binomial window of 2 kSmoothHalf + 1
 // points, cut at the strand's ends and renormalised (the weights always sum
@@ -139,10 +139,8 @@ constexpr float kRotationRadius = 3.0f;
 }  // namespace
 
 BodyContacts solverBodyContacts(const Solver& solver) {
-  BodyContacts b;
-  b.query = [&solver](std::span<const glm::vec3> p, float limit, bool rough, std::span<float> phi,
-                      std::span<glm::vec3> n) { solver.bodyContacts(p, solver.time(), limit, phi, n, rough); };
-  return b;
+  return [&solver](std::span<const glm::vec3> p, float limit, bool rough, std::span<float> phi,
+                   std::span<glm::vec3> n) { solver.bodyContacts(p, solver.time(), limit, phi, n, rough); };
 }
 
 StrandField::StrandField(StrandSet rest, const Particles& particles, const StrandFieldOptions& options,
@@ -217,7 +215,6 @@ StrandField::StrandField(StrandSet rest, const Particles& particles, const Stran
   rest_length_.assign(np, 0.0f);
   bool any_root = false;
   for (std::size_t i = 0; i < particles_ && !any_root; ++i) any_root = particles.is_root[i] != 0;
-  std::vector<std::uint8_t> widened(rest_.size(), 0);
   parallel::forEachDynamic(threads, rest_.size(), [&](std::size_t s) {
     std::vector<Candidate> c;
     const std::uint32_t b = rest_.first[s], e = rest_.first[s + 1];
@@ -243,7 +240,6 @@ StrandField::StrandField(StrandSet rest, const Particles& particles, const Stran
           if (w > 0.0f) c.push_back({w, j});
         });
         ok = pickWeights(c, k_, &bind_index_[pi * k], &bind_weight_[pi * k]);
-        if (ok && round > 0) widened[s] = 1;
       }
       if (!ok) {  // nothing within 8h: the nearest particle carries it
         std::uint32_t best = 0;
@@ -258,7 +254,6 @@ StrandField::StrandField(StrandSet rest, const Particles& particles, const Stran
           bind_index_[pi * k + j] = best;
           bind_weight_[pi * k + j] = j == 0 ? 1.0f : 0.0f;
         }
-        widened[s] = 1;
       }
       if (pi + 1 < e) rest_length_[pi] = glm::length(rest_.points[pi + 1] - r);
     }
@@ -267,7 +262,6 @@ StrandField::StrandField(StrandSet rest, const Particles& particles, const Stran
     for (std::size_t j = 0; j < n; ++j)
       detail_[b + j] = rest_.points[b + j] - smoothAt(j, n, [&](std::size_t i) { return rest_.points[b + i]; });
   });
-  for (std::uint8_t w : widened) widened_ += w;
 }
 
 void StrandField::particleMotions(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
@@ -326,7 +320,7 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     const float reach = 4.0f * options_.support + options_.clearance;
     parallel::forEachDynamic(threads, (particles_ + kChunk - 1) / kChunk, [&](std::size_t c) {
       const std::size_t b = c * kChunk, n = std::min(kChunk, particles_ - b);
-      bodies->query(x.subspan(b, n), reach, false, std::span<float>(particle_phi.data() + b, n),
+      (*bodies)(x.subspan(b, n), reach, false, std::span<float>(particle_phi.data() + b, n),
                 std::span<glm::vec3>(pn.data() + b, n));
     });
   }
@@ -334,18 +328,14 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
   const std::size_t k = static_cast<std::size_t>(k_);
   out.resize(np);
   const float tol = options_.length_tolerance, clearance = options_.clearance;
-  // (Pushing out by the approximation's error in the rough rounds, so that
-  // the exact rounds could go, halved the time but bent strands where the
-  // grid's normals turn: the 99th percentile of the bend went from 41 to 69
-  // degrees on hang.json.)
-
-  // pushes the points [b, e) out of the bodies, strand roots excepted:
-  // they stay where their particles put them, on the scalp
-  // Pushes the points of strands [s0, s1) out of the bodies, strand roots
-  // excepted (they stay where their particles put them, on the scalp).
-  // Only points that may be nearer than the clearance are queried: the
-  // distance is 1-Lipschitz, so phi(p) >= phi_k - |p - x_k| for each
-  // carrier k, with phi_k a lower bound of its particle's distance.
+  // The points of strands [s0, s1) that may be nearer than `threshold` to a
+  // body, strand roots excepted (they stay where their particles put them,
+  // on the scalp): the distance is 1-Lipschitz, so phi(p) >= phi_k -
+  // |p - x_k| for each carrier k, with phi_k a lower bound of its
+  // particle's distance; the others need no query. (Pushing out by the
+  // grid's error in the rough rounds, so that no exact query would be
+  // needed, halved the time but bent strands where the grid's normals turn:
+  // the 99th percentile of the bend went from 41 to 69 degrees on hang.json.)
   auto selectNear = [&](std::size_t s0, std::size_t s1, float threshold, std::vector<std::uint32_t>& which) {
     which.clear();
     for (std::size_t s = s0; s < s1; ++s)
@@ -368,7 +358,7 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     for (std::size_t m = 0; m < which.size(); ++m) pts[m] = out[which[m]];
     phi.resize(which.size());
     nrm.resize(which.size());
-    bodies->query(pts, std::max(trigger, 1e-6f), rough, phi, nrm);
+    (*bodies)(pts, std::max(trigger, 1e-6f), rough, phi, nrm);
     std::size_t kept = 0;
     for (std::size_t m = 0; m < which.size(); ++m) {
       if (!(phi[m] < trigger)) continue;
@@ -481,12 +471,10 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
       return;
     }
     // the push out of the bodies (by their fast approximation) and the
-    // length limit, in turn; then the exact push, so no point is left inside
-    for (int round = 0; round < kRoughRounds + kExactRounds; ++round) {
-      // rough rounds: out to the clearance; exact ones: what is inside
-      const bool rough = round < kRoughRounds;
-      selectNear(s0, s1, rough ? clearance : 1e-6f, which);
-      pushOut(rough, rough ? clearance : 0.0f, which, pts, phi, nrm);
+    // length limit, in turn; then exact pushes, so no point is left inside
+    for (int round = 0; round < kRoughRounds; ++round) {
+      selectNear(s0, s1, clearance, which);
+      pushOut(true, clearance, which, pts, phi, nrm);
       for (std::size_t s = s0; s < s1; ++s) limitLengths(s, b, carried);
     }
     // last, exact pushes until no point is left inside: the points pushed
