@@ -304,7 +304,7 @@ int simulate(const Options& o) {
                  "warning: %zu particles cannot reach a root through root-side connections and "
                  "will fall (raise hair.h1_scale a little, or hair.particles)\n",
                  r.unanchored);
-  if (build.time_step > r.stable_time_step)
+  if (build.time_step > r.stable_time_step && !solver.params().implicit_springs)
     std::fprintf(stderr,
                  "warning: the time step %.4f ms is above the stable limit %.4f ms; the scene "
                  "may blow up (use \"substeps\": \"auto\" or more substeps)\n",
@@ -393,6 +393,9 @@ int simulate(const Options& o) {
               "clamped sides, %zu particles strain-limited\n",
               st.neighbor_pairs / 2, st.active_connections, st.body_contacts, st.clamped_sides,
               st.strain_limited);
+  if (solver.params().implicit_springs)
+    std::printf("implicit springs: %d conjugate-gradient iterations, relative residual %.1e, last step\n",
+                st.spring_iterations, static_cast<double>(st.spring_residual));
   if (solver.hasWind())
     std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles,
                 st.hair_air_pairs);

@@ -37,15 +37,16 @@ TEST(ParamTable, EveryEntryReadsWritesAndItsRangeIsValid) {
     EXPECT_TRUE(d >= p.lo && d <= p.hi) << p.name << " default " << d << " outside the control's range";
   }
   EXPECT_EQ(findParam("no_such_parameter"), nullptr);
-  // one entry per scalar of SimParams: 24 scalars + the 3 components of gravity
-  EXPECT_EQ(paramTable().size(), 27u);
+  // one entry per scalar of SimParams: 27 scalars + the 3 components of gravity
+  EXPECT_EQ(paramTable().size(), 30u);
 }
 
 namespace {
 
-std::uint64_t run(int steps, const std::function<void(Solver&, int)>& at) {
+std::uint64_t run(int steps, const std::function<void(Solver&, int)>& at, bool implicit = false) {
   SceneDesc scene = lhtest::sphereScene(600, "{}", R"({"type": "shake", "amplitude_deg": 30})", 6);
   scene.sim.threads = 2;
+  scene.sim.implicit_springs = implicit;
   Solver s = buildSolver(scene);
   for (int k = 0; k < steps; ++k) {
     at(s, k);
@@ -58,15 +59,22 @@ std::uint64_t run(int steps, const std::function<void(Solver&, int)>& at) {
 
 TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
   const auto none = [](Solver&, int) {};
-  const std::uint64_t base = run(60, none);
+  const std::uint64_t base_explicit = run(60, none);
   EXPECT_EQ(run(60, [](Solver& s, int k) {
               if (k == 20) s.setParams(s.params());
             }),
-            base)
+            base_explicit)
       << "setting the same parameters changes nothing";
+  const std::uint64_t base_implicit = run(60, none, true);
   for (const ParamInfo& p : paramTable()) {
     if (!p.live || std::string(p.name) == "threads" || std::string(p.name) == "shape_keeping") continue;
-    double v = p.kind == ParamInfo::Kind::Switch ? 0.0 : p.lo + 0.37 * (p.hi - p.lo);
+    // the implicit solve's knobs act only with the implicit springs on
+    const bool implicit = std::string(p.name).rfind("implicit_", 0) == 0 && p.kind != ParamInfo::Kind::Switch;
+    const std::uint64_t base = implicit ? base_implicit : base_explicit;
+    const double v0 = p.get(SimParams{});
+    double v = p.kind == ParamInfo::Kind::Switch ? (v0 != 0.0 ? 0.0 : 1.0) : p.lo + 0.37 * (p.hi - p.lo);
+    // a cap on the iterations acts only below what the solve needs
+    if (std::string(p.name) == "implicit_iterations") v = p.lo;
     for (SimParams q = buildSolver(lhtest::sphereScene(50, "{}", R"({"type": "still"})", 6)).params();;) {
       p.set(q, v);  // towards lo until valid with this scene's step (rate * dt limits)
       if (validate(q).empty()) break;
@@ -78,7 +86,7 @@ TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
         p.set(q, v);
         s.setParams(q);
       }
-    });
+    }, implicit);
     EXPECT_NE(changed, base) << p.name << " changed live has no effect";
     const std::uint64_t restored = run(60, [&](Solver& s, int k) {
       if (k == 20) {
@@ -89,7 +97,7 @@ TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
         p.set(q, was);
         s.setParams(q);
       }
-    });
+    }, implicit);
     EXPECT_EQ(restored, base) << p.name << " set and set back does not give the same bits";
   }
   // the thread count is live and changes no bits
@@ -100,7 +108,7 @@ TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
                 s.setParams(q);
               }
             }),
-            base);
+            base_explicit);
 }
 
 TEST(LiveParams, ChangesThatNeedANewSolverAreRefusedByName) {

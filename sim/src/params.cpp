@@ -60,6 +60,8 @@ std::vector<std::string> validate(const SimParams& p) {
   c.positive("material_density", p.material_density, "kg/m^3");
   c.range("stiffness_clamp", p.stiffness_clamp, 1.0, 1.0e6);
   c.nonNegative("spring_damping", p.spring_damping, "s");
+  c.range("implicit_tolerance", p.implicit_tolerance, 1e-8, 1.0);
+  c.range("implicit_iterations", p.implicit_iterations, 1, 10000);
   c.range("max_strain", p.max_strain, 0.0, 0.5);
   c.range("tether_slack", p.tether_slack, 0.0, 1.0);
   c.range("strain_limit_iterations", p.strain_limit_iterations, 0, 1000);

@@ -7,6 +7,7 @@
 
 #include "connection_builder.hpp"
 #include "connection_slices.hpp"
+#include "implicit_springs.hpp"
 #include "kernel.hpp"
 #include "air.hpp"
 #include "neighbor_grid.hpp"
@@ -1153,6 +1154,27 @@ void Solver::addExternalForces() {
   });
 }
 
+// ---- implicit springs: the velocity change of the step (implicit_springs.hpp)
+void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
+  if (!implicit_) implicit_ = std::make_unique<ImplicitSprings>();
+  ImplicitSprings::Input in;
+  in.layout = &sliced_->layout;
+  in.weight = s.weight.data();
+  in.position = particles_.position.data();
+  in.velocity = particles_.velocity.data();
+  in.force = force_.data();
+  in.mass = particles_.mass.data();
+  in.is_root = particles_.is_root.data();
+  in.particles = particles_.size();
+  in.dt = dt;
+  in.gamma = params_.spring_damping;
+  in.tolerance = params_.implicit_tolerance;
+  in.max_iterations = params_.implicit_iterations;
+  const ImplicitSpringReport rep = implicit_->solve(in, threads_, spring_dv_);
+  stats_.spring_iterations = rep.iterations;
+  stats_.spring_residual = rep.residual;
+}
+
 // ---- integrate: symplectic Euler with the inelastic, frictional body contact
 // applied to the new velocity (SPEC §5 body collisions) -------------------------
 std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
@@ -1163,6 +1185,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   const auto& m = particles_.mass;
   const auto& root = particles_.is_root;
   const float thickness = params_.contact_thickness, mu = params_.body_friction;
+  const bool implicit = params_.implicit_springs;
   // the strain limit's first records, (x, 1/m), made here in the same pass
   strain_records_[0].resize(n);
   glm::vec4* strain_record = strain_records_[0].data();
@@ -1186,7 +1209,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
           strain_record[i] = glm::vec4(x[i], inv_mass[i]);
           continue;
         }
-        glm::vec3 vi = v[i] + (dt / m[i]) * force_[i];
+        glm::vec3 vi = v[i] + (implicit ? spring_dv_[i] : (dt / m[i]) * force_[i]);
         if (body_phi_[i] < thickness) {
           // The response acts on the velocity relative to the body's surface.
           const glm::vec3 us = surface[i - b];
@@ -1689,6 +1712,10 @@ void Solver::step() {
   }
   addExternalForces();
   lap(st.external);
+  if (params_.implicit_springs) {
+    solveSpringsImplicitly(s, dt);
+    lap(st.springs);
+  }
 
   std::vector<BodyFrame> frames;
   HeadKinematics head_start;

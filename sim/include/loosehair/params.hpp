@@ -51,6 +51,17 @@ struct SimParams {
   /// gamma * alpha_ij k_ij * (relative velocity along the pair).
   float spring_damping = 2.0e-4f;
 
+  /// Take the springs implicitly (docs/design.md "Implicit springs"): a
+  /// linearised backward-Euler solve for the velocity change, stable for
+  /// any time step, so the step is set by accuracy instead of by the
+  /// stiffest spring. Off: symplectic Euler, as in the paper.
+  bool implicit_springs = false;
+  /// Relative residual at which the implicit spring solve stops
+  /// (dimensionless, preconditioned norm).
+  float implicit_tolerance = 1.0e-2f;
+  /// Most conjugate-gradient iterations of the implicit spring solve a step.
+  int implicit_iterations = 50;
+
   // ---- strain limit (SPEC §5, §9) ---------------------------------------
   /// Move over-stretched active connections back to (1 + max_strain) l_ij
   /// after each step (Jacobi, roots immovable).

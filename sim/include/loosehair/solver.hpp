@@ -32,6 +32,7 @@ class NeighborGrid;
 class AirSystem;
 class ThreadChoice;
 struct ShapeKeeping;
+class ImplicitSprings;
 
 /// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
 /// everything after integration that corrects positions: the strain limit,
@@ -60,6 +61,8 @@ struct StepStats {
   std::size_t strain_limited = 0;      // connections corrected by the strain limit, last step
   std::size_t air_particles = 0;       // wind: air particles after the last step
   std::size_t hair_air_pairs = 0;      // wind: hair-air pairs within 2 h_air, last step
+  int spring_iterations = 0;           // implicit springs: CG iterations, last step
+  float spring_residual = 0;           // implicit springs: relative residual, last step
 };
 
 /// What initialisation found; printed by the CLI and checked by tests.
@@ -268,6 +271,7 @@ class Solver {
   void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
+  void solveSpringsImplicitly(const Scratch& s, float dt);
   std::size_t integrate(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
   std::size_t limitStrain();
   void applyTethers(std::size_t b, std::size_t e);  // particles [b, e)
@@ -313,6 +317,8 @@ class Solver {
   struct Sliced;  // the connections in the layout of the connection passes
   std::unique_ptr<Sliced> sliced_;
   std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
+  std::unique_ptr<ImplicitSprings> implicit_;  // params_.implicit_springs
+  std::vector<glm::vec3> spring_dv_;          // its velocity change, this step
   std::vector<glm::vec3> tie_point_;     // setTieTethers; both empty: none
   std::vector<float> tie_reach_;
 

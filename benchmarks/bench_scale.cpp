@@ -1,0 +1,72 @@
+// Real time at scale (issue "real time at scale"): simulated seconds per
+// wall second of the bundled hang scene with its particle count changed,
+// the explicit springs against the implicit ones, two threads, in one run.
+//
+//   build/release/benchmarks/loosehair_bench_scale
+//
+// Each case builds the scene (substeps "auto": the explicit solver takes as
+// many as its stable step needs, the implicit one as many as accuracy
+// needs), runs 1 s untimed so the hair lies on the head, then times whole
+// frames. Counters: substeps a frame, ms a step, simulated s per wall s.
+#include "loosehair/loosehair.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+
+namespace {
+
+using namespace loosehair;
+
+struct Case {
+  std::unique_ptr<Solver> solver;
+  int substeps = 0;
+};
+
+Case& sceneWith(int particles, bool implicit) {
+  static std::map<std::pair<int, bool>, Case> cache;
+  Case& c = cache[{particles, implicit}];
+  if (!c.solver) {
+    SceneDesc scene = loadScene(LOOSEHAIR_SOURCE_DIR "/data/scenes/hang.json");
+    scene.hair.particles = particles;
+    scene.sim.implicit_springs = implicit;
+    scene.sim.threads = 2;
+    scene.substeps = 0;
+    scene.limits.max_substeps = 1000;
+    BuildReport report;
+    c.solver = std::make_unique<Solver>(buildSolver(scene, &report));
+    c.substeps = report.substeps;
+    c.solver->advance(30 * c.substeps);
+  }
+  return c;
+}
+
+void BM_HangFrame(benchmark::State& state) {
+  const int particles = static_cast<int>(state.range(0));
+  const bool implicit = state.range(1) != 0;
+  Case& c = sceneWith(particles, implicit);
+  double wall = 0;
+  std::int64_t frames = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    c.solver->advance(c.substeps);
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++frames;
+  }
+  state.counters["substeps"] = c.substeps;
+  state.counters["step_ms"] = wall / static_cast<double>(frames * c.substeps) * 1e3;
+  state.counters["sim_s_per_wall_s"] = static_cast<double>(frames) / 30.0 / wall;
+}
+
+BENCHMARK(BM_HangFrame)
+    ->ArgNames({"particles", "implicit"})
+    ->ArgsProduct({{6000, 20000, 50000, 100000}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+}  // namespace
+
+BENCHMARK_MAIN();
