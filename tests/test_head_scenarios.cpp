@@ -106,7 +106,11 @@ TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   const double split = meanOver(on, on.middle, 1.3, 1.5);
   const double after = meanOver(on, on.middle, 2.6, 3.0);
   std::printf("particles in the parting: before %.0f, split %.0f, merged %.0f\n", before, split, after);
-  EXPECT_LT(split, 0.2 * before) << "the back hair splits into two wisps";
+  // The band also counts hair pinched between the obstacle and the nape:
+  // with the implicit springs' backward-Euler damping about 20 of ~90
+  // particles stay there to 1.5 s (the explicit solver squeezes them out
+  // sideways, leaving ~5; docs/design.md "Implicit springs").
+  EXPECT_LT(split, 0.3 * before) << "the back hair splits into two wisps";
   EXPECT_GT(after, 0.6 * before) << "and comes back together under gravity";
   // While they fall back together, the wisps pass through each other
   // without hair-hair interactions and less with them. One run's measure

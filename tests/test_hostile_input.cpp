@@ -186,12 +186,21 @@ TEST(HostileScenes, TinyValuesNameTheirField) {
 }
 
 TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
-  expectSceneRejected(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12}})",
+  // explicit springs: a stiffness that needs millions of steps a frame
+  expectSceneRejected(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": false}})",
                       {"bad.json", "steps", "limit", "youngs_modulus", "--allow-expensive"});
+  {  // implicit springs: the same stiffness at the steps accuracy asks for
+    BuildReport report;
+    (void)buildSolver(parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": true}})",
+                                 "stiff.json"),
+                      &report);
+    EXPECT_LE(report.substeps, 4);
+  }
   expectSceneRejected(std::string(kSphere) + R"("wind": {"spacing": 0.002}})",
                       {"bad.json", "wind.spacing", "air particles"});
   // with the limit raised the same scene is built
-  SceneDesc scene = parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12}})", "ok.json");
+  SceneDesc scene =
+      parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": false}})", "ok.json");
   scene.limits.max_substeps = 1 << 30;
   BuildReport report;
   EXPECT_NO_THROW((void)buildSolver(scene, &report));

@@ -674,7 +674,8 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     // (docs/design.md "Implicit springs": kAccurateStep)
     const double spring_bound = params.implicit_springs ? kAccurateStep
                                                         : 0.6 * solver.initReport().stable_time_step;
-    const double longest = std::min({spring_bound, 0.25 / fastest_rate, solver.airStableTimeStep()});
+    const double longest = std::min(
+        {spring_bound, 0.25 / fastest_rate, solver.airStableTimeStep(), solver.holdTimeStep()});
     const double needed = std::ceil(frame_time / longest);
     if (needed > scene.limits.max_substeps)
       throw SceneError(scene.source + ": the stable time step is " + num(longest * 1e3) +

@@ -98,6 +98,9 @@ constexpr float kRootFactor = -1.0f;
 
 constexpr std::size_t kBodyBlock = 256;
 constexpr float kSkin = 1e-6f;  // m: how far out of a body a pushed particle is put
+// m/s: the fastest approach to a body that speculative contacts catch
+// within one step (faster ones are left to the projection)
+constexpr float kSpeculativeSpeed = 2.0f;
 
 // Work items of the connection passes: chunks of kSliceChunk slices,
 // handed out by whole sorting windows of the slice layout (its particles'
@@ -1125,6 +1128,11 @@ std::span<const float> Solver::airDensity() const {
   return air_ ? air_->density() : std::span<const float>();
 }
 
+double Solver::holdTimeStep() const {
+  const double w = shape_ ? shape_->fastest() : 0.0;
+  return w > 0.0 ? kMaxHoldPhasePerStep / w : INFINITY;
+}
+
 double Solver::airStableTimeStep() const { return air_ ? air_->stableTimeStep() : INFINITY; }
 
 // ---- external forces in the head frame (SPEC §5) ----------------------------
@@ -1186,6 +1194,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   const auto& root = particles_.is_root;
   const float thickness = params_.contact_thickness, mu = params_.body_friction;
   const bool implicit = params_.implicit_springs;
+  const float reach = thickness + kSpeculativeSpeed * dt;
   // the strain limit's first records, (x, 1/m), made here in the same pass
   strain_records_[0].resize(n);
   glm::vec4* strain_record = strain_records_[0].data();
@@ -1201,15 +1210,27 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
       const std::size_t e = std::min(n, b + kBodyBlock);
       glm::vec3 surface[kBodyBlock];
       // the velocity response tolerates the grid's error; the projection
-      // after the constraints keeps particles out of the exact surface
-      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, thickness,
-                  true);
+      // after the constraints keeps particles out of the exact surface.
+      // Beyond the contact thickness, as far as a particle at
+      // kSpeculativeSpeed gets in a step: speculative contacts.
+      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, reach, true);
       for (std::size_t i = b; i < e; ++i) {
         if (root[i]) {
           strain_record[i] = glm::vec4(x[i], inv_mass[i]);
           continue;
         }
         glm::vec3 vi = v[i] + (implicit ? spring_dv_[i] : (dt / m[i]) * force_[i]);
+        if (body_phi_[i] >= thickness && body_phi_[i] < reach) {
+          // Speculative: a particle that would go through the contact
+          // layer into the body within this step only reaches the layer
+          // (the step's penetration, which the projection afterwards turns
+          // into an outward push and the tether's excess, stays small at
+          // any step).
+          const glm::vec3 nrm = body_normal_[i];
+          const float vn = glm::dot(vi - surface[i - b], nrm);
+          const float allowed = -(body_phi_[i] - thickness) / dt;
+          if (vn < allowed) vi += (allowed - vn) * nrm;
+        }
         if (body_phi_[i] < thickness) {
           // The response acts on the velocity relative to the body's surface.
           const glm::vec3 us = surface[i - b];
@@ -1432,7 +1453,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   auto& x = particles_.position;
   auto& v = particles_.velocity;
   const auto& root = particles_.is_root;
-  const int rounds = frames.empty() ? 1 : 3;
+  const int rounds = frames.empty() ? 2 : 4;  // the first slides round the tethers
   const bool has_obstacles = solid_frames.size() != frames.size();
   const bool absorb = absorb_corrections_;
   absorb_corrections_ = false;

@@ -55,7 +55,7 @@ struct SimParams {
   /// linearised backward-Euler solve for the velocity change, stable for
   /// any time step, so the step is set by accuracy instead of by the
   /// stiffest spring. Off: symplectic Euler, as in the paper.
-  bool implicit_springs = false;
+  bool implicit_springs = true;
   /// Relative residual at which the implicit spring solve stops
   /// (dimensionless, preconditioned norm).
   float implicit_tolerance = 1.0e-2f;

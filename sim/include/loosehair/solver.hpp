@@ -155,6 +155,9 @@ class Solver {
   void worldAirPositions(std::vector<glm::vec3>& out) const;
   void worldAirVelocities(std::vector<glm::vec3>& out) const;
   std::span<const float> airDensity() const;
+  /// The longest step the shape-keeping holds allow (s): kMaxHoldPhasePerStep
+  /// over the fastest hold's angular frequency; infinity without holds.
+  double holdTimeStep() const;
   /// The air's own stable step (s); infinity without wind.
   double airStableTimeStep() const;
 
