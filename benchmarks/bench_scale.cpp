@@ -1,6 +1,8 @@
 // Real time at scale (issue "real time at scale"): simulated seconds per
-// wall second of the bundled hang scene with its particle count changed,
-// the explicit springs against the implicit ones, two threads, in one run.
+// wall second of the bundled hang, head-shake and wind scenes with their
+// particle count changed, the old solver (explicit springs, weakly
+// compressible air) against the new one (implicit springs, projected air),
+// two threads, in one run.
 //
 //   build/release/benchmarks/loosehair_bench_scale
 //
@@ -14,6 +16,8 @@
 
 #include <chrono>
 #include <map>
+#include <string>
+#include <tuple>
 #include <memory>
 
 namespace {
@@ -25,13 +29,16 @@ struct Case {
   int substeps = 0;
 };
 
-Case& sceneWith(int particles, bool implicit) {
-  static std::map<std::pair<int, bool>, Case> cache;
-  Case& c = cache[{particles, implicit}];
+const char* const kScenes[] = {"hang", "head-shake", "wind"};
+
+Case& sceneWith(int which, int particles, bool implicit) {
+  static std::map<std::tuple<int, int, bool>, Case> cache;
+  Case& c = cache[{which, particles, implicit}];
   if (!c.solver) {
-    SceneDesc scene = loadScene(LOOSEHAIR_SOURCE_DIR "/data/scenes/hang.json");
+    SceneDesc scene = loadScene(std::string(LOOSEHAIR_SOURCE_DIR "/data/scenes/") + kScenes[which] + ".json");
     scene.hair.particles = particles;
     scene.sim.implicit_springs = implicit;
+    if (scene.has_wind) scene.wind.projection_iterations = implicit ? WindParams{}.projection_iterations : 0;
     scene.sim.threads = 2;
     scene.substeps = 0;
     scene.limits.max_substeps = 1000;
@@ -43,10 +50,12 @@ Case& sceneWith(int particles, bool implicit) {
   return c;
 }
 
-void BM_HangFrame(benchmark::State& state) {
-  const int particles = static_cast<int>(state.range(0));
-  const bool implicit = state.range(1) != 0;
-  Case& c = sceneWith(particles, implicit);
+void BM_Frame(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const int particles = static_cast<int>(state.range(1));
+  const bool implicit = state.range(2) != 0;
+  state.SetLabel(kScenes[which]);
+  Case& c = sceneWith(which, particles, implicit);
   double wall = 0;
   std::int64_t frames = 0;
   for (auto _ : state) {
@@ -60,9 +69,11 @@ void BM_HangFrame(benchmark::State& state) {
   state.counters["sim_s_per_wall_s"] = static_cast<double>(frames) / 30.0 / wall;
 }
 
-BENCHMARK(BM_HangFrame)
-    ->ArgNames({"particles", "implicit"})
-    ->ArgsProduct({{6000, 20000, 50000, 100000}, {0, 1}})
+// scene 0 hang, 1 head-shake, 2 wind; implicit 0 = the old solver
+BENCHMARK(BM_Frame)
+    ->ArgNames({"scene", "particles", "implicit"})
+    ->ArgsProduct({{0, 1}, {6000, 20000, 50000, 100000}, {0, 1}})
+    ->ArgsProduct({{2}, {6000}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(2.0);

@@ -25,7 +25,7 @@ WindParams smallBox(float speed) {
 void stepAir(AirSystem& air, double& t, float dt, std::span<const glm::vec3> hx, std::span<const glm::vec3> hv,
              std::span<const float> hm, std::span<const std::uint8_t> root, std::vector<glm::vec3>& hf) {
   const HeadKinematics still;
-  air.findNeighbors(hx, 2);
+  air.findNeighbors(hx, dt, 2);
   std::fill(hf.begin(), hf.end(), glm::vec3(0));
   air.accumulateForces(hx, hv, hm, root, hf, dt, 2);
   air.integrate(t, dt, still, 2);
@@ -49,7 +49,7 @@ TEST(Wind, HairAirDragIsEqualAndOppositeAndAirForcesConserveMomentum) {
     hv[i] = glm::vec3(rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), 0.0f);
   }
   root[7] = 1;  // roots feel nothing and give nothing
-  air.findNeighbors(hx, 2);
+  air.findNeighbors(hx, 0.01f, 2);
   ASSERT_GT(air.hairAirPairs(), 1000u);
   // A large step: the limiter must engage and keep the pairs symmetric.
   air.accumulateForces(hx, hv, hm, root, hf, 0.01f, 2);
@@ -117,18 +117,73 @@ TEST(Wind, SteadyWindCrossesTheBoxAtItsSpeed) {
   EXPECT_NEAR(static_cast<double>(air.size()) / static_cast<double>(n0), 1.0, 0.08);
 }
 
+// The density projection (sim/src/air_projection.cpp): squeezed air
+// spreads back towards rest density within a step, and the velocity takes
+// the shift over the step; the shifts are pairs', equal and opposite, so the
+// air's momentum is kept.
+TEST(Wind, ProjectionSpreadsSqueezedAirByPairShifts) {
+  WindParams w = smallBox(0.0f);
+  ASSERT_GT(w.projection_iterations, 0) << "projected air is the default";
+  w.sound_speed = 20.0f;
+  w.box_size = glm::vec3(0.6f, 0.4f, 0.4f);
+  AirSystem air(w);
+  air.fill(0.0, HeadKinematics{}, {});
+  // squeezed by up to 15% towards the box's centre plane
+  for (glm::vec3& x : air.positions()) x.x *= 0.85f + 0.15f * std::min(1.0f, std::abs(x.x) / 0.1f);
+  // the squeezed air, a kernel support from the faces (the air nearer a
+  // face takes no constraint of its own)
+  const float from_face = 0.5f * w.box_size.y - 2.0f * w.spacing * w.h_scale;
+  auto worst = [&](const AirSystem& a) {
+    double e = 0;
+    for (std::size_t q = 0; q < a.size(); ++q) {
+      const glm::vec3 x = a.positions()[q];
+      if (std::abs(x.x) < 0.1f && std::abs(x.y) < from_face && std::abs(x.z) < from_face)
+        e = std::max(e, std::abs(static_cast<double>(a.density()[q]) / a.restDensity() - 1.0));
+    }
+    return e;
+  };
+  WindParams w0 = w;
+  w0.projection_iterations = 0;
+  AirSystem unprojected(w0);
+  unprojected.fill(0.0, HeadKinematics{}, {});
+  unprojected.positions() = air.positions();
+  unprojected.velocities() = air.velocities();
+  std::vector<glm::vec3> none;
+  const float dt = 0.01f;
+  unprojected.findNeighbors(none, dt, 2);
+  const double squeezed = worst(unprojected);
+  air.findNeighbors(none, dt, 2);
+  const double projected = worst(air);
+  std::printf("largest density error of squeezed air %.3f, after one step's projection %.3f\n", squeezed, projected);
+  EXPECT_GT(squeezed, 0.2);
+  EXPECT_LT(projected, 0.5 * squeezed);
+  // The air was at rest: its velocities are the shifts over dt.
+  glm::dvec3 momentum(0);
+  double moved = 0;
+  for (const glm::vec3& v : air.velocities()) {
+    momentum += glm::dvec3(v);
+    moved += glm::length(glm::dvec3(v));
+  }
+  std::printf("momentum gained %.2e of the %.3f moved\n", glm::length(momentum), moved);
+  ASSERT_GT(moved, 0.05 * static_cast<double>(air.size())) << "m/s: the squeeze moves the air";
+  EXPECT_LT(glm::length(momentum), 1e-4 * moved) << "pair shifts keep the momentum";
+}
+
 TEST(Wind, BadWindParametersAreNamed) {
   WindParams w;
   w.spacing = -1;
   w.direction = glm::vec3(0);
+  w.projection_iterations = -2;
   const auto problems = validate(w);
   ASSERT_GE(problems.size(), 2u);
-  bool spacing = false, direction = false;
+  bool spacing = false, direction = false, rounds = false;
   for (const auto& p : problems) {
+    rounds |= p.find("wind.projection_iterations = -2") != std::string::npos;
     spacing |= p.find("wind.spacing = -1") != std::string::npos;
     direction |= p.find("wind.direction") != std::string::npos;
   }
   EXPECT_TRUE(spacing);
   EXPECT_TRUE(direction);
+  EXPECT_TRUE(rounds);
   EXPECT_THROW(AirSystem{w}, std::invalid_argument);
 }

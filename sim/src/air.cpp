@@ -71,6 +71,7 @@ std::vector<std::string> validate(const WindParams& w) {
   if (!std::isfinite(w.h_scale) || w.h_scale < 0.5f || w.h_scale > 4.0f) say("wind.h_scale", w.h_scale, "must be in [0.5, 4]");
   if (!std::isfinite(w.density) || !(w.density > 0.0f) || w.density > 1e4f) say("wind.density", w.density, "must be in (0, 1e4] kg/m^3");
   if (!std::isfinite(w.sound_speed) || w.sound_speed < 0.0f || w.sound_speed > 1e4f) say("wind.sound_speed", w.sound_speed, "must be in [0, 1e4] m/s");
+  if (w.projection_iterations < 0 || w.projection_iterations > 50) say("wind.projection_iterations", w.projection_iterations, "must be in [0, 50]");
   if (!std::isfinite(w.viscosity_rate) || w.viscosity_rate < 0.0f || w.viscosity_rate > 1e5f) say("wind.viscosity_rate", w.viscosity_rate, "must be in [0, 1e5] 1/s");
   if (!std::isfinite(w.drag_rate) || w.drag_rate < 0.0f || w.drag_rate > 1e5f) say("wind.drag_rate", w.drag_rate, "must be in [0, 1e5] 1/s");
   return out;
@@ -126,6 +127,7 @@ AirSystem::AirSystem(const WindParams& params) : p_(params) {
     beyond_[static_cast<std::size_t>(t)] = static_cast<float>(mass);
   }
   sound_speed_ = p_.sound_speed > 0.0f ? p_.sound_speed : std::max(0.5f, 2.0f * maxSpeed());
+  initProjection();
 }
 
 float AirSystem::missingDensity(float d) const {
@@ -135,6 +137,13 @@ float AirSystem::missingDensity(float d) const {
   const auto k = std::min(static_cast<std::size_t>(f), beyond_.size() - 2);
   const float w = f - static_cast<float>(k);
   return rest_density_ * ((1.0f - w) * beyond_[k] + w * beyond_[k + 1]);
+}
+
+bool AirSystem::nearFace(std::size_t a, float reach) const {
+  const glm::vec3 half = 0.5f * p_.box_size;
+  const glm::vec3 q = glm::mat3(pose_.rotation) * x_[a] + glm::vec3(pose_.center) - p_.box_center;
+  const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
+  return std::abs(al) > half.x - reach || std::abs(up) > half.y - reach || std::abs(side) > half.z - reach;
 }
 
 float AirSystem::speedAt(double t) const {
@@ -160,6 +169,7 @@ float AirSystem::maxSpeed() const {
 }
 
 double AirSystem::stableTimeStep() const {
+  if (p_.projection_iterations > 0) return static_cast<double>(h_) / std::max(0.1, static_cast<double>(maxSpeed()));
   return 0.5 * static_cast<double>(h_) / (static_cast<double>(sound_speed_) + maxSpeed());
 }
 
@@ -204,7 +214,7 @@ void AirSystem::fill(double t, const HeadKinematics& head, const WorldDistance& 
   advance_ = 0.5 * p_.spacing;
 }
 
-void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
+void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int threads) {
   const std::size_t na = x_.size(), nh = hair_x.size();
   const CubicKernel k(h_);
   const float support = k.support(), support2 = k.support2();
@@ -242,6 +252,9 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
     }
   }
   cell_begin_.push_back(static_cast<std::uint32_t>(na));
+  // Without a sound speed: the density projection (air_projection.cpp) on
+  // the air's own neighbour lists, before the hair looks for its air.
+  if (p_.projection_iterations > 0) projectDensity(dt, threads);
 
   // Hair -> air lists: each thread takes a contiguous block of hair
   // particles (which are ordered along a Morton curve, so consecutive ones
@@ -312,24 +325,31 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, int threads) {
   density_.resize(na);
   pressure_.resize(na);
   const float c2 = sound_speed_ * sound_speed_;
+  const bool projected = p_.projection_iterations > 0;
+  parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
+    const float rho = densityAt(a, k);
+    density_[a] = rho;
+    // Weakly compressible; thinned air pulls (so a wake fills), but never
+    // harder than a vacuum would. Projected air has no pressure force.
+    pressure_[a] = projected ? 0.0f : std::max(-c2 * rest_density_, c2 * (rho - rest_density_));
+  });
+}
+
+float AirSystem::densityAt(std::size_t a, const CubicKernel& k) const {
+  float rho = mass_ * k.W(0.0f);
+  for (std::uint32_t b : grid_.neighbors(a)) rho += mass_ * k.W(glm::length(x_[a] - x_[b]));
+  return rho + faceDensity(a);
+}
+
+float AirSystem::faceDensity(std::size_t a) const {
   // The box is open: the air beyond its faces is missing from the sums, so
   // its density is added from the kernel mass beyond each face. Without it
   // the air at the faces would be thin and pulled inwards.
   const glm::vec3 half = 0.5f * p_.box_size;
-  const glm::mat3 rot(pose_.rotation);
-  const glm::vec3 centre(pose_.center);
-  parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
-    float rho = mass_ * k.W(0.0f);
-    for (std::uint32_t b : grid_.neighbors(a)) rho += mass_ * k.W(glm::length(x_[a] - x_[b]));
-    const glm::vec3 q = rot * x_[a] + centre - p_.box_center;
-    const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
-    rho += missingDensity(half.x + al) + missingDensity(half.x - al) + missingDensity(half.y + up) +
-           missingDensity(half.y - up) + missingDensity(half.z + side) + missingDensity(half.z - side);
-    density_[a] = rho;
-    // Weakly compressible; thinned air pulls (so a wake fills), but never
-    // harder than a vacuum would.
-    pressure_[a] = std::max(-c2 * rest_density_, c2 * (rho - rest_density_));
-  });
+  const glm::vec3 q = glm::mat3(pose_.rotation) * x_[a] + glm::vec3(pose_.center) - p_.box_center;
+  const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
+  return missingDensity(half.x + al) + missingDensity(half.x - al) + missingDensity(half.y + up) +
+         missingDensity(half.y - up) + missingDensity(half.z + side) + missingDensity(half.z - side);
 }
 
 void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,

@@ -7,6 +7,7 @@
 
 #include "loosehair/head_motion.hpp"
 #include "loosehair/wind.hpp"
+#include "kernel.hpp"
 #include "neighbor_grid.hpp"
 
 #include <cstdint>
@@ -30,15 +31,19 @@ class AirSystem {
   float speedAt(double t) const;
   /// Largest speed the profile reaches (m/s).
   float maxSpeed() const;
-  /// The air's own stable step: 0.5 h_air / (c + max speed) (s).
+  /// The air's own stable step (s): weakly compressible, 0.5 h_air /
+  /// (c + max speed); projected, h_air / max speed (the air moves at most
+  /// h_air a step relative to the head).
   double stableTimeStep() const;
   float smoothingLength() const { return h_; }
   float particleMass() const { return mass_; }
   float restDensity() const { return rest_density_; }
   float soundSpeed() const { return sound_speed_; }
 
-  /// Neighbours among the air and between hair and air, then air density.
-  void findNeighbors(std::span<const glm::vec3> hair_x, int threads);
+  /// Neighbours among the air, the density projection of a step `dt` long
+  /// (with projection_iterations > 0), neighbours between hair and air,
+  /// then air density.
+  void findNeighbors(std::span<const glm::vec3> hair_x, float dt, int threads);
   /// Pressure, viscosity and drag forces; the drag on the hair is added to
   /// `hair_force`. `dt` sets the drag limiter.
   void accumulateForces(std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
@@ -105,6 +110,21 @@ class AirSystem {
   /// Density the air beyond a box face at distance d would add: rest
   /// density times the kernel mass beyond a plane, tabulated.
   float missingDensity(float d) const;
+  /// SPH density of air particle a from the last neighbour lists and the
+  /// faces' missing air.
+  float densityAt(std::size_t a, const CubicKernel& k) const;
+  /// The faces' missing air at air particle a (0 beyond a support).
+  float faceDensity(std::size_t a) const;
+  /// Air particle a is within `reach` of a face of the box.
+  bool nearFace(std::size_t a, float reach) const;
+  /// Moves the air towards rest density (air_projection.cpp).
+  void projectDensity(float dt, int threads);
+  void initProjection();
+  /// eps of the projection as a fraction of the lattice's denominator.
+  static constexpr float kProjectionRelax = 1.0f;
+  float rest_denominator_ = 0;
+  std::vector<float> lambda_, lambda_sum_;
+  std::vector<glm::vec3> shift_, start_;
   std::vector<float> beyond_;  // kernel mass beyond a plane at d = 2h k / (n-1)
 
   std::vector<glm::vec3> x_, v_, force_, drag_on_air_;

@@ -125,6 +125,7 @@ WindParams readWind(Fields f) {
   w.h_scale = f.real("h_scale", w.h_scale, 0.5, 4.0);
   w.density = f.real("density", w.density, 0.0, 1e4, true);
   w.sound_speed = f.real("sound_speed", w.sound_speed, 0.0, 1e4);
+  w.projection_iterations = static_cast<int>(f.integer("projection_iterations", w.projection_iterations, 0, 50));
   w.viscosity_rate = f.real("viscosity_rate", w.viscosity_rate, 0.0, 1e5);
   w.drag_rate = f.real("drag_rate", w.drag_rate, 0.0, 1e5);
   const auto problems = validate(w);
@@ -676,7 +677,8 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                                                         : 0.6 * solver.initReport().stable_time_step;
     const double longest = std::min(
         {spring_bound, 0.25 / fastest_rate, solver.airStableTimeStep(), solver.holdTimeStep()});
-    const double needed = std::ceil(frame_time / longest);
+    // (a bound that divides the frame exactly is not rounded up a step)
+    const double needed = std::ceil(frame_time / longest * (1.0 - 1e-6));
     if (needed > scene.limits.max_substeps)
       throw SceneError(scene.source + ": the stable time step is " + num(longest * 1e3) +
                        " ms, so a frame would need " + std::to_string(static_cast<long long>(needed)) +

@@ -1726,7 +1726,7 @@ void Solver::step() {
   if (air_) {
     // air neighbours, density, pressure, viscosity and the hair-air drag (SPEC §5)
     air_->setPose(trajectory_.pose(time_));
-    air_->findNeighbors(particles_.position, threads_);
+    air_->findNeighbors(particles_.position, dt, threads_);
     air_->accumulateForces(particles_.position, particles_.velocity, particles_.mass,
                            particles_.is_root, force_, dt, threads_);
     lap(st.air);

@@ -32,6 +32,11 @@ struct WindParams {
   float h_scale = 1.0f;
   /// Density of air (kg/m^3): sets the mass of an air particle.
   float density = 1.2f;
+  /// Jacobi rounds a step of the density projection that keeps the air
+  /// near rest density without a sound speed (sim/src/air_projection.cpp);
+  /// 0 = weakly compressible air with the sound speed below, whose stable
+  /// step is about 10x shorter.
+  int projection_iterations = 3;
   /// Speed of sound of the weakly compressible air, P = c^2 (rho - rho0)
   /// (m/s); 0 = twice the largest wind speed (density varies by about 1/8).
   float sound_speed = 0.0f;
