@@ -2,6 +2,7 @@
 // §8): each runs at least 3 simulated seconds and checks, at the end of every
 // step, that nothing is non-finite, inside the head or torso, or stretched.
 // These are the slowest tests; they have their own label ("scenario").
+#include "back_hair_split.hpp"
 #include "scenario_watch.hpp"
 #include "test_support.hpp"
 
@@ -28,6 +29,9 @@ using lhtest::expectInvariants;
 using lhtest::kInsideTolerance;
 using lhtest::run;
 using lhtest::Watch;
+using lhtest::meanOver;
+using lhtest::runSplit;
+using lhtest::SplitRun;
 
 float maxLength(const SceneDesc& s) { return s.hair.length; }  // the length map peaks at 1
 
@@ -51,53 +55,6 @@ TEST(HeadScenario, HangSettlesOnHeadAndShoulders) {
   EXPECT_LT(speed / static_cast<float>(solver.particles().size()), 0.05f);
 }
 
-namespace {
-
-struct SplitRun {
-  std::vector<double> t, cross, middle;
-};
-
-// Back hair: particles rooted behind the ears; the wisps are the left and
-// right halves (root x < 0, > 0). `cross`: the fraction of back hair that is
-// on the other wisp's side of the parting plane x = 0 by more than 5 mm
-// (the wisps interpenetrate). `middle`: back-hair particles within 1 cm of
-// the plane at the height of the obstacle (the gap of the split).
-SplitRun runSplit(bool hair_hair, std::uint64_t seed) {
-  SceneDesc scene = bundled("back-hair-split", 3000);
-  scene.sim.hair_hair = hair_hair;
-  scene.seed = seed;
-  Solver solver = buildSolver(scene);
-  SplitRun r;
-  const Watch w = run(solver, 3.0, maxLength(scene), [&] {
-    const auto& p = solver.particles();
-    double back = 0, cross = 0, middle = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (p.is_root[i] || p.root_point[i].z > -0.03f || p.arc_length[i] < 0.02f) continue;
-      back += 1;
-      const float x = p.position[i].x, side = p.root_point[i].x;
-      if ((side < 0 && x > 0.005f) || (side > 0 && x < -0.005f)) cross += 1;
-      if (std::abs(x) < 0.01f && p.position[i].y < -0.12f && p.position[i].y > -0.26f) middle += 1;
-    }
-    r.t.push_back(solver.time());
-    r.cross.push_back(cross / back);
-    r.middle.push_back(middle);
-  });
-  expectInvariants(w, hair_hair ? "back-hair-split" : "back-hair-split without hair-hair");
-  return r;
-}
-
-double meanOver(const SplitRun& r, const std::vector<double>& v, double from, double to) {
-  double sum = 0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.t.size(); ++k)
-    if (r.t[k] >= from && r.t[k] <= to) {
-      sum += v[k];
-      ++n;
-    }
-  return sum / n;
-}
-
-}  // namespace
 
 TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   const SplitRun on = runSplit(true, 1);
