@@ -26,7 +26,7 @@ MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> 
 MeshBody::~MeshBody() = default;
 
 void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi,
-                      glm::vec3* normal) const {
+                      glm::vec3* normal, std::int32_t* hint) const {
   for (std::size_t k = 0; k < n; ++k) {
     const float g = phi[k];
     if (!(g < limit + grid_error_)) {
@@ -41,12 +41,18 @@ void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep
       phi[k] = std::max(phi[k] - grid_error_, cell.lower);
       continue;
     }
-    // The nearest triangles of the cell's corners make the search's ball
-    // small from the start.
+    // The nearest triangles of the cell's corners, and the point's own from
+    // its last query (it moved little since), make the search's ball small
+    // from the start.
+    std::int32_t seeds[GridSdfBody::Cell::kMaxTriangles + 1];
+    int count = 0;
+    if (hint && hint[k] >= 0) seeds[count++] = hint[k];
+    for (int c = 0; c < cell.triangles; ++c) seeds[count++] = cell.triangle[c];
     ExactDistance::Nearest near;
-    if (!exact_->nearest(p[k], std::fabs(g) + grid_error_, cell.triangle, cell.triangles, near) &&
-        !exact_->nearest(p[k], std::numeric_limits<float>::infinity(), cell.triangle, cell.triangles, near))
+    if (!exact_->nearest(p[k], std::fabs(g) + grid_error_, seeds, count, near) &&
+        !exact_->nearest(p[k], std::numeric_limits<float>::infinity(), seeds, count, near))
       continue;
+    if (hint) hint[k] = static_cast<std::int32_t>(near.triangle);
     phi[k] = near.signed_distance;
     normal[k] = near.normal;
     // Far enough from the surface the grid's sign (from flooding the
@@ -73,12 +79,17 @@ void MeshBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
 
 void MeshBody::signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                                    glm::vec3* normal) const {
+  signedDistanceBelowHinted(p, n, limit, phi, normal, nullptr);
+}
+
+void MeshBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                         glm::vec3* normal, std::int32_t* hint) const {
   if (!(limit < std::numeric_limits<float>::max())) {
     signedDistance(p, n, phi, normal);
     return;
   }
   grid_->signedDistanceBelow(p, n, limit + grid_error_, phi, normal);
-  refine(p, n, limit, std::numeric_limits<float>::infinity(), phi, normal);
+  refine(p, n, limit, std::numeric_limits<float>::infinity(), phi, normal, hint);
 }
 
 void MeshBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,

@@ -1024,15 +1024,53 @@ void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematic
   }
 }
 
+void Solver::prepareBodyHints(const std::vector<BodyFrame>& frames) const {
+  const std::size_t n = particles_.size();
+  auto want = [&](const Body* body) {
+    for (auto& [b, hints] : body_hints_)
+      if (b == body) {
+        if (hints.size() != n) hints.assign(n, -1);
+        return;
+      }
+    body_hints_.emplace_back(body, std::vector<std::int32_t>(n, -1));
+  };
+  want(head_.get());
+  for (const BodyFrame& f : frames) want(f.body);
+}
+
+std::int32_t* Solver::bodyHints(const Body* body) const {
+  for (auto& [b, hints] : body_hints_)
+    if (b == body && hints.size() == particles_.size()) return hints.data();
+  return nullptr;
+}
+
 void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                         glm::vec3* surface_velocity, float limit, bool rough) const {
+                         glm::vec3* surface_velocity, float limit, bool rough,
+                         const std::uint32_t* index) const {
+  // The exact queries of one body over the points, with the particles'
+  // hints for it where there are any.
+  std::int32_t hint[kBodyBlock];
+  auto exact = [&](const Body& body, const glm::vec3* p, std::size_t count, std::size_t first, float* out_phi,
+                   glm::vec3* out_normal) {
+    std::int32_t* hints = index ? bodyHints(&body) : nullptr;
+    if (!hints) {
+      body.signedDistanceBelow(p, count, limit, out_phi, out_normal);
+      return;
+    }
+    for (std::size_t b = 0; b < count; b += kBodyBlock) {
+      const std::size_t len = std::min(kBodyBlock, count - b);
+      for (std::size_t k = 0; k < len; ++k) hint[k] = hints[index[first + b + k]];
+      body.signedDistanceBelowHinted(p + b, len, limit, out_phi + b, out_normal + b, hint);
+      for (std::size_t k = 0; k < len; ++k) hints[index[first + b + k]] = hint[k];
+    }
+  };
   // Where every body answers phi >= limit, the nearest may be any of them:
   // the callers only look at the normal and the surface velocity below it.
   if (rough)
     head_->roughDistanceBelow(x, n, limit, phi, normal);
   else
-    head_->signedDistanceBelow(x, n, limit, phi, normal);
+    exact(*head_, x, n, 0, phi, normal);
   if (surface_velocity)
     for (std::size_t k = 0; k < n; ++k) surface_velocity[k] = glm::vec3(0.0f);
   if (frames.empty()) return;
@@ -1047,7 +1085,7 @@ void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinemat
       if (rough)
         f.body->roughDistanceBelow(q, len, limit, pb, nb);
       else
-        f.body->signedDistanceBelow(q, len, limit, pb, nb);
+        exact(*f.body, q, len, b, pb, nb);
       for (std::size_t k = 0; k < len; ++k) {
         if (!(pb[k] < phi[b + k])) continue;
         phi[b + k] = pb[k];
@@ -1463,6 +1501,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   const auto& sarc = particles_.arc_length;
   const float reach_scale = 1.0f + params_.tether_slack;
   static_assert(kBodyBlock <= 65536);
+  prepareBodyHints(frames);
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
   parallel::forEachDynamic(
@@ -1477,14 +1516,22 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
         glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
         float q_phi[kBodyBlock];
         std::size_t asked = len;
-        for (std::size_t o = 0; o < len; ++o) ask[o] = static_cast<std::uint16_t>(o);
+        std::uint32_t index[kBodyBlock];  // the particles asked
+        for (std::size_t o = 0; o < len; ++o) {
+          ask[o] = static_cast<std::uint16_t>(o);
+          index[o] = static_cast<std::uint32_t>(b + o);
+        }
         for (int round = 0; round < total_rounds; ++round) {
           if (round == 0) {
-            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f);
+            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f, false,
+                        index);
           } else {
-            for (std::size_t k = 0; k < asked; ++k) q[k] = x[b + ask[k]];
+            for (std::size_t k = 0; k < asked; ++k) {
+              q[k] = x[b + ask[k]];
+              index[k] = static_cast<std::uint32_t>(b + ask[k]);
+            }
             queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
-                        q_surface, 0.0f);
+                        q_surface, 0.0f, false, index);
             for (std::size_t k = 0; k < asked; ++k) {
               body_phi_[b + ask[k]] = q_phi[k];
               body_normal_[b + ask[k]] = q_normal[k];

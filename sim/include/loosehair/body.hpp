@@ -30,6 +30,15 @@ class Body {
     (void)limit;
     signedDistance(p, n, phi, normal);
   }
+  /// signedDistanceBelow with a hint a point: hint[k] (in and out) is what
+  /// an earlier query of the same, moving point left there, or -1 (MeshBody:
+  /// the nearest triangle). Hints only make a query faster: the answer has
+  /// the same bits whatever they hold. By default they are left alone.
+  virtual void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                         glm::vec3* normal, std::int32_t* hint) const {
+    (void)hint;
+    signedDistanceBelow(p, n, limit, phi, normal);
+  }
   /// The same answered by a body's fast approximation where it has one
   /// (MeshBody: its grid, within a voxel), for the velocity-level contact
   /// response and the air, which do not decide whether a particle is left
@@ -116,8 +125,9 @@ class GridSdfBody final : public Body {
   /// What the corners of p's cell (p clamped to the grid) say about p.
   struct Cell {
     float lower;         // a lower bound of the signed distance at p (m)
+    static constexpr int kMaxTriangles = 8;
     int triangles = 0;   // the corners' distinct nearest triangles
-    std::int32_t triangle[8];
+    std::int32_t triangle[kMaxTriangles];
   };
   Cell cell(const glm::vec3& p) const;
   float voxelSize() const { return voxel_; }
@@ -177,6 +187,8 @@ class MeshBody final : public Body {
                       glm::vec3* normal) const override;
   void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                            glm::vec3* normal) const override;
+  void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                 glm::vec3* normal, std::int32_t* hint) const override;
   void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                           glm::vec3* normal) const override;
   const GridSdfBody& grid() const { return *grid_; }
@@ -187,8 +199,9 @@ class MeshBody final : public Body {
   /// The exact query of the points whose grid values are in phi (with the
   /// grid's normals in normal): replaced where -deep < phi < limit + grid
   /// error; where phi >= limit + error it becomes a lower bound >= limit.
+  /// `hint` (optional): a seed triangle a point, set to the nearest found.
   void refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi,
-              glm::vec3* normal) const;
+              glm::vec3* normal, std::int32_t* hint = nullptr) const;
   std::shared_ptr<const GridSdfBody> grid_;
   std::unique_ptr<ExactDistance> exact_;
   float grid_error_ = 0.0f;

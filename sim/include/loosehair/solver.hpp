@@ -268,9 +268,16 @@ class Solver {
   /// phi, normal and surface velocity of the nearest body; exact where phi <
   /// limit, elsewhere phi >= limit and the rest unspecified
   /// (Body::signedDistanceBelow; `rough`: Body::roughDistanceBelow).
+  /// `index` (optional): the particles the points are, whose exact-query
+  /// hints (body_hints_, made by prepareBodyHints) speed the exact queries
+  /// up without changing their answers.
   void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                    const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                   glm::vec3* surface_velocity, float limit = INFINITY, bool rough = false) const;
+                   glm::vec3* surface_velocity, float limit = INFINITY, bool rough = false,
+                   const std::uint32_t* index = nullptr) const;
+  /// A hint a particle for the head and for every body of `frames`.
+  void prepareBodyHints(const std::vector<BodyFrame>& frames) const;
+  std::int32_t* bodyHints(const Body* body) const;
   void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
@@ -290,6 +297,10 @@ class Solver {
   std::unique_ptr<AirSystem> air_;
   ConnectionSet connections_;
   std::shared_ptr<const Body> head_;
+  // per body: each particle's nearest triangle from its last exact query
+  // (Body::signedDistanceBelowHinted); they change no result, so they are
+  // not part of the state
+  mutable std::vector<std::pair<const Body*, std::vector<std::int32_t>>> body_hints_;
   HeadTrajectory trajectory_;
   int threads_ = 1;      // the team size of the passes running now
   int max_threads_ = 1;  // threadCount()
