@@ -69,7 +69,9 @@ TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
   for (const ParamInfo& p : paramTable()) {
     if (!p.live || std::string(p.name) == "threads" || std::string(p.name) == "shape_keeping") continue;
     // the implicit solve's knobs act only with the implicit springs on
-    const bool implicit = std::string(p.name).rfind("implicit_", 0) == 0 && p.kind != ParamInfo::Kind::Switch;
+    // (and a stiffer hair, which the explicit step could not take at this step)
+    const bool implicit = (std::string(p.name).rfind("implicit_", 0) == 0 && p.kind != ParamInfo::Kind::Switch) ||
+                          std::string(p.name) == "youngs_modulus";
     const std::uint64_t base = implicit ? base_implicit : base_explicit;
     const double v0 = p.get(SimParams{});
     double v = p.kind == ParamInfo::Kind::Switch ? (v0 != 0.0 ? 0.0 : 1.0) : p.lo + 0.37 * (p.hi - p.lo);
@@ -136,6 +138,34 @@ TEST(LiveParams, ChangesThatNeedANewSolverAreRefusedByName) {
   EXPECT_THROW(s.setParams(bad), std::invalid_argument);
   EXPECT_EQ(s.stateHash(), before);
   EXPECT_EQ(s.params().youngs_modulus, SimParams{}.youngs_modulus) << "a refused change left nothing behind";
+}
+
+// The explicit springs are stable only below their limit: switching to
+// them (or stiffening them) live at a longer step is refused, by name, and
+// changes nothing.
+TEST(LiveParams, ExplicitSpringsBeyondTheirStableStepAreRefused) {
+  const char* stiff = R"({"youngs_modulus": 50000})";
+  Solver s = buildSolver(lhtest::sphereScene(600, stiff, R"({"type": "still"})", 3));
+  ASSERT_TRUE(s.params().implicit_springs);
+  ASSERT_GT(s.params().time_step, s.initReport().stable_time_step) << "3 steps a frame are beyond the explicit limit";
+  s.advance(3);
+  const std::uint64_t before = s.stateHash();
+  SimParams q = s.params();
+  q.implicit_springs = false;
+  try {
+    s.setParams(q);
+    ADD_FAILURE() << "explicit springs accepted at " << q.time_step << " s";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("implicit_springs"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(s.params().implicit_springs);
+  EXPECT_EQ(s.stateHash(), before);
+  // within the limit it is accepted
+  Solver fine = buildSolver(lhtest::sphereScene(600, stiff, R"({"type": "still"})", 40));
+  q = fine.params();
+  q.implicit_springs = false;
+  ASSERT_LT(q.time_step, fine.initReport().stable_time_step);
+  EXPECT_NO_THROW(fine.setParams(q));
 }
 
 TEST(LiveParams, ShapeKeepingTurnedOffLiveIsPlainLcpFromThen) {

@@ -409,6 +409,18 @@ void Solver::setParams(const SimParams& p) {
     throw std::invalid_argument("shape_keeping = " + std::to_string(p.shape_keeping) + " Hz is too strong for time_step = " +
                                 std::to_string(p.time_step) + " s");
   const bool stiffness = p.youngs_modulus != params_.youngs_modulus;
+  if (!p.implicit_springs && (params_.implicit_springs || stiffness)) {
+    // explicit springs from now on: the step must be within their stable
+    // limit, which scales as 1/sqrt(E)
+    const double limit = stableTimeStep() * std::sqrt(static_cast<double>(params_.youngs_modulus) /
+                                                      static_cast<double>(p.youngs_modulus));
+    if (p.time_step > limit)
+      throw std::invalid_argument("implicit_springs = 0 (explicit springs) with youngs_modulus = " +
+                                  std::to_string(p.youngs_modulus) + " needs a time step of at most " +
+                                  std::to_string(limit * 1e3) + " ms, and this simulation steps " +
+                                  std::to_string(p.time_step * 1e3) +
+                                  " ms: keep the implicit springs, or restart with more substeps");
+  }
   const bool threads = p.threads != params_.threads;
   params_ = p;
   if (stiffness) computeRestFactors();
