@@ -25,8 +25,7 @@ struct SplitRun {
 // the plane at the height of the obstacle (the gap of the split). The
 // invariants are checked every `check_every` steps.
 inline SplitRun runSplit(bool hair_hair, std::uint64_t seed, int particles = 3000, int check_every = 1) {
-  loosehair::SceneDesc scene = loosehair::loadScene(sourceDir() + "/data/scenes/back-hair-split.json");
-  scene.hair.particles = particles;
+  loosehair::SceneDesc scene = bundled("back-hair-split", particles);
   scene.sim.hair_hair = hair_hair;
   scene.seed = seed;
   loosehair::Solver solver = loosehair::buildSolver(scene);

@@ -55,6 +55,13 @@ Watch run(loosehair::Solver& solver, double until, float max_length, F each_fram
   return w;
 }
 
+/// A bundled scene (data/scenes/NAME.json) with its particle count changed.
+inline loosehair::SceneDesc bundled(const std::string& name, int particles) {
+  loosehair::SceneDesc s = loosehair::loadScene(sourceDir() + "/data/scenes/" + name + ".json");
+  s.hair.particles = particles;
+  return s;
+}
+
 inline void expectInvariants(const Watch& w, const std::string& what) {
   EXPECT_TRUE(w.finite) << what;
   EXPECT_GE(w.deepest, -kInsideTolerance) << what << ": a particle ended a step inside the body";

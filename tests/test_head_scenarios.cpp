@@ -19,12 +19,7 @@ using namespace loosehair;
 
 namespace {
 
-SceneDesc bundled(const std::string& name, int particles) {
-  SceneDesc s = loadScene(lhtest::sourceDir() + "/data/scenes/" + name + ".json");
-  s.hair.particles = particles;
-  return s;
-}
-
+using lhtest::bundled;
 using lhtest::expectInvariants;
 using lhtest::kInsideTolerance;
 using lhtest::run;

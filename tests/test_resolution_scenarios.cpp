@@ -19,13 +19,9 @@
 
 using namespace loosehair;
 
-namespace {
+using lhtest::bundled;
 
-SceneDesc bundled(const std::string& name, int particles) {
-  SceneDesc s = loadScene(lhtest::sourceDir() + "/data/scenes/" + name + ".json");
-  s.hair.particles = particles;
-  return s;
-}
+namespace {
 
 // The invariants once a frame at 50k (the exact distances of every
 // particle each step would cost more than the simulation).
