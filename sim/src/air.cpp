@@ -139,11 +139,14 @@ float AirSystem::missingDensity(float d) const {
   return rest_density_ * ((1.0f - w) * beyond_[k] + w * beyond_[k + 1]);
 }
 
-bool AirSystem::nearFace(std::size_t a, float reach) const {
-  const glm::vec3 half = 0.5f * p_.box_size;
+glm::vec3 AirSystem::inBox(std::size_t a) const {
   const glm::vec3 q = glm::mat3(pose_.rotation) * x_[a] + glm::vec3(pose_.center) - p_.box_center;
-  const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
-  return std::abs(al) > half.x - reach || std::abs(up) > half.y - reach || std::abs(side) > half.z - reach;
+  return {glm::dot(q, e_wind_), glm::dot(q, e_up_), glm::dot(q, e_side_)};
+}
+
+bool AirSystem::nearFace(std::size_t a, float reach) const {
+  const glm::vec3 c = glm::abs(inBox(a)), half = 0.5f * p_.box_size;
+  return c.x > half.x - reach || c.y > half.y - reach || c.z > half.z - reach;
 }
 
 float AirSystem::speedAt(double t) const {
@@ -253,7 +256,11 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int t
   }
   cell_begin_.push_back(static_cast<std::uint32_t>(na));
   // Without a sound speed: the density projection (air_projection.cpp) on
-  // the air's own neighbour lists, before the hair looks for its air.
+  // the air's own neighbour lists, before the hair looks for its air. The
+  // cell ranges below keep the cells from before the shifts: a shifted
+  // particle is at most its shift (a small part of h_air) away from its
+  // cell, so only pairs within that much of the support's edge, where W is
+  // nearly 0, can be missed.
   if (p_.projection_iterations > 0) projectDensity(dt, threads);
 
   // Hair -> air lists: each thread takes a contiguous block of hair
@@ -345,11 +352,9 @@ float AirSystem::faceDensity(std::size_t a) const {
   // The box is open: the air beyond its faces is missing from the sums, so
   // its density is added from the kernel mass beyond each face. Without it
   // the air at the faces would be thin and pulled inwards.
-  const glm::vec3 half = 0.5f * p_.box_size;
-  const glm::vec3 q = glm::mat3(pose_.rotation) * x_[a] + glm::vec3(pose_.center) - p_.box_center;
-  const float al = glm::dot(q, e_wind_), up = glm::dot(q, e_up_), side = glm::dot(q, e_side_);
-  return missingDensity(half.x + al) + missingDensity(half.x - al) + missingDensity(half.y + up) +
-         missingDensity(half.y - up) + missingDensity(half.z + side) + missingDensity(half.z - side);
+  const glm::vec3 c = inBox(a), half = 0.5f * p_.box_size;
+  return missingDensity(half.x + c.x) + missingDensity(half.x - c.x) + missingDensity(half.y + c.y) +
+         missingDensity(half.y - c.y) + missingDensity(half.z + c.z) + missingDensity(half.z - c.z);
 }
 
 void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
@@ -401,14 +406,18 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
   force_.resize(na);
   drag_on_air_.resize(na);
   const float mu = p_.viscosity_rate;
+  // projected air has no pressure force (the projection is its pressure)
+  const bool pressure = p_.projection_iterations == 0;
   parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     glm::vec3 f(0.0f);
     const float pa = pressure_[a] / (density_[a] * density_[a]);
     for (std::uint32_t b : grid_.neighbors(a)) {
       const glm::vec3 d = x_[a] - x_[b];
       const float r = glm::length(d);
-      const float pb = pressure_[b] / (density_[b] * density_[b]);
-      f -= (mass_ * mass_ * (pa + pb)) * k.gradW(d, r);
+      if (pressure) {
+        const float pb = pressure_[b] / (density_[b] * density_[b]);
+        f -= (mass_ * mass_ * (pa + pb)) * k.gradW(d, r);
+      }
       f += (mu * 2.0f * mass_ * mass_ / (density_[a] + density_[b]) * k.W(r)) * (v_[b] - v_[a]);
     }
     glm::vec3 g(0.0f);

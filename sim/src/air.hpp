@@ -44,7 +44,7 @@ class AirSystem {
   /// (with projection_iterations > 0), neighbours between hair and air,
   /// then air density.
   void findNeighbors(std::span<const glm::vec3> hair_x, float dt, int threads);
-  /// Pressure, viscosity and drag forces; the drag on the hair is added to
+  /// Pressure (weakly compressible air only), viscosity and drag forces; the drag on the hair is added to
   /// `hair_force`. `dt` sets the drag limiter.
   void accumulateForces(std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
                         std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
@@ -115,6 +115,9 @@ class AirSystem {
   float densityAt(std::size_t a, const CubicKernel& k) const;
   /// The faces' missing air at air particle a (0 beyond a support).
   float faceDensity(std::size_t a) const;
+  /// Air particle a in the box's frame: along the wind, up, across (m from
+  /// the box centre).
+  glm::vec3 inBox(std::size_t a) const;
   /// Air particle a is within `reach` of a face of the box.
   bool nearFace(std::size_t a, float reach) const;
   /// Moves the air towards rest density (air_projection.cpp).

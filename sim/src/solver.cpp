@@ -1503,7 +1503,9 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   auto& x = particles_.position;
   auto& v = particles_.velocity;
   const auto& root = particles_.is_root;
-  const int rounds = frames.empty() ? 2 : 4;  // the first slides round the tethers
+  // rounds of the head and the world bodies (obstacles too): all but the
+  // last slide round the tethers (docs/design.md "Implicit springs")
+  const int rounds = frames.empty() ? 2 : 4;
   const bool has_obstacles = solid_frames.size() != frames.size();
   const bool absorb = absorb_corrections_;
   absorb_corrections_ = false;

@@ -1,7 +1,8 @@
 // Wind as SPH air particles (SPEC §5): emitted upwind in a box around the
-// head with the wind velocity, removed when they leave it, weakly
-// compressible pressure and viscosity, and drag forces exchanged with the
-// hair, equal and opposite:
+// head with the wind velocity, removed when they leave it, kept near rest
+// density by a projection (or, as in the paper, by a weakly compressible
+// pressure), viscosity, and drag forces exchanged with the hair, equal and
+// opposite:
 //
 //   f_hair_i += dw W(|x_ia|, h_air) (v_a - v_i),   f_air_a -= the same.
 #pragma once
@@ -35,10 +36,12 @@ struct WindParams {
   /// Jacobi rounds a step of the density projection that keeps the air
   /// near rest density without a sound speed (sim/src/air_projection.cpp);
   /// 0 = weakly compressible air with the sound speed below, whose stable
-  /// step is about 10x shorter.
+  /// step is about 6x shorter (25 substeps a frame on the wind scene
+  /// against 4).
   int projection_iterations = 3;
-  /// Speed of sound of the weakly compressible air, P = c^2 (rho - rho0)
-  /// (m/s); 0 = twice the largest wind speed (density varies by about 1/8).
+  /// Speed of sound (m/s): of the weakly compressible air, P = c^2 (rho -
+  /// rho0); of the projected air, its compliance 1 / (c dt)^2. 0 = twice
+  /// the largest wind speed.
   float sound_speed = 0.0f;
   /// Air viscosity as the rate at which neighbouring air velocities even
   /// out (1/s).
