@@ -5,6 +5,10 @@
 // keeps hair outside the real triangles although its grid is coarse.
 #include "test_support.hpp"
 
+#include "exact_distance.hpp"
+#include "random.hpp"
+#include "triangle_cells.hpp"
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -260,4 +264,71 @@ TEST(MeshBody, OverlappingClosedPartsActAsTheirUnion) {
   std::printf("%d points near an eyeball set into a head, %d with the wrong side\n", points, wrong);
   EXPECT_GT(points, 1500);
   EXPECT_EQ(wrong, 0);
+}
+
+// The cells list every triangle whose (grown) box meets a query box within
+// their reach: brute force over random triangles of mixed sizes, queries
+// inside, at the edges of and outside the grid.
+TEST(TriangleCells, ListEveryTriangleWhoseBoxMeetsTheQuery) {
+  Random rng(11);
+  std::vector<glm::vec3> corners;
+  auto r = [&](double lo, double hi) { return static_cast<float>(rng.uniform(lo, hi)); };
+  for (int t = 0; t < 600; ++t) {
+    const glm::vec3 c(r(-0.1, 0.1), r(-0.05, 0.15), r(0.0, 0.08));
+    const float size = t % 10 == 0 ? 0.03f : 0.004f;
+    for (int k = 0; k < 3; ++k) corners.push_back(c + size * glm::vec3(r(-1, 1), r(-1, 1), r(-1, 1)));
+  }
+  const float margin = 1e-6f;
+  TriangleCells cells;
+  cells.build(corners, margin, 5000);
+  ASSERT_GT(cells.reach(), 0.0f);
+  std::vector<int> seen(600);
+  for (int q = 0; q < 3000; ++q) {
+    const glm::vec3 p(r(-0.15, 0.15), r(-0.1, 0.2), r(-0.05, 0.13));
+    const float radius = cells.reach() * r(0.0, 1.0);
+    std::fill(seen.begin(), seen.end(), 0);
+    cells.forEachNear(p, radius, [&](std::uint32_t k) { ++seen[k]; });
+    for (std::size_t t = 0; t < 600; ++t) {
+      const glm::vec3 a = corners[3 * t], b = corners[3 * t + 1], c = corners[3 * t + 2];
+      const glm::vec3 lo = glm::min(a, glm::min(b, c)) - margin, hi = glm::max(a, glm::max(b, c)) + margin;
+      const bool meets = glm::all(glm::lessThanEqual(lo, p + radius)) && glm::all(glm::lessThanEqual(p - radius, hi));
+      if (meets) {
+        ASSERT_GT(seen[t], 0) << "query " << q << " missed triangle " << t;
+      }
+    }
+  }
+}
+
+// The exact distance answers a small ball from the cells and a large one
+// from the hierarchy: the same triangle and the same bits either way. A
+// seed at the true nearest triangle makes the ball small (the cells); no
+// seed leaves it infinite (the hierarchy alone).
+TEST(MeshBody, CellsAndHierarchyGiveTheSameNearestTriangle) {
+  TriangleMesh m = bumpySphere(0.1f, 4, 0.12f);
+  checkMesh(m, "test mesh");
+  const ExactDistance exact(m);
+  Random rng(5);
+  int compared = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const std::size_t t = static_cast<std::size_t>(rng.next() % m.triangles.size());
+    // on the surface, a hair's breadth to a few millimetres in or out, and
+    // at vertices and edges, where neighbours tie
+    const double u = rng.uniform(), v = rng.uniform() * (1.0 - u);
+    const glm::vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+    glm::vec3 p = k % 4 == 0 ? a : (k % 4 == 1 ? 0.5f * (a + b) : a + static_cast<float>(u) * (b - a) + static_cast<float>(v) * (c - a));
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    p += static_cast<float>(rng.uniform(-1.0, 1.0) * (k % 3 == 0 ? 1e-6 : 3e-3)) * n;
+    ExactDistance::Nearest whole{}, seeded{};
+    ASSERT_TRUE(exact.nearest(p, INFINITY, nullptr, 0, whole));
+    const auto seed = static_cast<std::int32_t>(whole.triangle);
+    const std::int32_t seeds[3] = {seed, static_cast<std::int32_t>((t + 97) % m.triangles.size()), seed};
+    ASSERT_TRUE(exact.nearest(p, INFINITY, seeds, 3, seeded));
+    ++compared;
+    ASSERT_EQ(seeded.triangle, whole.triangle) << "point " << k;
+    ASSERT_EQ(seeded.signed_distance, whole.signed_distance) << "point " << k;
+    ASSERT_EQ(seeded.normal, whole.normal) << "point " << k;
+    // and against brute force
+    ASSERT_NEAR(seeded.signed_distance, exactSignedDistance(m, p), 2e-6) << "point " << k;
+  }
+  EXPECT_EQ(compared, 4000);
 }

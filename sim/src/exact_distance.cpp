@@ -5,10 +5,18 @@
 // pseudo-normal of the nearest feature (Baerentzen and Aanaes 2005), exact
 // for a closed, consistently oriented mesh. (With Eigen's KdBVH, which
 // allocates its stack and visits boxes in no order, the contact stages of
-// hang.json took twice as long: docs/performance.md.)
+// hang.json took twice as long: docs/performance.md.) A ball small enough
+// (a point resting on the body, seeded with its last nearest triangle) is
+// searched in the few lists of a uniform grid of triangles instead
+// (triangle_cells.hpp), and triangles whose plane or bounding sphere is
+// beyond the ball are skipped: both only leave out triangles that cannot
+// win, so the answer is the hierarchy's, bit for bit.
 #include "exact_distance.hpp"
 
+#include "triangle_cells.hpp"
+
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -112,6 +120,19 @@ struct ExactDistance::Tree {
   std::vector<Node> nodes;
   std::vector<std::uint32_t> order;  // triangle ids in leaf order
   std::vector<glm::vec3> corners;    // 3 a triangle, in leaf order
+  // Each triangle's plane (unit normal n, offset w: n.p + w is the distance
+  // from the plane) and bounding sphere (centre, radius), in leaf order and
+  // by id: the distances from the plane and from the sphere are lower
+  // bounds of the distance from the triangle, so a triangle either of them
+  // puts farther than the ball (by more than `tolerance`, which covers the
+  // rounding) cannot be the nearest and is not tested. The plane rejects
+  // what lies beside a curved surface, the sphere what lies along a flat one.
+  std::vector<glm::vec4> leaf_plane, plane, leaf_sphere, sphere;
+  float tolerance = 0.0f;
+  // The triangles (by leaf order) of each cell: a small ball is searched
+  // there rather than down the hierarchy.
+  TriangleCells cells;
+  static constexpr std::size_t kMaxCells = std::size_t{1} << 20;
 
   void build() {
     const std::size_t nt = triangles.size();
@@ -125,6 +146,28 @@ struct ExactDistance::Tree {
     corners.resize(3 * nt);
     for (std::size_t k = 0; k < nt; ++k)
       for (int i = 0; i < 3; ++i) corners[3 * k + static_cast<std::size_t>(i)] = vertices[triangles[order[k]][i]];
+    plane.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      const glm::vec3 n = face_normal[k], a = vertices[triangles[k].x];
+      plane[k] = glm::vec4(n, -glm::dot(n, a));
+    }
+    sphere.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      const glm::vec3 a = vertices[triangles[k].x], b = vertices[triangles[k].y], c = vertices[triangles[k].z];
+      const glm::vec3 m = (a + b + c) / 3.0f;
+      sphere[k] = glm::vec4(m, std::max({glm::length(a - m), glm::length(b - m), glm::length(c - m)}));
+    }
+    leaf_plane.resize(nt);
+    leaf_sphere.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      leaf_plane[k] = plane[order[k]];
+      leaf_sphere[k] = sphere[order[k]];
+    }
+    // rounding of coordinates of size `extent` in the plane distance and in
+    // nearestOnTriangle: a few units in the last place of float each
+    const glm::vec3 ext = nodes.empty() ? glm::vec3(0.0f) : glm::max(glm::abs(nodes[0].lo), glm::abs(nodes[0].hi));
+    tolerance = 1e-5f * std::max({ext.x, ext.y, ext.z, 1e-3f});
+    cells.build(corners, tolerance, kMaxCells);
   }
   void split(std::uint32_t first, std::uint32_t last, const std::vector<glm::vec3>& centre) {
     const auto self = static_cast<std::uint32_t>(nodes.size());
@@ -163,6 +206,7 @@ struct ExactDistance::Tree {
   struct Nearest {
     glm::vec3 p;
     float r2;
+    float reach = -1.0f;  // the ball's radius plus the tolerance (< 0: not yet taken from r2)
     std::uint32_t best = UINT32_MAX;
     glm::vec3 point{0.0f};
     Feature feature = kFace;
@@ -176,11 +220,32 @@ struct ExactDistance::Tree {
         best = t;
         point = q;
         feature = f;
+        reach = -1.0f;  // to be set from r2 by the tree
       }
+    }
+    // Whether a triangle with this plane and sphere can be within the ball.
+    bool near(const glm::vec4& pl, const glm::vec4& sp, float tolerance) {
+      if (reach < 0.0f) reach = std::sqrt(r2) + tolerance;
+      const glm::vec3 d = p - glm::vec3(sp);
+      const float out = reach + sp.w;
+      if (glm::dot(d, d) > out * out) return false;
+      return !(std::fabs(glm::dot(glm::vec3(pl), p) + pl.w) > reach);
     }
   };
   void offer(Nearest& q, std::uint32_t t) const {
+    if (!q.near(plane[t], sphere[t], tolerance)) return;
     q.offer(t, vertices[triangles[t].x], vertices[triangles[t].y], vertices[triangles[t].z]);
+  }
+  // The search of a ball within the cells' reach (the reach and the
+  // ball's rounding allowed for): every triangle that can be nearer than
+  // the ball's edge is offered, as by search(), so the answer is the same.
+  bool searchCells(Nearest& q) const {
+    if (q.reach < 0.0f) q.reach = std::sqrt(q.r2) + tolerance;
+    if (!(q.reach <= cells.reach())) return false;
+    cells.forEachNear(q.p, q.reach, [&](std::uint32_t k) {
+      if (q.near(leaf_plane[k], leaf_sphere[k], tolerance)) q.offer(order[k], corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]);
+    });
+    return true;
   }
   void search(Nearest& q) const {
     std::uint32_t stack[64];
@@ -192,7 +257,8 @@ struct ExactDistance::Tree {
       if (boxDistance2(q.p, node.lo, node.hi) > q.r2) continue;  // the ball shrank
       if (node.count > 0) {
         for (std::uint32_t k = node.first_or_second; k < node.first_or_second + node.count; ++k)
-          q.offer(order[k], corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]);
+          if (q.near(leaf_plane[k], leaf_sphere[k], tolerance))
+            q.offer(order[k], corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]);
         continue;
       }
       const std::uint32_t a = static_cast<std::uint32_t>(&node - nodes.data()) + 1,
@@ -298,12 +364,23 @@ bool ExactDistance::nearest(const glm::vec3& p, float radius, const std::int32_t
   for (std::size_t k = 0; k < trees_.size(); ++k) {
     const Tree& t = *trees_[k];
     Tree::Nearest q{p, r2};
-    for (int s = 0; s < count; ++s)
-      if (seeds[s] >= 0 && static_cast<std::size_t>(seeds[s]) < part_.size() &&
-          part_[static_cast<std::size_t>(seeds[s])] == k)
-        t.offer(q, local_[static_cast<std::size_t>(seeds[s])]);
-    if (q.best != UINT32_MAX) q.r2 *= 1.0001f;  // room for rounding: the same triangle again
-    t.search(q);
+    for (int s = 0; s < count; ++s) {
+      if (!(seeds[s] >= 0 && static_cast<std::size_t>(seeds[s]) < part_.size() &&
+            part_[static_cast<std::size_t>(seeds[s])] == k))
+        continue;
+      // a seed offered again changes nothing: the corners of a cell share
+      // their nearest triangles
+      if (std::find(seeds, seeds + s, seeds[s]) != seeds + s) continue;
+      t.offer(q, local_[static_cast<std::size_t>(seeds[s])]);
+      // a ball the cells answer needs no more seeds (the first is the
+      // point's own last nearest triangle, usually near enough)
+      if (q.best != UINT32_MAX && std::sqrt(q.r2 * 1.0001f) + t.tolerance <= t.cells.reach()) break;
+    }
+    if (q.best != UINT32_MAX) {
+      q.r2 *= 1.0001f;  // room for rounding: the same triangle again
+      q.reach = -1.0f;
+    }
+    if (!t.searchCells(q)) t.search(q);
     if (q.best == UINT32_MAX) continue;
     // Union of the parts: the lowest signed distance of any part (exact
     // outside them all, the depth in the part it is deepest in inside).
