@@ -330,15 +330,16 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int t
 
   // Air density (air only: the hair is not air).
   density_.resize(na);
-  pressure_.resize(na);
   const float c2 = sound_speed_ * sound_speed_;
+  // Projected air has no pressure force (the projection is its pressure).
   const bool projected = p_.projection_iterations > 0;
+  pressure_.resize(projected ? 0 : na);
   parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     const float rho = densityAt(a, k);
     density_[a] = rho;
     // Weakly compressible; thinned air pulls (so a wake fills), but never
-    // harder than a vacuum would. Projected air has no pressure force.
-    pressure_[a] = projected ? 0.0f : std::max(-c2 * rest_density_, c2 * (rho - rest_density_));
+    // harder than a vacuum would.
+    if (!projected) pressure_[a] = std::max(-c2 * rest_density_, c2 * (rho - rest_density_));
   });
 }
 
@@ -410,7 +411,7 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
   const bool pressure = p_.projection_iterations == 0;
   parallel::forEach(threads, static_cast<std::size_t>(na), [&](std::size_t a) {
     glm::vec3 f(0.0f);
-    const float pa = pressure_[a] / (density_[a] * density_[a]);
+    const float pa = pressure ? pressure_[a] / (density_[a] * density_[a]) : 0.0f;
     for (std::uint32_t b : grid_.neighbors(a)) {
       const glm::vec3 d = x_[a] - x_[b];
       const float r = glm::length(d);

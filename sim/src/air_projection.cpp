@@ -74,9 +74,14 @@ void AirSystem::projectDensity(float dt, int threads) {
     });
     parallel::forEach(threads, na, [&](std::size_t a) {
       glm::vec3 dx(0.0f);
+      const float la = lambda_[a];
       for (std::uint32_t b : grid_.neighbors(a)) {
+        // a pair of air at the faces (both without a constraint) adds
+        // exactly nothing: skipped (the same bits)
+        const float lab = la + lambda_[b];
+        if (lab == 0.0f) continue;
         const glm::vec3 d = x_[a] - x_[b];
-        dx += (lambda_[a] + lambda_[b]) * k.gradW(d, glm::length(d));
+        dx += lab * k.gradW(d, glm::length(d));
       }
       shift_[a] = scale * dx;
     });

@@ -1048,6 +1048,14 @@ void Solver::prepareBodyHints(const std::vector<BodyFrame>& frames) const {
   };
   want(head_.get());
   for (const BodyFrame& f : frames) want(f.body);
+  // the hints of bodies not asked this step (an obstacle that ended) go:
+  // hints change no answer, so one that comes back starts without
+  std::erase_if(body_hints_, [&](const auto& entry) {
+    if (entry.first == head_.get()) return false;
+    for (const BodyFrame& f : frames)
+      if (f.body == entry.first) return false;
+    return true;
+  });
 }
 
 std::int32_t* Solver::bodyHints(const Body* body) const {
