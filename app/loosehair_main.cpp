@@ -396,7 +396,10 @@ int simulate(const Options& o) {
   if (solver.params().implicit_springs)
     std::printf("implicit springs: %d conjugate-gradient iterations, relative residual %.1e, last step\n",
                 st.spring_iterations, static_cast<double>(st.spring_residual));
-  if (solver.hasWind())
+  if (solver.windOnGrid())
+    std::printf("wind: air grid of %zu cells, %zu hair particles in it, %d pressure iterations, last step\n",
+                st.air_particles, st.coupled_hair, st.air_iterations);
+  else if (solver.hasWind())
     std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles,
                 st.hair_air_pairs);
   std::printf("state-hash: %016" PRIx64 "\n", solver.stateHash());

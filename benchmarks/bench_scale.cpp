@@ -1,8 +1,9 @@
 // Real time at scale (issue "real time at scale"): simulated seconds per
 // wall second of the bundled hang, head-shake and wind scenes with their
 // particle count changed, the old solver (explicit springs, weakly
-// compressible air) against the new one (implicit springs, projected air),
-// two threads, in one run.
+// compressible air particles) against the new one (implicit springs, the
+// air on a grid), two threads, in one run; for wind also the implicit
+// springs with the projected air particles (solver 2).
 //
 //   build/release/benchmarks/loosehair_bench_scale
 //
@@ -31,14 +32,20 @@ struct Case {
 
 const char* const kScenes[] = {"hang", "head-shake", "wind"};
 
-Case& sceneWith(int which, int particles, bool implicit) {
-  static std::map<std::tuple<int, int, bool>, Case> cache;
-  Case& c = cache[{which, particles, implicit}];
+// solver 0: explicit springs, weakly compressible air particles; 1: the
+// defaults (implicit springs, air grid); 2: implicit springs, projected air
+// particles
+Case& sceneWith(int which, int particles, int solver) {
+  static std::map<std::tuple<int, int, int>, Case> cache;
+  Case& c = cache[{which, particles, solver}];
   if (!c.solver) {
     SceneDesc scene = loadScene(std::string(LOOSEHAIR_SOURCE_DIR "/data/scenes/") + kScenes[which] + ".json");
     scene.hair.particles = particles;
-    scene.sim.implicit_springs = implicit;
-    if (scene.has_wind) scene.wind.projection_iterations = implicit ? WindParams{}.projection_iterations : 0;
+    scene.sim.implicit_springs = solver != 0;
+    if (scene.has_wind) {
+      scene.wind.model = solver == 1 ? AirModel::Grid : AirModel::Particles;
+      scene.wind.projection_iterations = solver == 0 ? 0 : WindParams{}.projection_iterations;
+    }
     scene.sim.threads = 2;
     scene.substeps = 0;
     scene.limits.max_substeps = 1000;
@@ -53,9 +60,9 @@ Case& sceneWith(int which, int particles, bool implicit) {
 void BM_Frame(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));
   const int particles = static_cast<int>(state.range(1));
-  const bool implicit = state.range(2) != 0;
+  const int solver = static_cast<int>(state.range(2));
   state.SetLabel(kScenes[which]);
-  Case& c = sceneWith(which, particles, implicit);
+  Case& c = sceneWith(which, particles, solver);
   double wall = 0;
   std::int64_t frames = 0;
   for (auto _ : state) {
@@ -69,11 +76,12 @@ void BM_Frame(benchmark::State& state) {
   state.counters["sim_s_per_wall_s"] = static_cast<double>(frames) / 30.0 / wall;
 }
 
-// scene 0 hang, 1 head-shake, 2 wind; implicit 0 = the old solver
+// scene 0 hang, 1 head-shake, 2 wind; solver 0 = the old solver, 1 = the
+// defaults, 2 = implicit springs with the projected air particles
 BENCHMARK(BM_Frame)
-    ->ArgNames({"scene", "particles", "implicit"})
+    ->ArgNames({"scene", "particles", "solver"})
     ->ArgsProduct({{0, 1}, {6000, 20000, 50000, 100000}, {0, 1}})
-    ->ArgsProduct({{2}, {6000}, {0, 1}})
+    ->ArgsProduct({{2}, {6000}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(2.0);

@@ -135,6 +135,8 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   expectRejected(meshScene("", R"(, "wind": {"profile": [[1, 1], [0.5, 1]]})"), "wind.profile[1]: times must increase");
   expectRejected(meshScene("", R"(, "wind": {"spacing": 0.0001})"), "more than 20 million air particles");
   expectRejected(meshScene("", R"(, "wind": {"gust": 1})"), "wind.gust: unknown field");
+  expectRejected(meshScene("", R"(, "wind": {"model": "foam"})"), "wind.model: must be \"grid\" or \"particles\", got \"foam\"");
+  expectRejected(meshScene("", R"(, "wind": {"model": 3})"), "wind.model");
   expectRejected(meshScene("", R"(, "wind": {"projection_iterations": 99})"), "wind.projection_iterations");
   expectRejected(meshScene("", R"(, "wind": {"projection_iterations": 1.5})"), "wind.projection_iterations");
   expectRejected(meshScene("", R"(, "solver": {"implicit_iterations": 0})"), "solver.implicit_iterations");

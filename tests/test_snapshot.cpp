@@ -46,7 +46,24 @@ std::string withByte(std::string s, std::size_t at, char delta) {
 
 TEST(Snapshot, ResumeGivesTheUninterruptedBits) {
   expectResumeIsIdentical(tiny(), 40, 60);
-  expectResumeIsIdentical(tiny("tiny-wind.json"), 30, 30);
+  expectResumeIsIdentical(tiny("tiny-wind.json"), 30, 30);  // the air on a grid
+  SceneDesc particles = tiny("tiny-wind.json");
+  particles.wind.model = AirModel::Particles;
+  expectResumeIsIdentical(particles, 30, 30);
+}
+
+TEST(Snapshot, AirOfTheOtherModelIsRefused) {
+  SceneDesc particles = tiny("tiny-wind.json");
+  particles.wind.model = AirModel::Particles;
+  Solver grid_run = buildSolver(tiny("tiny-wind.json"));
+  Solver particle_run = buildSolver(particles);
+  const std::string grid_bytes = encodeSnapshot(grid_run);
+  try {
+    decodeSnapshot(particle_run, grid_bytes, "grid.state");
+    FAIL() << "a grid air snapshot resumed on particle air";
+  } catch (const SnapshotError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid.state"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Snapshot, ResumeAfterAResetAndAChangedTimeStep) {

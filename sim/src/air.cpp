@@ -84,11 +84,10 @@ AirSystem::AirSystem(const WindParams& params) : p_(params) {
     for (const auto& pr : problems) msg += "\n  " + pr;
     throw std::invalid_argument(msg);
   }
-  e_wind_ = glm::normalize(p_.direction);
-  glm::vec3 up(0.0f, 1.0f, 0.0f);
-  if (std::abs(glm::dot(up, e_wind_)) > 0.95f) up = glm::vec3(1.0f, 0.0f, 0.0f);
-  e_up_ = glm::normalize(up - glm::dot(up, e_wind_) * e_wind_);
-  e_side_ = glm::cross(e_wind_, e_up_);
+  const WindAxes axes = windAxes(p_);
+  e_wind_ = axes.wind;
+  e_up_ = axes.up;
+  e_side_ = axes.side;
   h_ = p_.h_scale * p_.spacing;
   mass_ = p_.density * p_.spacing * p_.spacing * p_.spacing;
   // Rest density: the SPH density of the emission lattice.
@@ -149,27 +148,9 @@ bool AirSystem::nearFace(std::size_t a, float reach) const {
   return c.x > half.x - reach || c.y > half.y - reach || c.z > half.z - reach;
 }
 
-float AirSystem::speedAt(double t) const {
-  const auto& pr = p_.profile;
-  float scale = 1.0f;
-  if (!pr.empty()) {
-    if (t <= pr.front().first) scale = pr.front().second;
-    else if (t >= pr.back().first) scale = pr.back().second;
-    else {
-      std::size_t k = 1;
-      while (pr[k].first < t) ++k;
-      const double f = (t - pr[k - 1].first) / (pr[k].first - pr[k - 1].first);
-      scale = static_cast<float>((1.0 - f) * pr[k - 1].second + f * pr[k].second);
-    }
-  }
-  return p_.speed * scale;
-}
+float AirSystem::speedAt(double t) const { return windSpeedAt(p_, t); }
 
-float AirSystem::maxSpeed() const {
-  float s = p_.profile.empty() ? 1.0f : 0.0f;
-  for (const auto& [t, v] : p_.profile) s = std::max(s, v);
-  return p_.speed * s;
-}
+float AirSystem::maxSpeed() const { return windMaxSpeed(p_); }
 
 double AirSystem::stableTimeStep() const {
   if (p_.projection_iterations > 0) return static_cast<double>(h_) / std::max(0.1, static_cast<double>(maxSpeed()));

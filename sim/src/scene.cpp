@@ -97,6 +97,10 @@ json parseJson(const std::string& text, const std::string& source) {
 
 WindParams readWind(Fields f) {
   WindParams w;
+  const std::string model = f.text("model", "grid");
+  if (model == "grid") w.model = AirModel::Grid;
+  else if (model == "particles") w.model = AirModel::Particles;
+  else f.fail("model", "must be \"grid\" or \"particles\", got \"" + model + "\"");
   w.direction = glm::vec3(f.vec3("direction", glm::dvec3(w.direction), 1e6));
   if (!(glm::length(w.direction) > 1e-6f)) f.fail("direction", "must be a non-zero direction");
   w.speed = f.real("speed", w.speed, 0.0, 100.0);
@@ -658,7 +662,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     if (air > static_cast<double>(scene.limits.max_air_particles))
       throw SceneError(scene.source + ": wind.spacing: " + num(scene.wind.spacing) +
                        " m fills the air box with about " + std::to_string(static_cast<long long>(air)) +
-                       " air particles, above the limit of " + std::to_string(scene.limits.max_air_particles) +
+                       " air particles (or cells of the air grid), above the limit of " + std::to_string(scene.limits.max_air_particles) +
                        ": use a larger spacing or a smaller wind.box_size (or --allow-expensive)");
     try {
       solver.setWind(scene.wind);

@@ -4,6 +4,7 @@
 #include "loosehair/solver.hpp"
 
 #include "air.hpp"
+#include "air_grid.hpp"
 #include "solver_scratch.hpp"
 
 #include <bit>
@@ -18,6 +19,10 @@ static_assert(std::endian::native == std::endian::little,
               "snapshots are written little-endian, as this machine stores numbers");
 
 namespace {
+
+// What air the snapshot holds (the byte after the hair's state).
+constexpr std::uint8_t kNoAir = 0, kParticleAir = 1, kGridAir = 2;
+
 
 constexpr char kMagic[16] = {'l', 'o', 'o', 's', 'e', 'h', 'a', 'i',
                              'r', '-', 's', 't', 'a', 't', 'e', '\n'};
@@ -127,6 +132,8 @@ struct SnapshotAccess {
       mix(s.air_->positions());
       mix(s.air_->velocities());
     }
+    if (s.air_grid_)
+      for (const auto& u : s.air_grid_->state().u) mix(u);
     // the physical parameters (not the thread count, nor the time step,
     // which the snapshot carries)
     const SimParams& q = s.params_;
@@ -162,7 +169,12 @@ struct SnapshotAccess {
       w.array(scratch.sum_tip);
       w.put<std::uint64_t>(scratch.active_entries);
     }
-    w.put<std::uint8_t>(s.air_ ? 1 : 0);
+    w.put<std::uint8_t>(s.air_ ? kParticleAir : (s.air_grid_ ? kGridAir : kNoAir));
+    if (s.air_grid_) {
+      const AirGrid::State g = s.air_grid_->state();
+      for (const auto& u : g.u) w.array(u);
+      w.array(g.pressure);
+    }
     if (s.air_) {
       const AirSystem::State a = s.air_->state();
       w.array(a.x);
@@ -194,11 +206,23 @@ struct SnapshotAccess {
       sum_tip = r.array<float>("the tip-side sums", n);
       active = r.get<std::uint64_t>("the active connection count");
     }
-    const bool has_air = r.get<std::uint8_t>("the wind flag") != 0;
-    if (has_air != (s.air_ != nullptr))
-      r.fail(has_air ? "it has wind and the scene has none" : "the scene has wind and it has none");
+    const auto air_kind = r.get<std::uint8_t>("the wind flag");
+    const std::uint8_t scene_kind = s.air_ ? kParticleAir : (s.air_grid_ ? kGridAir : kNoAir);
+    if (air_kind != scene_kind) {
+      if (air_kind == kNoAir) r.fail("the scene has wind and it has none");
+      if (scene_kind == kNoAir) r.fail("it has wind and the scene has none");
+      r.fail("its air is on a " + std::string(air_kind == kGridAir ? "grid" : "set of particles") +
+             " and the scene's is not");
+    }
+    AirGrid::State grid;
+    if (air_kind == kGridAir) {
+      for (int c = 0; c < 3; ++c)
+        grid.u[static_cast<std::size_t>(c)] =
+            r.array<float>("the air grid's velocities", s.air_grid_->faceCount(c));
+      grid.pressure = r.array<float>("the air grid's pressures", s.air_grid_->cellCount());
+    }
     AirSystem::State air;
-    if (has_air) {
+    if (air_kind == kParticleAir) {
       air.x = r.array<glm::vec3>("the air positions");
       air.v = r.array<glm::vec3>("the air velocities", air.x.size());
       air.density = r.array<float>("the air densities");
@@ -212,7 +236,8 @@ struct SnapshotAccess {
     if (!std::isfinite(time) || time < -1e9 || time > 1e9) r.fail("the time is " + std::to_string(time));
     if (!finite(position) || !finite(velocity) || !finite(direction) || !finite(sum_root) ||
         !finite(sum_tip) || !finite(air.x) || !finite(air.v) || !finite(air.density) ||
-        !std::isfinite(air.advance))
+        !std::isfinite(air.advance) || !finite(grid.u[0]) || !finite(grid.u[1]) || !finite(grid.u[2]) ||
+        !finite(grid.pressure))
       r.fail("it holds non-finite numbers");
     for (const glm::vec3& t : direction)
       if (std::abs(glm::dot(t, t) - 1.0f) > 1e-3f) r.fail("a hair direction is not a unit vector");
@@ -233,6 +258,7 @@ struct SnapshotAccess {
     s.particles_.direction = std::move(direction);
     s.absorb_corrections_ = absorb;
     if (s.air_) s.air_->restore(std::move(air));
+    if (s.air_grid_) s.air_grid_->restore(std::move(grid));
     // Queries between steps see the state (as after a step).
     s.findNeighbors();
     s.computeDensity();

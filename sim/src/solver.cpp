@@ -10,6 +10,7 @@
 #include "implicit_springs.hpp"
 #include "kernel.hpp"
 #include "air.hpp"
+#include "air_grid.hpp"
 #include "neighbor_grid.hpp"
 #include "pair_columns.hpp"
 #include "parallel.hpp"
@@ -19,6 +20,7 @@
 #include "thread_choice.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
 #if defined(__SSE2__)
@@ -1141,14 +1143,68 @@ void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float lim
 
 // ---- wind (SPEC §5) -----------------------------------------------------------
 void Solver::setWind(const WindParams& wind) {
-  auto air = std::make_unique<AirSystem>(wind);
   std::vector<BodyFrame> frames;
   HeadKinematics head;
   placeBodies(time_, frames, head);
+  if (wind.model == AirModel::Grid) {
+    auto grid = std::make_unique<AirGrid>(wind);
+    air_bodies_key_.clear();
+    airBodiesMoved(frames, head);
+    grid->fill(time_, [&](const glm::vec3* w, std::size_t n, float* phi, glm::vec3* v) {
+      worldBodySample(frames, head, w, n, phi, v);
+    });
+    air_.reset();
+    air_grid_ = std::move(grid);
+    return;
+  }
+  auto air = std::make_unique<AirSystem>(wind);
   air->fill(time_, head, [&](const glm::vec3* w, std::size_t n, float* phi) {
     worldBodyDistance(frames, head, w, n, phi);
   });
+  air_grid_.reset();
   air_ = std::move(air);
+}
+
+bool Solver::airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head) {
+  // Everything the bodies' distances and velocities depend on, bit for bit.
+  std::vector<double> key;
+  auto put = [&key](const auto& v, int n) {
+    for (int k = 0; k < n; ++k) key.push_back(static_cast<double>(glm::value_ptr(v)[k]));
+  };
+  put(head.pose.rotation, 9);
+  put(head.pose.center, 3);
+  put(head.velocity, 3);
+  put(head.angular_velocity, 3);
+  for (const BodyFrame& f : frames) {
+    key.push_back(static_cast<double>(reinterpret_cast<std::uintptr_t>(f.body)));
+    put(f.m, 9);
+    put(f.d, 3);
+    put(f.ro, 9);
+    put(f.rh_t, 9);
+    put(f.vo, 3);
+    put(f.wo, 3);
+  }
+  const bool moved = key.size() != air_bodies_key_.size() ||
+                     std::memcmp(key.data(), air_bodies_key_.data(), key.size() * sizeof(double)) != 0;
+  air_bodies_key_ = std::move(key);
+  return moved;
+}
+
+void Solver::worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
+                             const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity) const {
+  const glm::dmat3 rt = glm::transpose(head.pose.rotation);
+  const glm::vec3 omega(head.angular_velocity);
+  const glm::mat3 rot(head.pose.rotation);
+  const glm::vec3 frame_v(head.velocity);
+  parallel::forEach(threads_, (n + kBodyBlock - 1) / kBodyBlock, [&](std::size_t bb) {
+    const std::size_t b = bb * kBodyBlock, len = std::min(kBodyBlock, n - b);
+    glm::vec3 local[kBodyBlock], nrm[kBodyBlock], surface[kBodyBlock];
+    for (std::size_t k = 0; k < len; ++k) local[k] = glm::vec3(rt * (glm::dvec3(world[b + k]) - head.pose.center));
+    queryBodies(frames, head, local, len, phi + b, nrm, surface, INFINITY, true);
+    // the bodies' velocity relative to the head frame, made a world one
+    for (std::size_t k = 0; k < len; ++k)
+      velocity[b + k] = rot * (surface[k] + glm::cross(omega, local[k])) + frame_v;
+  });
 }
 
 void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
@@ -1160,10 +1216,22 @@ void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadK
   queryBodies(frames, head, local.data(), n, phi, nrm.data(), nullptr);
 }
 
-std::size_t Solver::airCount() const { return air_ ? air_->size() : 0; }
+std::size_t Solver::airCount() const {
+  if (air_grid_) {
+    std::vector<glm::vec3> x, v;
+    air_grid_->openCells(x, v);
+    return x.size();
+  }
+  return air_ ? air_->size() : 0;
+}
 
 void Solver::worldAirPositions(std::vector<glm::vec3>& out) const {
   out.clear();
+  if (air_grid_) {
+    std::vector<glm::vec3> v;
+    air_grid_->openCells(out, v);
+    return;
+  }
   if (!air_) return;
   const HeadPose pose = trajectory_.pose(time_);
   for (const auto& x : air_->positions())
@@ -1172,6 +1240,11 @@ void Solver::worldAirPositions(std::vector<glm::vec3>& out) const {
 
 void Solver::worldAirVelocities(std::vector<glm::vec3>& out) const {
   out.clear();
+  if (air_grid_) {
+    std::vector<glm::vec3> x;
+    air_grid_->openCells(x, out);
+    return;
+  }
   if (!air_) return;
   const HeadKinematics k = trajectory_.kinematics(time_);
   const auto& x = air_->positions();
@@ -1183,6 +1256,11 @@ void Solver::worldAirVelocities(std::vector<glm::vec3>& out) const {
 }
 
 std::span<const float> Solver::airDensity() const {
+  if (air_grid_) {
+    // the grid's air is incompressible: its rest density in every cell
+    air_grid_density_.assign(airCount(), air_grid_->restDensity());
+    return air_grid_density_;
+  }
   return air_ ? air_->density() : std::span<const float>();
 }
 
@@ -1191,7 +1269,10 @@ double Solver::holdTimeStep() const {
   return w > 0.0 ? kMaxHoldPhasePerStep / w : INFINITY;
 }
 
-double Solver::airStableTimeStep() const { return air_ ? air_->stableTimeStep() : INFINITY; }
+double Solver::airStableTimeStep() const {
+  if (air_grid_) return air_grid_->stableTimeStep();
+  return air_ ? air_->stableTimeStep() : INFINITY;
+}
 
 // ---- external forces in the head frame (SPEC §5) ----------------------------
 void Solver::addExternalForces() {
@@ -1799,6 +1880,11 @@ void Solver::step() {
     air_->accumulateForces(particles_.position, particles_.velocity, particles_.mass,
                            particles_.is_root, force_, dt, threads_);
     lap(st.air);
+  } else if (air_grid_) {
+    // the hair-air drag with the grid's air (air_grid.hpp)
+    air_grid_->exchangeDrag(trajectory_.kinematics(time_), particles_.position, particles_.velocity,
+                            particles_.mass, particles_.is_root, force_, dt, threads_);
+    lap(st.air);
   }
   addExternalForces();
   lap(st.external);
@@ -1824,6 +1910,15 @@ void Solver::step() {
 
   if (air_) {
     moveAir(dt, frames, head_start, head_end);
+    lap(st.air);
+  } else if (air_grid_) {
+    // the grid asks the bodies again only when they moved
+    AirGrid::BodySampler bodies;
+    if (airBodiesMoved(frames, head_end))
+      bodies = [&](const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) {
+        worldBodySample(frames, head_end, w, count, phi, v);
+      };
+    air_grid_->advance(t_end, dt, bodies, threads_);
     lap(st.air);
   }
 
@@ -1853,8 +1948,10 @@ void Solver::step() {
   stats_.body_contacts = contacts;
   stats_.strain_limited = limited;
   stats_.active_connections = s.active_entries / 2;
-  stats_.air_particles = air_ ? air_->size() : 0;
+  stats_.air_particles = air_ ? air_->size() : (air_grid_ ? air_grid_->cellCount() : 0);
   stats_.hair_air_pairs = air_ ? air_->hairAirPairs() : 0;
+  stats_.coupled_hair = air_grid_ ? air_grid_->coupledHair() : 0;
+  stats_.air_iterations = air_grid_ ? air_grid_->lastIterations() : 0;
   if (thread_choice_) thread_choice_->record(seconds(step_start, Clock::now()));
   threads_ = max_threads_;
 }
@@ -1880,6 +1977,10 @@ std::uint64_t Solver::stateHash() const {
     mix(&na, sizeof na);
     mix(air_->positions().data(), na * sizeof(glm::vec3));
     mix(air_->velocities().data(), na * sizeof(glm::vec3));
+  }
+  if (air_grid_) {
+    const AirGrid::State g = air_grid_->state();
+    for (const auto& u : g.u) mix(u.data(), u.size() * sizeof(float));
   }
   return h;
 }

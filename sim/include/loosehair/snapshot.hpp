@@ -32,7 +32,8 @@ class SnapshotError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr std::uint32_t kSnapshotVersion = 1;
+/// 2: the wind's air may be a grid (issue 18).
+inline constexpr std::uint32_t kSnapshotVersion = 2;
 
 /// The snapshot of `solver` as bytes.
 std::string encodeSnapshot(const Solver& solver);

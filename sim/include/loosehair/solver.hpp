@@ -30,6 +30,7 @@ namespace loosehair {
 
 class NeighborGrid;
 class AirSystem;
+class AirGrid;
 class ThreadChoice;
 struct ShapeKeeping;
 class ImplicitSprings;
@@ -61,6 +62,8 @@ struct StepStats {
   std::size_t strain_limited = 0;      // connections corrected by the strain limit, last step
   std::size_t air_particles = 0;       // wind: air particles after the last step
   std::size_t hair_air_pairs = 0;      // wind: hair-air pairs within 2 h_air, last step
+  std::size_t coupled_hair = 0;        // wind on a grid: hair particles in the box, last step
+  int air_iterations = 0;              // wind on a grid: pressure CG iterations, last step
   int spring_iterations = 0;           // implicit springs: CG iterations, last step
   float spring_residual = 0;           // implicit springs: relative residual, last step
 };
@@ -149,8 +152,11 @@ class Solver {
   /// Turns on wind (SPEC §5): fills the air box at the current time.
   /// Throws std::invalid_argument with every problem of `wind`.
   void setWind(const WindParams& wind);
-  bool hasWind() const { return air_ != nullptr; }
-  /// Air particles (0 without wind) and their state in world coordinates.
+  bool hasWind() const { return air_ != nullptr || air_grid_ != nullptr; }
+  /// The wind's air is a grid (WindParams::model), not particles.
+  bool windOnGrid() const { return air_grid_ != nullptr; }
+  /// Air particles (0 without wind) and their state in world coordinates;
+  /// with the air on a grid, the cells outside the bodies, at their centres.
   std::size_t airCount() const;
   void worldAirPositions(std::vector<glm::vec3>& out) const;
   void worldAirVelocities(std::vector<glm::vec3>& out) const;
@@ -289,12 +295,21 @@ class Solver {
                           const std::vector<BodyFrame>& solid_frames, const HeadKinematics& head);
   void moveAir(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head_start,
                const HeadKinematics& head_end);
+  /// Whether the bodies are placed otherwise than at the last call (the
+  /// grid air's bodies need placing again).
+  bool airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
+  std::vector<double> air_bodies_key_;
+  /// Body distances and world velocities at world points (the grid air's bodies).
+  void worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
+                       const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity) const;
   std::size_t updateDirections(Scratch& s);  // returns the particles with non-finite state
 
   SimParams params_;
   Particles particles_;
   std::vector<WorldBody> world_bodies_;
   std::unique_ptr<AirSystem> air_;
+  std::unique_ptr<AirGrid> air_grid_;  // the wind's air on a grid (one of the two)
+  mutable std::vector<float> air_grid_density_;  // airDensity() of the grid's cells
   ConnectionSet connections_;
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query

@@ -1,8 +1,8 @@
-// Wind as SPH air particles (SPEC §5): emitted upwind in a box around the
-// head with the wind velocity, removed when they leave it, kept near rest
-// density by a projection (or, as in the paper, by a weakly compressible
-// pressure), viscosity, and drag forces exchanged with the hair, equal and
-// opposite:
+// Wind (SPEC §5): air in a box around the head that enters upwind with the
+// wind velocity and leaves downwind, kept incompressible, with viscosity and
+// drag forces exchanged with the hair, equal and opposite. Two models of the
+// air: a grid (the default; sim/src/air_grid.hpp, docs/design.md "Air on a
+// grid") and, as in the paper, SPH air particles (sim/src/air.hpp):
 //
 //   f_hair_i += dw W(|x_ia|, h_air) (v_a - v_i),   f_air_a -= the same.
 #pragma once
@@ -15,7 +15,17 @@
 
 namespace loosehair {
 
+/// How the air is simulated.
+enum class AirModel {
+  /// A fixed grid over the box (MAC faces, semi-Lagrangian advection, an
+  /// exact pressure projection): no sound speed and no particle pairs.
+  Grid,
+  /// SPH air particles emitted upwind (the paper's model).
+  Particles,
+};
+
 struct WindParams {
+  AirModel model = AirModel::Grid;
   /// Direction the wind blows towards (world, normalised when used).
   glm::vec3 direction{0.0f, 0.0f, -1.0f};
   /// Wind speed far upwind (m/s), times the gust profile.
@@ -29,6 +39,7 @@ struct WindParams {
   glm::vec3 box_center{0.0f, -0.1f, 0.0f};
   glm::vec3 box_size{0.7f, 0.8f, 0.6f};
   /// Spacing of the emitted air particles (m); h_air = h_scale * spacing.
+  /// On the grid: the cell size.
   float spacing = 0.03f;
   float h_scale = 1.0f;
   /// Density of air (kg/m^3): sets the mass of an air particle.
@@ -55,5 +66,17 @@ struct WindParams {
 
 /// Every problem with `w`, one sentence each naming the field and value.
 std::vector<std::string> validate(const WindParams& w);
+
+/// Wind speed upwind at time t (m/s), gusts included.
+float windSpeedAt(const WindParams& w, double t);
+/// Largest speed the gust profile reaches (m/s).
+float windMaxSpeed(const WindParams& w);
+
+/// The box's axes (world): along the wind, up (world +Y made perpendicular
+/// to the wind, or +X for a vertical wind) and across.
+struct WindAxes {
+  glm::vec3 wind, up, side;
+};
+WindAxes windAxes(const WindParams& w);
 
 }  // namespace loosehair

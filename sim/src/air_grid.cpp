@@ -1,0 +1,589 @@
+// Wind on a grid: see air_grid.hpp and docs/design.md "Air on a grid".
+#include "air_grid.hpp"
+
+#include "parallel.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace loosehair {
+namespace {
+
+// Directions of a cell's six faces: -x, +x, -y, +y, -z, +z (grid axes).
+constexpr int kStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+
+}  // namespace
+
+AirGrid::AirGrid(const WindParams& params) : p_(params) {
+  const auto problems = validate(p_);
+  if (!problems.empty()) {
+    std::string msg = "invalid wind parameters:";
+    for (const auto& pr : problems) msg += "\n  " + pr;
+    throw std::invalid_argument(msg);
+  }
+  axes_ = windAxes(p_);
+  h_ = p_.spacing;
+  for (int a = 0; a < 3; ++a)
+    n_[a] = std::max(2, static_cast<int>(std::lround(p_.box_size[a] / h_)));
+  origin_ = p_.box_center - 0.5f * h_ *
+                                (static_cast<float>(n_[0]) * axes_.wind + static_cast<float>(n_[1]) * axes_.up +
+                                 static_cast<float>(n_[2]) * axes_.side);
+  cell_count_ = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(n_[2]);
+  for (int c = 0; c < 3; ++c) {
+    auto& d = fdim_[static_cast<std::size_t>(c)];
+    for (int a = 0; a < 3; ++a) d[static_cast<std::size_t>(a)] = n_[a] + (a == c ? 1 : 0);
+    const std::size_t faces = static_cast<std::size_t>(d[0]) * static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(d[2]);
+    for (auto* field : {&u_, &next_, &impulse_, &mass_}) (*field)[static_cast<std::size_t>(c)].assign(faces, 0.0f);
+  }
+  pressure_.assign(cell_count_, 0.0f);
+  solid_.assign(cell_count_, 0);
+  solid_v_.assign(cell_count_, glm::vec3(0.0f));
+  links_.assign(cell_count_, 0);
+}
+
+double AirGrid::stableTimeStep() const {
+  return 2.0 * static_cast<double>(h_) / std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
+}
+
+glm::vec3 AirGrid::toGrid(const glm::vec3& world) const {
+  const glm::vec3 d = world - origin_;
+  return {glm::dot(d, axes_.wind), glm::dot(d, axes_.up), glm::dot(d, axes_.side)};
+}
+
+glm::vec3 AirGrid::toWorld(const glm::vec3& g) const {
+  return origin_ + g.x * axes_.wind + g.y * axes_.up + g.z * axes_.side;
+}
+
+void AirGrid::stencil(int c, const glm::vec3& q, std::size_t* index, float* weight) const {
+  const auto& d = fdim_[static_cast<std::size_t>(c)];
+  int i0[3];
+  float f[3];
+  for (int a = 0; a < 3; ++a) {
+    const float x = q[a] / h_ - (a == c ? 0.0f : 0.5f);
+    const int hi = d[static_cast<std::size_t>(a)] - 2;
+    const int i = std::clamp(static_cast<int>(std::floor(x)), 0, hi);
+    i0[a] = i;
+    f[a] = std::clamp(x - static_cast<float>(i), 0.0f, 1.0f);
+  }
+  int t = 0;
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx, ++t) {
+        index[t] = face(c, i0[0] + dx, i0[1] + dy, i0[2] + dz);
+        weight[t] = (dx ? f[0] : 1.0f - f[0]) * (dy ? f[1] : 1.0f - f[1]) * (dz ? f[2] : 1.0f - f[2]);
+      }
+}
+
+void AirGrid::stencils(const glm::vec3& q, std::uint32_t* index, float* weight) const {
+  // per axis: the lower node and fraction on the faces' own axis (offset 0)
+  // and on the others (offset half a cell)
+  int lo[2][3];
+  float fr[2][3];
+  for (int a = 0; a < 3; ++a)
+    for (int half = 0; half < 2; ++half) {
+      const float x = q[a] / h_ - (half ? 0.5f : 0.0f);
+      // faces along a: n_a + 1 on their own axis, n_a on the others
+      const int last_lower = half ? n_[a] - 2 : n_[a] - 1;
+      const int i = std::clamp(static_cast<int>(std::floor(x)), 0, last_lower);
+      lo[half][a] = i;
+      fr[half][a] = std::clamp(x - static_cast<float>(i), 0.0f, 1.0f);
+    }
+  for (int c = 0; c < 3; ++c) {
+    int i0[3];
+    float f[3];
+    for (int a = 0; a < 3; ++a) {
+      const int half = a == c ? 0 : 1;
+      i0[a] = lo[half][a];
+      f[a] = fr[half][a];
+    }
+    int t = 8 * c;
+    for (int dz = 0; dz < 2; ++dz)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx, ++t) {
+          index[t] = static_cast<std::uint32_t>(face(c, i0[0] + dx, i0[1] + dy, i0[2] + dz));
+          weight[t] = (dx ? f[0] : 1.0f - f[0]) * (dy ? f[1] : 1.0f - f[1]) * (dz ? f[2] : 1.0f - f[2]);
+        }
+  }
+}
+
+float AirGrid::sample(const std::vector<float>& u, int c, const glm::vec3& q) const {
+  std::size_t index[8];
+  float weight[8];
+  stencil(c, q, index, weight);
+  float s = 0.0f;
+  for (int t = 0; t < 8; ++t) s += weight[t] * u[index[t]];
+  return s;
+}
+
+glm::vec3 AirGrid::sampleAll(const std::array<std::vector<float>, 3>& u, const glm::vec3& q) const {
+  return {sample(u[0], 0, q), sample(u[1], 1, q), sample(u[2], 2, q)};
+}
+
+void AirGrid::placeBodies(const BodySampler& bodies) {
+  auto& centre = centre_;
+  auto& velocity = body_v_;
+  auto& phi = body_phi_;
+  centre.resize(cell_count_);
+  velocity.assign(cell_count_, glm::vec3(0.0f));
+  phi.assign(cell_count_, 1.0f);
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i)
+        centre[cell(i, j, k)] = toWorld(h_ * glm::vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f,
+                                                       static_cast<float>(k) + 0.5f));
+  if (bodies) bodies(centre.data(), cell_count_, phi.data(), velocity.data());
+  for (std::size_t q = 0; q < cell_count_; ++q) {
+    solid_[q] = phi[q] < 0.0f ? 1 : 0;
+    const glm::vec3 w = velocity[q];
+    solid_v_[q] = std::isfinite(w.x + w.y + w.z)
+                      ? glm::vec3(glm::dot(w, axes_.wind), glm::dot(w, axes_.up), glm::dot(w, axes_.side))
+                      : glm::vec3(0.0f);
+  }
+  // Air that no open face reaches (a pocket closed by the bodies) has no
+  // pressure to be solved for: it moves with the bodies. Flood from the
+  // open cells at the box's faces (all but the upwind one), in cell order.
+  auto& reached = reached_;
+  auto& queue = queue_;
+  reached.assign(cell_count_, 0);
+  queue.clear();
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        const bool open_face = i == n_[0] - 1 || j == 0 || j == n_[1] - 1 || k == 0 || k == n_[2] - 1;
+        const std::size_t q = cell(i, j, k);
+        if (open_face && !solid_[q]) {
+          reached[q] = 1;
+          queue.push_back(q);
+        }
+      }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const std::size_t q = queue[head];
+    const int i = static_cast<int>(q % static_cast<std::size_t>(n_[0]));
+    const int j = static_cast<int>((q / static_cast<std::size_t>(n_[0])) % static_cast<std::size_t>(n_[1]));
+    const int k = static_cast<int>(q / (static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1])));
+    for (const auto& s : kStep) {
+      const int a = i + s[0], b = j + s[1], c = k + s[2];
+      if (a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2]) continue;
+      const std::size_t r = cell(a, b, c);
+      if (solid_[r] || reached[r]) continue;
+      reached[r] = 1;
+      queue.push_back(r);
+    }
+  }
+  for (std::size_t q = 0; q < cell_count_; ++q)
+    if (!reached[q]) solid_[q] = 1;
+  // Which faces of each open cell carry the pressure gradient: those to an
+  // open neighbour or out of the box, except the upwind face, whose
+  // velocity is the wind's.
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        const std::size_t q = cell(i, j, k);
+        std::uint8_t bits = 0;
+        if (!solid_[q])
+          for (int d = 0; d < 6; ++d) {
+            const int a = i + kStep[d][0], b = j + kStep[d][1], c = k + kStep[d][2];
+            const bool outside = a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2];
+            if (outside ? d != 0 : !solid_[cell(a, b, c)]) bits = static_cast<std::uint8_t>(bits | (1u << d));
+          }
+        links_[q] = bits;
+      }
+}
+
+void AirGrid::imposeBoundaries(double t) {
+  const float speed = windSpeedAt(p_, t);
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j) u_[0][face(0, 0, j, k)] = speed;
+  // A face touching a body takes the body's velocity (the mean of the
+  // bodies' cells it touches).
+  for (int c = 0; c < 3; ++c) {
+    const auto& d = fdim_[static_cast<std::size_t>(c)];
+    auto& u = u_[static_cast<std::size_t>(c)];
+    for (int k = 0; k < d[2]; ++k)
+      for (int j = 0; j < d[1]; ++j)
+        for (int i = 0; i < d[0]; ++i) {
+          int idx[3] = {i, j, k};
+          float sum = 0.0f;
+          int count = 0;
+          for (int side = 0; side < 2; ++side) {
+            int cidx[3] = {idx[0], idx[1], idx[2]};
+            cidx[c] -= 1 - side;  // the cell below the face, then above
+            if (cidx[c] < 0 || cidx[c] >= n_[c]) continue;
+            const std::size_t q = cell(cidx[0], cidx[1], cidx[2]);
+            if (!solid_[q]) continue;
+            sum += solid_v_[q][c];
+            ++count;
+          }
+          if (count > 0) u[face(c, i, j, k)] = sum / static_cast<float>(count);
+        }
+  }
+}
+
+void AirGrid::project(int threads) {
+  const std::size_t nc = cell_count_;
+  diag_.resize(nc);
+  r_.resize(nc);
+  z_.resize(nc);
+  d_.resize(nc);
+  ad_.resize(nc);
+  const std::size_t sx = 1, sy = static_cast<std::size_t>(n_[0]),
+                    sz = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]);
+  const std::size_t stride[6] = {sx, sx, sy, sy, sz, sz};
+  // A x for the cells, from the link bits (neighbours outside the box are
+  // the open air at pressure 0).
+  auto apply = [&](const std::vector<double>& x, std::vector<double>& out) {
+    parallel::forEach(threads, static_cast<std::size_t>(n_[2]), [&](std::size_t kk) {
+      const int k = static_cast<int>(kk);
+      for (int j = 0; j < n_[1]; ++j)
+        for (int i = 0; i < n_[0]; ++i) {
+          const std::size_t q = cell(i, j, k);
+          const std::uint8_t bits = links_[q];
+          if (!bits) {
+            out[q] = 0.0;
+            continue;
+          }
+          double s = diag_[q] * x[q];
+          const int at[6] = {i, i, j, j, k, k};
+          const int top[6] = {0, n_[0] - 1, 0, n_[1] - 1, 0, n_[2] - 1};
+          for (int d = 0; d < 6; ++d) {
+            if (!(bits & (1u << d)) || at[d] == top[d]) continue;
+            s -= (d & 1) ? x[q + stride[d]] : x[q - stride[d]];
+          }
+          out[q] = s;
+        }
+    });
+  };
+  auto& x = x_;
+  x.resize(nc);
+  for (std::size_t q = 0; q < nc; ++q) {
+    diag_[q] = static_cast<double>(std::popcount(links_[q]));
+    x[q] = links_[q] ? static_cast<double>(pressure_[q]) : 0.0;
+  }
+  // b = -h div u (the flux out of each open cell)
+  apply(x, ad_);
+  double bnorm = 0.0;
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        const std::size_t q = cell(i, j, k);
+        if (!links_[q]) {
+          r_[q] = 0.0;
+          continue;
+        }
+        const double flux = static_cast<double>(u_[0][face(0, i + 1, j, k)]) - u_[0][face(0, i, j, k)] +
+                            u_[1][face(1, i, j + 1, k)] - u_[1][face(1, i, j, k)] +
+                            u_[2][face(2, i, j, k + 1)] - u_[2][face(2, i, j, k)];
+        r_[q] = -flux - ad_[q];
+        bnorm = std::max(bnorm, std::abs(r_[q]));
+      }
+  // Jacobi-preconditioned conjugate gradients; the sums in cell order on
+  // this thread. The flux imbalance left is at most a thousandth of the
+  // fastest wind through a face.
+  const double tolerance = 1e-3 * std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
+  auto precondition = [&] {
+    double rz = 0.0;
+    for (std::size_t q = 0; q < nc; ++q) {
+      z_[q] = links_[q] ? r_[q] / diag_[q] : 0.0;
+      rz += r_[q] * z_[q];
+    }
+    return rz;
+  };
+  double rz = precondition();
+  d_ = z_;
+  int it = 0;
+  constexpr int kMaxIterations = 600;
+  double worst = bnorm;
+  while (worst > tolerance && it < kMaxIterations) {
+    apply(d_, ad_);
+    double dad = 0.0;
+    for (std::size_t q = 0; q < nc; ++q) dad += d_[q] * ad_[q];
+    if (!(dad > 0.0)) break;
+    const double alpha = rz / dad;
+    worst = 0.0;
+    for (std::size_t q = 0; q < nc; ++q) {
+      x[q] += alpha * d_[q];
+      r_[q] -= alpha * ad_[q];
+      worst = std::max(worst, std::abs(r_[q]));
+    }
+    const double rz_next = precondition();
+    const double beta = rz_next / rz;
+    rz = rz_next;
+    for (std::size_t q = 0; q < nc; ++q) d_[q] = z_[q] + beta * d_[q];
+    ++it;
+  }
+  last_iterations_ = it;
+  for (std::size_t q = 0; q < nc; ++q) pressure_[q] = static_cast<float>(x[q]);
+  // u -= grad p on the linked faces (a face is linked from both of its
+  // open cells, or from its one open cell at the box's open faces).
+  for (int c = 0; c < 3; ++c) {
+    const auto& dm = fdim_[static_cast<std::size_t>(c)];
+    auto& u = u_[static_cast<std::size_t>(c)];
+    const int lower_bit = 2 * c, upper_bit = 2 * c + 1;
+    parallel::forEach(threads, static_cast<std::size_t>(dm[2]), [&](std::size_t kk) {
+      const int k = static_cast<int>(kk);
+      for (int j = 0; j < dm[1]; ++j)
+        for (int i = 0; i < dm[0]; ++i) {
+          int below[3] = {i, j, k};
+          below[c] -= 1;
+          const int above_at = c == 0 ? i : (c == 1 ? j : k);
+          const bool has_below = below[c] >= 0, has_above = above_at < n_[c];
+          const std::size_t qb = has_below ? cell(below[0], below[1], below[2]) : 0;
+          const std::size_t qa = has_above ? cell(i, j, k) : 0;
+          // linked from the open side(s)
+          const bool linked = has_above ? (links_[qa] >> lower_bit) & 1u : (links_[qb] >> upper_bit) & 1u;
+          if (!linked) continue;
+          const double pa = has_above ? x[qa] : 0.0, pb = has_below ? x[qb] : 0.0;
+          u[face(c, i, j, k)] -= static_cast<float>(pa - pb);
+        }
+    });
+  }
+}
+
+void AirGrid::fill(double t, const BodySampler& bodies) {
+  placeBodies(bodies);
+  const float speed = windSpeedAt(p_, t);
+  std::fill(u_[0].begin(), u_[0].end(), speed);
+  std::fill(u_[1].begin(), u_[1].end(), 0.0f);
+  std::fill(u_[2].begin(), u_[2].end(), 0.0f);
+  for (auto& a : impulse_) std::fill(a.begin(), a.end(), 0.0f);
+  std::fill(pressure_.begin(), pressure_.end(), 0.0f);
+  imposeBoundaries(t);
+  project(1);
+}
+
+void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
+                           std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
+                           std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
+                           float dt, int threads) {
+  const std::size_t nh = hair_x.size();
+  tap_face_.resize(nh * kTaps);
+  tap_w_.resize(nh * kTaps);
+  tap_push_.resize(nh * kTaps);
+  hair_vb_.resize(nh);
+  const glm::mat3 rot(head.pose.rotation), rot_t = glm::transpose(glm::mat3(head.pose.rotation));
+  const glm::vec3 centre(head.pose.center), omega(head.angular_velocity), frame_v(head.velocity);
+  const glm::vec3 extent = h_ * glm::vec3(static_cast<float>(n_[0]), static_cast<float>(n_[1]), static_cast<float>(n_[2]));
+  // Stencils and the hair's world velocities in the grid's axes.
+  parallel::forEach(threads, nh, [&](std::size_t i) {
+    float* w = &tap_w_[i * kTaps];
+    std::uint32_t* f = &tap_face_[i * kTaps];
+    const glm::vec3 q = toGrid(rot * hair_x[i] + centre);
+    const bool inside = q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y &&
+                        q.z <= extent.z;
+    if (hair_root[i] || !inside) {
+      std::fill(w, w + kTaps, 0.0f);
+      std::fill(f, f + kTaps, 0u);
+      return;
+    }
+    const glm::vec3 vw = rot * (hair_v[i] + glm::cross(omega, hair_x[i])) + frame_v;
+    hair_vb_[i] = {glm::dot(vw, axes_.wind), glm::dot(vw, axes_.up), glm::dot(vw, axes_.side)};
+    stencils(q, f, w);
+  });
+  // The hair mass each face holds (in hair order, on this thread).
+  for (auto& m : mass_) std::fill(m.begin(), m.end(), 0.0f);
+  coupled_ = 0;
+  for (std::size_t i = 0; i < nh; ++i) {
+    const float* w = &tap_w_[i * kTaps];
+    if (w[0] + w[1] + w[2] + w[3] + w[4] + w[5] + w[6] + w[7] == 0.0f) continue;
+    ++coupled_;
+    for (int t = 0; t < kTaps; ++t) mass_[static_cast<std::size_t>(t / 8)][tap_face_[i * kTaps + static_cast<std::size_t>(t)]] += w[t] * hair_m[i];
+  }
+  // Limiters as the particle air's: a side whose velocity would relax by
+  // more than half in a step has its pair forces scaled down; a pair takes
+  // the smaller of its two.
+  const float rate = p_.drag_rate, face_mass = p_.density * h_ * h_ * h_;
+  const float hair_limit = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
+  for (auto& m : mass_)  // each face's hair mass becomes its limiter
+    for (float& v : m) {
+      const float r = rate * v / face_mass;
+      v = r * dt > 0.5f ? 0.5f / (r * dt) : 1.0f;
+    }
+  auto faceLimit = [&](int c, std::uint32_t f) { return mass_[static_cast<std::size_t>(c)][f]; };
+  parallel::forEach(threads, nh, [&](std::size_t i) {
+    const float* w = &tap_w_[i * kTaps];
+    const std::uint32_t* f = &tap_face_[i * kTaps];
+    float* push = &tap_push_[i * kTaps];
+    glm::vec3 force(0.0f);
+    for (int c = 0; c < 3; ++c) {
+      float fc = 0.0f;
+      for (int t = 8 * c; t < 8 * c + 8; ++t) {
+        if (w[t] == 0.0f) {
+          push[t] = 0.0f;
+          continue;
+        }
+        const float pair = rate * hair_m[i] * w[t] * std::min(hair_limit, faceLimit(c, f[t])) *
+                           (u_[static_cast<std::size_t>(c)][f[t]] - hair_vb_[i][c]);
+        fc += pair;
+        push[t] = -pair * dt / face_mass;
+      }
+      force[c] = fc;
+    }
+    const glm::vec3 world = force.x * axes_.wind + force.y * axes_.up + force.z * axes_.side;
+    hair_force[i] += rot_t * world;
+  });
+  glm::dvec3 on_air(0.0);
+  for (std::size_t i = 0; i < nh; ++i)
+    for (int t = 0; t < kTaps; ++t) {
+      const float push = tap_push_[i * kTaps + static_cast<std::size_t>(t)];
+      if (push == 0.0f) continue;
+      const int c = t / 8;
+      impulse_[static_cast<std::size_t>(c)][tap_face_[i * kTaps + static_cast<std::size_t>(t)]] += push;
+      on_air[c] += static_cast<double>(push) * face_mass / dt;
+    }
+  drag_on_air_ = on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
+}
+
+void AirGrid::advance(double t, float dt, const BodySampler& bodies, int threads) {
+  if (bodies) placeBodies(bodies);
+  // The hair's drag, then viscosity: each face relaxes towards the mean of
+  // its neighbours of the same component at the viscosity rate.
+  const float relax = std::min(1.0f, p_.viscosity_rate * dt);
+  for (int c = 0; c < 3; ++c) {
+    auto& u = u_[static_cast<std::size_t>(c)];
+    auto& imp = impulse_[static_cast<std::size_t>(c)];
+    for (std::size_t f = 0; f < u.size(); ++f) u[f] += imp[f];
+    std::fill(imp.begin(), imp.end(), 0.0f);
+    const auto& d = fdim_[static_cast<std::size_t>(c)];
+    auto& out = next_[static_cast<std::size_t>(c)];
+    parallel::forEach(threads, static_cast<std::size_t>(d[2]), [&](std::size_t kk) {
+      const int k = static_cast<int>(kk);
+      for (int j = 0; j < d[1]; ++j)
+        for (int i = 0; i < d[0]; ++i) {
+          const std::size_t q = face(c, i, j, k);
+          float sum = 0.0f;
+          int count = 0;
+          if (i > 0) sum += u[face(c, i - 1, j, k)], ++count;
+          if (i + 1 < d[0]) sum += u[face(c, i + 1, j, k)], ++count;
+          if (j > 0) sum += u[face(c, i, j - 1, k)], ++count;
+          if (j + 1 < d[1]) sum += u[face(c, i, j + 1, k)], ++count;
+          if (k > 0) sum += u[face(c, i, j, k - 1)], ++count;
+          if (k + 1 < d[2]) sum += u[face(c, i, j, k + 1)], ++count;
+          out[q] = u[q] + relax * (sum / static_cast<float>(count) - u[q]);
+        }
+    });
+  }
+  std::swap(u_, next_);
+  // Advection: each face takes the velocity found a step back along the
+  // flow (Stam's backtrace, from the face's own velocity: its component and
+  // the mean of the four nearest faces of each other component; the air
+  // moves at most two cells a step, see stableTimeStep); from upwind of the
+  // box, the wind's.
+  const float inflow = windSpeedAt(p_, t);
+  const float step_cells = dt / h_;
+  for (int c = 0; c < 3; ++c) {
+    const auto& d = fdim_[static_cast<std::size_t>(c)];
+    const int dx = d[0], dy = d[1], dz = d[2];
+    const std::size_t sy = static_cast<std::size_t>(dx), sz = sy * static_cast<std::size_t>(dy);
+    const float* own = u_[static_cast<std::size_t>(c)].data();
+    float* out = next_[static_cast<std::size_t>(c)].data();
+    const int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+    parallel::forEach(threads, static_cast<std::size_t>(dz), [&](std::size_t kk) {
+      const int k = static_cast<int>(kk);
+      for (int j = 0; j < dy; ++j)
+        for (int i = 0; i < dx; ++i) {
+          const int at[3] = {i, j, k};
+          glm::vec3 vel(0.0f);
+          vel[c] = own[static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k)];
+          // component o's faces around this one: cells at[c]-1 and at[c]
+          // along c (clamped), at[o] and at[o]+1 along o
+          for (const int o : {c1, c2}) {
+            int idx[3] = {at[0], at[1], at[2]};
+            const int lo = std::max(at[c] - 1, 0), hi = std::min(at[c], n_[c] - 1);
+            idx[c] = lo;
+            const std::size_t a = face(o, idx[0], idx[1], idx[2]);
+            idx[c] = hi;
+            const std::size_t b = face(o, idx[0], idx[1], idx[2]);
+            const std::size_t up = o == 0 ? 1 : (o == 1 ? static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][0])
+                                                        : static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][0]) *
+                                                              static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][1]));
+            const float* uo = u_[static_cast<std::size_t>(o)].data();
+            vel[o] = 0.25f * (uo[a] + uo[b] + uo[a + up] + uo[b + up]);
+          }
+          // the backtraced point in this component's index space
+          const float g[3] = {static_cast<float>(i) - step_cells * vel.x, static_cast<float>(j) - step_cells * vel.y,
+                              static_cast<float>(k) - step_cells * vel.z};
+          const std::size_t q = static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k);
+          // upwind of the box (its upwind face is x = 0 in grid metres)
+          const float along = c == 0 ? g[0] : g[0] + 0.5f;
+          if (along < 0.0f) {
+            out[q] = c == 0 ? inflow : 0.0f;
+            continue;
+          }
+          int i0[3];
+          float f[3];
+          for (int a = 0; a < 3; ++a) {
+            const int last_lower = d[static_cast<std::size_t>(a)] - 2;
+            const int lo = std::clamp(static_cast<int>(std::floor(g[a])), 0, last_lower);
+            i0[a] = lo;
+            f[a] = std::clamp(g[a] - static_cast<float>(lo), 0.0f, 1.0f);
+          }
+          const float* base = own + static_cast<std::size_t>(i0[0]) + sy * static_cast<std::size_t>(i0[1]) +
+                              sz * static_cast<std::size_t>(i0[2]);
+          const float x00 = base[0] + f[0] * (base[1] - base[0]);
+          const float x10 = base[sy] + f[0] * (base[sy + 1] - base[sy]);
+          const float x01 = base[sz] + f[0] * (base[sz + 1] - base[sz]);
+          const float x11 = base[sz + sy] + f[0] * (base[sz + sy + 1] - base[sz + sy]);
+          const float y0 = x00 + f[1] * (x10 - x00), y1 = x01 + f[1] * (x11 - x01);
+          out[q] = y0 + f[2] * (y1 - y0);
+        }
+    });
+  }
+  std::swap(u_, next_);
+  imposeBoundaries(t);
+  project(threads);
+}
+
+void AirGrid::openCells(std::vector<glm::vec3>& centre, std::vector<glm::vec3>& velocity) const {
+  centre.clear();
+  velocity.clear();
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        if (solid_[cell(i, j, k)]) continue;
+        centre.push_back(toWorld(h_ * glm::vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f,
+                                                static_cast<float>(k) + 0.5f)));
+        const glm::vec3 v(0.5f * (u_[0][face(0, i, j, k)] + u_[0][face(0, i + 1, j, k)]),
+                          0.5f * (u_[1][face(1, i, j, k)] + u_[1][face(1, i, j + 1, k)]),
+                          0.5f * (u_[2][face(2, i, j, k)] + u_[2][face(2, i, j, k + 1)]));
+        velocity.push_back(v.x * axes_.wind + v.y * axes_.up + v.z * axes_.side);
+      }
+}
+
+glm::vec3 AirGrid::velocityAt(const glm::vec3& world) const {
+  const glm::vec3 v = sampleAll(u_, toGrid(world));
+  return v.x * axes_.wind + v.y * axes_.up + v.z * axes_.side;
+}
+
+float AirGrid::maxDivergence() const {
+  float worst = 0.0f;
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        if (!links_[cell(i, j, k)]) continue;
+        const float flux = u_[0][face(0, i + 1, j, k)] - u_[0][face(0, i, j, k)] + u_[1][face(1, i, j + 1, k)] -
+                           u_[1][face(1, i, j, k)] + u_[2][face(2, i, j, k + 1)] - u_[2][face(2, i, j, k)];
+        worst = std::max(worst, std::abs(flux) / h_);
+      }
+  return worst;
+}
+
+void AirGrid::restore(State s) {
+  for (std::size_t c = 0; c < 3; ++c)
+    if (s.u[c].size() != u_[c].size())
+      throw std::invalid_argument("air grid state: " + std::to_string(s.u[c].size()) + " faces of component " +
+                                  std::to_string(c) + ", the grid has " + std::to_string(u_[c].size()));
+  if (s.pressure.size() != cell_count_)
+    throw std::invalid_argument("air grid state: " + std::to_string(s.pressure.size()) + " cells, the grid has " +
+                                std::to_string(cell_count_));
+  u_ = std::move(s.u);
+  pressure_ = std::move(s.pressure);
+  for (auto& a : impulse_) std::fill(a.begin(), a.end(), 0.0f);
+}
+
+}  // namespace loosehair

@@ -1,0 +1,155 @@
+// Wind on a grid (issue 18; docs/design.md "Air on a grid"): the air of the
+// wind box as a velocity field on a fixed staggered (MAC) grid in the world,
+// its axes the box's (along the wind, up, across), one cell of
+// `WindParams::spacing`. A step adds the hair's drag impulses and the
+// viscosity, carries the velocities along themselves (semi-Lagrangian), imposes the inflow and the bodies, and projects
+// the field to zero divergence (a pressure solve), so no sound speed bounds
+// the step. The hair and the air exchange the drag of SPEC §5,
+//
+//   f_hair_i = dw m_i sum_f w_if (u_f - v_i),   the faces f get minus it,
+//
+// with the trilinear weights w_if of the hair particle at each face of each
+// velocity component (sum_f w_if = 1): the air's SPH average replaced by the
+// grid's interpolation. The two forces of a pair are one expression, so the
+// exchange keeps momentum; the same limiter as the particle air keeps either
+// side from overshooting. The box's faces: upwind the wind's velocity,
+// elsewhere open (pressure 0), bodies rigid (free-slip at their velocity).
+//
+// Every pass is per face or per cell from the previous arrays, the scatters
+// of the hair's impulses and the solve's sums run in a fixed order on one
+// thread: the results do not depend on the thread count.
+#pragma once
+
+#include "loosehair/head_motion.hpp"
+#include "loosehair/wind.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace loosehair {
+
+class AirGrid {
+ public:
+  /// Signed distance (m, < 0 inside) and world velocity of the bodies at
+  /// world points.
+  using BodySampler =
+      std::function<void(const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity)>;
+
+  /// Throws std::invalid_argument naming every bad field of `params`.
+  explicit AirGrid(const WindParams& params);
+
+  /// The wind's velocity at time t everywhere, projected around the bodies.
+  void fill(double t, const BodySampler& bodies);
+
+  /// The step (s) over which the air crosses at most two cells at the
+  /// largest wind speed: the backtrace's accuracy, not its stability.
+  double stableTimeStep() const;
+
+  /// Drag between the hair (head frame, at the pose of `head`) and the air:
+  /// adds the force on each non-root hair particle to `hair_force` (head
+  /// frame) and keeps the opposite impulses for the next advance().
+  void exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
+                    std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
+                    std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
+                    float dt, int threads);
+
+  /// Moves the air over a step of `dt` ending at time t, the bodies where
+  /// `bodies` says they are then (an empty `bodies`: where they were at the
+  /// last step, for bodies that have not moved).
+  void advance(double t, float dt, const BodySampler& bodies, int threads);
+
+  glm::ivec3 cells() const { return {n_[0], n_[1], n_[2]}; }
+  float cellSize() const { return h_; }
+  std::size_t cellCount() const { return cell_count_; }
+  /// World centres and world velocities of the cells not inside a body.
+  void openCells(std::vector<glm::vec3>& centre, std::vector<glm::vec3>& velocity) const;
+  /// The air's world velocity at a world point (inside the box).
+  glm::vec3 velocityAt(const glm::vec3& world) const;
+  /// Largest |div u| over the open cells after the last step (1/s).
+  float maxDivergence() const;
+  /// Sum of the drag impulses the last exchangeDrag gave the air, as a
+  /// world force (N): minus the sum of the forces it gave the hair.
+  glm::dvec3 dragOnAir() const { return drag_on_air_; }
+  /// Hair particles inside the box at the last exchangeDrag.
+  std::size_t coupledHair() const { return coupled_; }
+  /// Conjugate-gradient iterations of the last projection.
+  int lastIterations() const { return last_iterations_; }
+  float restDensity() const { return p_.density; }
+
+  /// What a step carries to the next (snapshots): the face velocities of
+  /// the three components and the last pressure (the solve's start).
+  struct State {
+    std::array<std::vector<float>, 3> u;
+    std::vector<float> pressure;
+  };
+  State state() const { return {u_, pressure_}; }
+  /// Throws std::invalid_argument if the arrays do not fit this grid.
+  void restore(State s);
+  /// The sizes restore() expects: faces of component c, then cells.
+  std::size_t faceCount(int c) const { return u_[static_cast<std::size_t>(c)].size(); }
+
+ private:
+  // faces of component c: (n0 + [c==0]) x (n1 + [c==1]) x (n2 + [c==2])
+  std::size_t face(int c, int i, int j, int k) const {
+    const auto& d = fdim_[static_cast<std::size_t>(c)];
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(d[0]) *
+                                             (static_cast<std::size_t>(j) + static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(k));
+  }
+  std::size_t cell(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(n_[0]) *
+                                             (static_cast<std::size_t>(j) + static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(k));
+  }
+  /// A world point in grid metres (0 at the grid's lower corner).
+  glm::vec3 toGrid(const glm::vec3& world) const;
+  glm::vec3 toWorld(const glm::vec3& grid) const;
+  /// Trilinear stencil of component c at grid point q (clamped to the
+  /// faces): 8 face indices and weights.
+  void stencil(int c, const glm::vec3& q, std::size_t* index, float* weight) const;
+  /// The stencils of all three components at q (24 taps, component-major).
+  void stencils(const glm::vec3& q, std::uint32_t* index, float* weight) const;
+  float sample(const std::vector<float>& u, int c, const glm::vec3& q) const;
+  glm::vec3 sampleAll(const std::array<std::vector<float>, 3>& u, const glm::vec3& q) const;
+  /// Body distances and velocities at the cell centres; the cells that the
+  /// open faces cannot reach (sealed by bodies) count as bodies too.
+  void placeBodies(const BodySampler& bodies);
+  /// The inflow face and the faces touching a body take their velocities.
+  void imposeBoundaries(double t);
+  void project(int threads);
+
+  WindParams p_;
+  WindAxes axes_;
+  glm::vec3 origin_;  // world position of the grid's lower corner
+  float h_ = 0;
+  int n_[3] = {0, 0, 0};
+  std::array<std::array<int, 3>, 3> fdim_{};
+  std::size_t cell_count_ = 0;
+
+  std::array<std::vector<float>, 3> u_, next_, impulse_, mass_;
+  std::vector<float> pressure_;
+  std::vector<std::uint8_t> solid_;   // per cell: inside a body (or sealed)
+  std::vector<glm::vec3> solid_v_;    // per cell: body velocity (grid axes)
+  std::vector<std::uint8_t> links_;   // per cell: bit d set = face d takes the pressure gradient
+  std::vector<double> diag_, x_, r_, z_, d_, ad_;
+  // placeBodies' scratch
+  std::vector<glm::vec3> centre_, body_v_;
+  std::vector<float> body_phi_;
+  std::vector<std::uint8_t> reached_;
+  std::vector<std::size_t> queue_;
+  glm::dvec3 drag_on_air_{0.0};
+  std::size_t coupled_ = 0;
+  int last_iterations_ = 0;
+
+  // exchangeDrag's per-hair stencils: 3 components x 8 faces
+  static constexpr int kTaps = 24;
+  std::vector<std::uint32_t> tap_face_;
+  std::vector<float> tap_w_;
+  std::vector<glm::vec3> hair_vb_;    // hair velocity in grid axes (world)
+  std::vector<float> tap_push_;       // per tap: the impulse it gives its face
+};
+
+}  // namespace loosehair
