@@ -145,9 +145,9 @@ void AirGrid::placeBodies(const BodySampler& bodies) {
                       ? glm::vec3(glm::dot(w, axes_.wind), glm::dot(w, axes_.up), glm::dot(w, axes_.side))
                       : glm::vec3(0.0f);
   }
-  // Air that no open face reaches (a pocket closed by the bodies) has no
-  // pressure to be solved for: it moves with the bodies. Flood from the
-  // open cells at the box's faces (all but the upwind one), in cell order.
+  // Air that the outflow face does not reach (a pocket closed by the
+  // bodies) has no pressure to be solved for: it moves with the bodies.
+  // Flood from the open cells at the downwind face, in cell order.
   auto& reached = reached_;
   auto& queue = queue_;
   reached.assign(cell_count_, 0);
@@ -155,7 +155,7 @@ void AirGrid::placeBodies(const BodySampler& bodies) {
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i) {
-        const bool open_face = i == n_[0] - 1 || j == 0 || j == n_[1] - 1 || k == 0 || k == n_[2] - 1;
+        const bool open_face = i == n_[0] - 1;
         const std::size_t q = cell(i, j, k);
         if (open_face && !solid_[q]) {
           reached[q] = 1;
@@ -179,8 +179,8 @@ void AirGrid::placeBodies(const BodySampler& bodies) {
   for (std::size_t q = 0; q < cell_count_; ++q)
     if (!reached[q]) solid_[q] = 1;
   // Which faces of each open cell carry the pressure gradient: those to an
-  // open neighbour or out of the box, except the upwind face, whose
-  // velocity is the wind's.
+  // open neighbour or out through the downwind face (the upwind face has
+  // the wind's velocity, the sides the flow just inside them).
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i) {
@@ -190,7 +190,7 @@ void AirGrid::placeBodies(const BodySampler& bodies) {
           for (int d = 0; d < 6; ++d) {
             const int a = i + kStep[d][0], b = j + kStep[d][1], c = k + kStep[d][2];
             const bool outside = a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2];
-            if (outside ? d != 0 : !solid_[cell(a, b, c)]) bits = static_cast<std::uint8_t>(bits | (1u << d));
+            if (outside ? d == 1 : !solid_[cell(a, b, c)]) bits = static_cast<std::uint8_t>(bits | (1u << d));
           }
         links_[q] = bits;
       }
@@ -200,6 +200,18 @@ void AirGrid::imposeBoundaries(double t) {
   const float speed = windSpeedAt(p_, t);
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j) u_[0][face(0, 0, j, k)] = speed;
+  // the four sides let through what reaches them (the flow across a side
+  // is its neighbour's inside: no pressure pushes air out or in)
+  for (int k = 0; k < n_[2]; ++k)
+    for (int i = 0; i < n_[0]; ++i) {
+      u_[1][face(1, i, 0, k)] = u_[1][face(1, i, 1, k)];
+      u_[1][face(1, i, n_[1], k)] = u_[1][face(1, i, n_[1] - 1, k)];
+    }
+  for (int j = 0; j < n_[1]; ++j)
+    for (int i = 0; i < n_[0]; ++i) {
+      u_[2][face(2, i, j, 0)] = u_[2][face(2, i, j, 1)];
+      u_[2][face(2, i, j, n_[2])] = u_[2][face(2, i, j, n_[2] - 1)];
+    }
   // A face touching a body takes the body's velocity (the mean of the
   // bodies' cells it touches).
   for (int c = 0; c < 3; ++c) {

@@ -13,7 +13,8 @@
 // grid's interpolation. The two forces of a pair are one expression, so the
 // exchange keeps momentum; the same limiter as the particle air keeps either
 // side from overshooting. The box's faces: upwind the wind's velocity,
-// elsewhere open (pressure 0), bodies rigid (free-slip at their velocity).
+// downwind open (pressure 0), across the four sides the flow just inside
+// (no pressure there); bodies are solid cells whose faces move with them.
 //
 // Every pass is per face or per cell from the previous arrays, the scatters
 // of the hair's impulses and the solve's sums run in a fixed order on one
