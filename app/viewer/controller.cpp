@@ -113,7 +113,7 @@ void Controller::setHair(render::HairGeometry hair) {
 
 void Controller::setWind(bool on) {
   pending_.has_wind = on;
-  if (!on) return;  // the air particles go with a restart
+  if (!on) return;  // the air goes with a restart
   const WindParams w = pending_.wind;
   attempt([&] {
     const auto problems = validate(w);

@@ -246,7 +246,7 @@ void Panel::wind() {
   ViewState& v = c_.view();
   bool on = p.has_wind;
   bool changed = ImGui::Checkbox("wind", &on);
-  tooltip("SPH air particles blown through the hair; off applies on restart");
+  tooltip("air blown through the hair (a grid, or SPH particles with wind.model \"particles\"); off applies on restart");
   glm::vec3 d = glm::normalize(p.wind.direction);
   float yaw = glm::degrees(std::atan2(d.x, d.z)), pitch = glm::degrees(std::asin(std::clamp(d.y, -1.0f, 1.0f)));
   changed |= ImGui::SliderFloat("towards, yaw", &yaw, -180.0f, 180.0f, "%.0f deg");
