@@ -39,7 +39,7 @@ AirGrid::AirGrid(const WindParams& params) : p_(params) {
     auto& d = fdim_[static_cast<std::size_t>(c)];
     for (int a = 0; a < 3; ++a) d[static_cast<std::size_t>(a)] = n_[a] + (a == c ? 1 : 0);
     const std::size_t faces = static_cast<std::size_t>(d[0]) * static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(d[2]);
-    for (auto* field : {&u_, &next_, &impulse_, &mass_}) (*field)[static_cast<std::size_t>(c)].assign(faces, 0.0f);
+    for (auto* field : {&u_, &next_, &mass_}) (*field)[static_cast<std::size_t>(c)].assign(faces, 0.0f);
   }
   pressure_.assign(cell_count_, 0.0f);
   solid_.assign(cell_count_, 0);
@@ -47,8 +47,14 @@ AirGrid::AirGrid(const WindParams& params) : p_(params) {
   links_.assign(cell_count_, 0);
 }
 
-double AirGrid::stableTimeStep() const {
-  return 2.0 * static_cast<double>(h_) / std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
+double AirGrid::stepLength() const {
+  return kCellsAStep * static_cast<double>(h_) / std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
+}
+
+bool AirGrid::due(float dt) {
+  pending_ += static_cast<double>(dt);
+  // the nearest whole number of hair steps to the air's step
+  return pending_ + 0.5 * static_cast<double>(dt) >= stepLength();
 }
 
 glm::vec3 AirGrid::toGrid(const glm::vec3& world) const {
@@ -178,6 +184,7 @@ void AirGrid::placeBodies(const BodySampler& bodies) {
   }
   for (std::size_t q = 0; q < cell_count_; ++q)
     if (!reached[q]) solid_[q] = 1;
+  mic_stale_ = true;
   // Which faces of each open cell carry the pressure gradient: those to an
   // open neighbour or out through the downwind face (the upwind face has
   // the wind's velocity, the sides the flow just inside them).
@@ -294,16 +301,82 @@ void AirGrid::project(int threads) {
         r_[q] = -flux - ad_[q];
         bnorm = std::max(bnorm, std::abs(r_[q]));
       }
-  // Jacobi-preconditioned conjugate gradients; the sums in cell order on
-  // this thread. The flux imbalance left is at most a thousandth of the
+  // Preconditioned conjugate gradients; the sums and sweeps in cell order
+  // on this thread. The flux imbalance left is at most a thousandth of the
   // fastest wind through a face.
   const double tolerance = 1e-3 * std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
+  // Modified incomplete Cholesky, MIC(0) (Bridson, Fluid Simulation for
+  // Computer Graphics, ch. 4): the factor's inverse diagonal in cell order,
+  // then two triangular sweeps a use; a cell's coupling to its +x, +y, +z
+  // neighbour is -1 where the face is linked inside the box.
+  auto plus = [&](std::size_t q, int axis, int at) {
+    return (links_[q] >> (2 * axis + 1)) & 1u && at + 1 < n_[axis] ? -1.0 : 0.0;
+  };
+  if (mic_.size() != nc || mic_stale_) {
+    mic_.assign(nc, 0.0);
+    constexpr double kTau = 0.97, kSigma = 0.25;
+    for (int k = 0; k < n_[2]; ++k)
+      for (int j = 0; j < n_[1]; ++j)
+        for (int i = 0; i < n_[0]; ++i) {
+          const std::size_t q = cell(i, j, k);
+          if (!links_[q]) continue;
+          double e = diag_[q];
+          const int at[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a) {
+            if (at[a] == 0) continue;
+            const std::size_t p = q - stride[2 * a];
+            const double c = plus(p, a, at[a] - 1) * mic_[p];
+            if (c == 0.0) continue;
+            e -= c * c;
+            double others = 0.0;
+            for (int b = 0; b < 3; ++b)
+              if (b != a) {
+                int pat[3] = {i, j, k};
+                pat[a] -= 1;
+                others += plus(p, b, pat[b]);
+              }
+            e -= kTau * plus(p, a, at[a] - 1) * others * mic_[p] * mic_[p];
+          }
+          if (e < kSigma * diag_[q]) e = diag_[q];
+          mic_[q] = 1.0 / std::sqrt(e);
+        }
+    mic_stale_ = false;
+  }
   auto precondition = [&] {
+    // L q = r, forwards
+    for (int k = 0; k < n_[2]; ++k)
+      for (int j = 0; j < n_[1]; ++j)
+        for (int i = 0; i < n_[0]; ++i) {
+          const std::size_t q = cell(i, j, k);
+          if (!links_[q]) {
+            z_[q] = 0.0;
+            continue;
+          }
+          double t = r_[q];
+          const int at[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a) {
+            if (at[a] == 0) continue;
+            const std::size_t p = q - stride[2 * a];
+            t -= plus(p, a, at[a] - 1) * mic_[p] * z_[p];
+          }
+          z_[q] = t * mic_[q];
+        }
+    // L^T z = q, backwards
+    for (int k = n_[2] - 1; k >= 0; --k)
+      for (int j = n_[1] - 1; j >= 0; --j)
+        for (int i = n_[0] - 1; i >= 0; --i) {
+          const std::size_t q = cell(i, j, k);
+          if (!links_[q]) continue;
+          double t = z_[q];
+          const int at[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a) {
+            if (at[a] + 1 >= n_[a]) continue;
+            t -= plus(q, a, at[a]) * mic_[q] * z_[q + stride[2 * a + 1]];
+          }
+          z_[q] = t * mic_[q];
+        }
     double rz = 0.0;
-    for (std::size_t q = 0; q < nc; ++q) {
-      z_[q] = links_[q] ? r_[q] / diag_[q] : 0.0;
-      rz += r_[q] * z_[q];
-    }
+    for (std::size_t q = 0; q < nc; ++q) rz += r_[q] * z_[q];
     return rz;
   };
   double rz = precondition();
@@ -363,7 +436,7 @@ void AirGrid::fill(double t, const BodySampler& bodies) {
   std::fill(u_[0].begin(), u_[0].end(), speed);
   std::fill(u_[1].begin(), u_[1].end(), 0.0f);
   std::fill(u_[2].begin(), u_[2].end(), 0.0f);
-  for (auto& a : impulse_) std::fill(a.begin(), a.end(), 0.0f);
+  pending_ = 0.0;
   std::fill(pressure_.begin(), pressure_.end(), 0.0f);
   imposeBoundaries(t);
   project(1);
@@ -445,22 +518,21 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
       const float push = tap_push_[i * kTaps + static_cast<std::size_t>(t)];
       if (push == 0.0f) continue;
       const int c = t / 8;
-      impulse_[static_cast<std::size_t>(c)][tap_face_[i * kTaps + static_cast<std::size_t>(t)]] += push;
+      u_[static_cast<std::size_t>(c)][tap_face_[i * kTaps + static_cast<std::size_t>(t)]] += push;
       on_air[c] += static_cast<double>(push) * face_mass / dt;
     }
   drag_on_air_ = on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
 }
 
-void AirGrid::advance(double t, float dt, const BodySampler& bodies, int threads) {
+void AirGrid::advance(double t, const BodySampler& bodies, int threads) {
+  const auto dt = static_cast<float>(pending_);
+  pending_ = 0.0;
   if (bodies) placeBodies(bodies);
-  // The hair's drag, then viscosity: each face relaxes towards the mean of
-  // its neighbours of the same component at the viscosity rate.
+  // Viscosity: each face relaxes towards the mean of its neighbours of the
+  // same component at the viscosity rate.
   const float relax = std::min(1.0f, p_.viscosity_rate * dt);
   for (int c = 0; c < 3; ++c) {
     auto& u = u_[static_cast<std::size_t>(c)];
-    auto& imp = impulse_[static_cast<std::size_t>(c)];
-    for (std::size_t f = 0; f < u.size(); ++f) u[f] += imp[f];
-    std::fill(imp.begin(), imp.end(), 0.0f);
     const auto& d = fdim_[static_cast<std::size_t>(c)];
     auto& out = next_[static_cast<std::size_t>(c)];
     parallel::forEach(threads, static_cast<std::size_t>(d[2]), [&](std::size_t kk) {
@@ -593,9 +665,11 @@ void AirGrid::restore(State s) {
   if (s.pressure.size() != cell_count_)
     throw std::invalid_argument("air grid state: " + std::to_string(s.pressure.size()) + " cells, the grid has " +
                                 std::to_string(cell_count_));
+  if (!std::isfinite(s.pending) || s.pending < 0.0 || s.pending > 10.0 * stepLength())
+    throw std::invalid_argument("air grid state: the time since its last step is " + std::to_string(s.pending) + " s");
   u_ = std::move(s.u);
   pressure_ = std::move(s.pressure);
-  for (auto& a : impulse_) std::fill(a.begin(), a.end(), 0.0f);
+  pending_ = s.pending;
 }
 
 }  // namespace loosehair

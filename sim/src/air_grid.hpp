@@ -47,22 +47,30 @@ class AirGrid {
   /// The wind's velocity at time t everywhere, projected around the bodies.
   void fill(double t, const BodySampler& bodies);
 
-  /// The step (s) over which the air crosses at most two cells at the
-  /// largest wind speed: the backtrace's accuracy, not its stability.
-  double stableTimeStep() const;
+  /// The air's own step (s): it crosses kCellsAStep cells at the largest
+  /// wind speed. Semi-Lagrangian advection is stable at any step, so this
+  /// bounds accuracy only, and the air steps once every few hair steps.
+  double stepLength() const;
+  static constexpr double kCellsAStep = 3.0;
 
   /// Drag between the hair (head frame, at the pose of `head`) and the air:
   /// adds the force on each non-root hair particle to `hair_force` (head
-  /// frame) and keeps the opposite impulses for the next advance().
+  /// frame) and the opposite impulses to the air's velocities at once (so
+  /// the limiter holds at every hair step, whether the air steps or not).
   void exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
                     std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
                     std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
                     float dt, int threads);
 
-  /// Moves the air over a step of `dt` ending at time t, the bodies where
-  /// `bodies` says they are then (an empty `bodies`: where they were at the
-  /// last step, for bodies that have not moved).
-  void advance(double t, float dt, const BodySampler& bodies, int threads);
+  /// Counts a hair step of `dt`; true when the air's own step is due (the
+  /// time since its last step is nearest a whole number of hair steps to
+  /// stepLength()).
+  bool due(float dt);
+  /// Moves the air over the time counted since its last step, ending at
+  /// time t, the bodies where `bodies` says they are then (an empty
+  /// `bodies`: where they were at the last step, for bodies that have not
+  /// moved).
+  void advance(double t, const BodySampler& bodies, int threads);
 
   glm::ivec3 cells() const { return {n_[0], n_[1], n_[2]}; }
   float cellSize() const { return h_; }
@@ -83,12 +91,14 @@ class AirGrid {
   float restDensity() const { return p_.density; }
 
   /// What a step carries to the next (snapshots): the face velocities of
-  /// the three components and the last pressure (the solve's start).
+  /// the three components, the last pressure (the solve's start) and the
+  /// time since the air's last step.
   struct State {
     std::array<std::vector<float>, 3> u;
     std::vector<float> pressure;
+    double pending = 0.0;
   };
-  State state() const { return {u_, pressure_}; }
+  State state() const { return {u_, pressure_, pending_}; }
   /// Throws std::invalid_argument if the arrays do not fit this grid.
   void restore(State s);
   /// The sizes restore() expects: faces of component c, then cells.
@@ -130,12 +140,15 @@ class AirGrid {
   std::array<std::array<int, 3>, 3> fdim_{};
   std::size_t cell_count_ = 0;
 
-  std::array<std::vector<float>, 3> u_, next_, impulse_, mass_;
+  std::array<std::vector<float>, 3> u_, next_, mass_;
+  double pending_ = 0.0;  // hair time since the air's last step (s)
   std::vector<float> pressure_;
   std::vector<std::uint8_t> solid_;   // per cell: inside a body (or sealed)
   std::vector<glm::vec3> solid_v_;    // per cell: body velocity (grid axes)
   std::vector<std::uint8_t> links_;   // per cell: bit d set = face d takes the pressure gradient
   std::vector<double> diag_, x_, r_, z_, d_, ad_;
+  std::vector<double> mic_;  // the preconditioner's inverse diagonal
+  bool mic_stale_ = true;
   // placeBodies' scratch
   std::vector<glm::vec3> centre_, body_v_;
   std::vector<float> body_phi_;

@@ -58,7 +58,11 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
   z_.resize(n);
   p_.resize(n);
   ap_.resize(n);
-  dv.assign(n, glm::vec3(0.0f));
+  // the guess may be dv itself (the last step's answer)
+  const bool warm = in.guess != nullptr;
+  if (!warm) dv.assign(n, glm::vec3(0.0f));
+  else if (in.guess != dv.data()) dv.assign(in.guess, in.guess + n);
+  else dv.resize(n);
   pap_partial_.assign(windows, 0.0);
   rz_partial_.assign(windows, 0.0);
   const float dt = in.dt, scale = dt * dt + in.gamma * dt;
@@ -132,7 +136,54 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
         r_[i] = dt * f[i] + (dt * dt) * pull;
       }
     }
-    // (dv = 0) z = P r, p = z
+    // ap = A src and src . ap, per window
+    auto multiply = [&](const std::vector<glm::vec3>& src) {
+      for (std::size_t w = wb; w < we; ++w) {
+        double sum = 0.0;
+        for (std::size_t s = w * kWindowSlices, s1 = std::min(slices, s + kWindowSlices); s < s1; ++s) {
+          float pix[L], piy[L], piz[L], ax[L], ay[L], az[L];
+          for (std::size_t l = 0; l < L; ++l) {
+            const std::uint32_t i = cs.owner[s * L + l];
+            const glm::vec3 pi = src[i];
+            pix[l] = pi.x;
+            piy[l] = pi.y;
+            piz[l] = pi.z;
+            ax[l] = m[i] * pi.x;
+            ay[l] = m[i] * pi.y;
+            az[l] = m[i] * pi.z;
+          }
+          const std::size_t row0 = cs.row_begin[s];
+          sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, ux_.data(), uy_.data(), uz_.data(), c_.data(),
+                       cs.partner.data(), src.data(), pix, piy, piz, ax, ay, az);
+          for (std::size_t l = 0; l < L && s * L + l < n; ++l) {
+            const std::uint32_t i = cs.owner[s * L + l];
+            const glm::vec3 api = root[i] ? glm::vec3(0.0f) : glm::vec3(ax[l], ay[l], az[l]);
+            ap_[i] = api;
+            sum += static_cast<double>(pix[l] * api.x + piy[l] * api.y + piz[l] * api.z);
+          }
+        }
+        pap_partial_[w] = sum;
+      }
+    };
+    // The residual of the guess (zero, or dv on entry: dv is 0 at roots),
+    // its preconditioned form, and the stopping threshold: relative to the
+    // preconditioned norm of the right-hand side, as from a zero guess.
+    for (std::size_t w = wb; w < we; ++w) {
+      double sum = 0.0;
+      for (std::size_t i = w * kSliceWindow, e = std::min(n, i + kSliceWindow); i < e; ++i) {
+        if (warm && root[i]) dv[i] = glm::vec3(0.0f);
+        sum += static_cast<double>(glm::dot(r_[i], applySym(&precond_[6 * i], r_[i])));
+      }
+      rz_partial_[w] = sum;
+    }
+    parallel::barrier();
+    const double rz0 = total(rz_partial_);
+    parallel::barrier();  // every thread has read rz_partial_
+    if (warm) {
+      multiply(dv);
+      for (std::size_t i = ib; i < ie; ++i) r_[i] -= ap_[i];
+    }
+    // z = P r, p = z
     for (std::size_t w = wb; w < we; ++w) {
       double sum = 0.0;
       for (std::size_t i = w * kSliceWindow, e = std::min(n, i + kSliceWindow); i < e; ++i) {
@@ -144,36 +195,9 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
     }
     parallel::barrier();
     double rz = total(rz_partial_);
-    const double rz0 = rz;
     int it = 0;
     for (; it < in.max_iterations && rz > tol2 * rz0; ++it) {
-      // ap = A p and p . ap, per window
-      for (std::size_t w = wb; w < we; ++w) {
-        double sum = 0.0;
-        for (std::size_t s = w * kWindowSlices, s1 = std::min(slices, s + kWindowSlices); s < s1; ++s) {
-          float pix[L], piy[L], piz[L], ax[L], ay[L], az[L];
-          for (std::size_t l = 0; l < L; ++l) {
-            const std::uint32_t i = cs.owner[s * L + l];
-            const glm::vec3 pi = p_[i];
-            pix[l] = pi.x;
-            piy[l] = pi.y;
-            piz[l] = pi.z;
-            ax[l] = m[i] * pi.x;
-            ay[l] = m[i] * pi.y;
-            az[l] = m[i] * pi.z;
-          }
-          const std::size_t row0 = cs.row_begin[s];
-          sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, ux_.data(), uy_.data(), uz_.data(), c_.data(),
-                       cs.partner.data(), p_.data(), pix, piy, piz, ax, ay, az);
-          for (std::size_t l = 0; l < L && s * L + l < n; ++l) {
-            const std::uint32_t i = cs.owner[s * L + l];
-            const glm::vec3 api = root[i] ? glm::vec3(0.0f) : glm::vec3(ax[l], ay[l], az[l]);
-            ap_[i] = api;
-            sum += static_cast<double>(pix[l] * api.x + piy[l] * api.y + piz[l] * api.z);
-          }
-        }
-        pap_partial_[w] = sum;
-      }
+      multiply(p_);
       parallel::barrier();
       const double pap = total(pap_partial_);
       if (!(pap > 0.0)) break;

@@ -52,11 +52,17 @@ class ImplicitSprings {
     const std::uint8_t* is_root = nullptr;
     std::size_t particles = 0;
     float dt = 0, gamma = 0;       // step (s), spring damping (s)
-    float tolerance = 1e-2f;       // on the preconditioned residual norm, relative
+    float tolerance = 1e-2f;       // on the preconditioned residual norm, relative to the right-hand side's
     int max_iterations = 50;
+    /// The start of the iterations (the last step's dv: warm start), or
+    /// null for zero; may be the dv passed to solve. Roots' entries are
+    /// ignored.
+    const glm::vec3* guess = nullptr;
   };
 
-  /// The velocity change of every particle (0 for roots) into dv.
+  /// The velocity change of every particle (0 for roots) into dv. The
+  /// iterations stop when the preconditioned residual is `tolerance` times
+  /// that of a zero guess (the right-hand side's), whatever the start.
   ImplicitSpringReport solve(const Input& in, int threads, std::vector<glm::vec3>& dv);
 
  private:

@@ -169,11 +169,14 @@ struct SnapshotAccess {
       w.array(scratch.sum_tip);
       w.put<std::uint64_t>(scratch.active_entries);
     }
+    // the implicit springs' last velocity change: the next solve's start
+    w.array(s.spring_dv_);
     w.put<std::uint8_t>(s.air_ ? kParticleAir : (s.air_grid_ ? kGridAir : kNoAir));
     if (s.air_grid_) {
       const AirGrid::State g = s.air_grid_->state();
       for (const auto& u : g.u) w.array(u);
       w.array(g.pressure);
+      w.put<double>(g.pending);
     }
     if (s.air_) {
       const AirSystem::State a = s.air_->state();
@@ -206,6 +209,10 @@ struct SnapshotAccess {
       sum_tip = r.array<float>("the tip-side sums", n);
       active = r.get<std::uint64_t>("the active connection count");
     }
+    auto spring_dv = r.array<glm::vec3>("the implicit springs' last velocity change");
+    if (!spring_dv.empty() && spring_dv.size() != n)
+      r.fail("the implicit springs' last velocity change has " + std::to_string(spring_dv.size()) +
+             " values where the scene has " + std::to_string(n) + " particles");
     const auto air_kind = r.get<std::uint8_t>("the wind flag");
     const std::uint8_t scene_kind = s.air_ ? kParticleAir : (s.air_grid_ ? kGridAir : kNoAir);
     if (air_kind != scene_kind) {
@@ -220,6 +227,7 @@ struct SnapshotAccess {
         grid.u[static_cast<std::size_t>(c)] =
             r.array<float>("the air grid's velocities", s.air_grid_->faceCount(c));
       grid.pressure = r.array<float>("the air grid's pressures", s.air_grid_->cellCount());
+      grid.pending = r.get<double>("the air grid's time since its step");
     }
     AirSystem::State air;
     if (air_kind == kParticleAir) {
@@ -235,7 +243,7 @@ struct SnapshotAccess {
     r.end();
     if (!std::isfinite(time) || time < -1e9 || time > 1e9) r.fail("the time is " + std::to_string(time));
     if (!finite(position) || !finite(velocity) || !finite(direction) || !finite(sum_root) ||
-        !finite(sum_tip) || !finite(air.x) || !finite(air.v) || !finite(air.density) ||
+        !finite(sum_tip) || !finite(spring_dv) || !finite(air.x) || !finite(air.v) || !finite(air.density) ||
         !std::isfinite(air.advance) || !finite(grid.u[0]) || !finite(grid.u[1]) || !finite(grid.u[2]) ||
         !finite(grid.pressure))
       r.fail("it holds non-finite numbers");
@@ -248,6 +256,9 @@ struct SnapshotAccess {
         r.fail("its time step " + std::to_string(dt) + " s is not valid for this scene");
     }
 
+    if (air_kind == kGridAir &&
+        (!std::isfinite(grid.pending) || grid.pending < 0.0 || grid.pending > 10.0 * s.air_grid_->stepLength()))
+      r.fail("the air grid's time since its step is " + std::to_string(grid.pending) + " s");
     // Everything checked: the solver changes only from here on.
     if (dt != s.params_.time_step) s.setTimeStep(dt);
     s.time_ = time;
@@ -257,8 +268,9 @@ struct SnapshotAccess {
     s.particles_.velocity = std::move(velocity);
     s.particles_.direction = std::move(direction);
     s.absorb_corrections_ = absorb;
+    s.spring_dv_ = std::move(spring_dv);
     if (s.air_) s.air_->restore(std::move(air));
-    if (s.air_grid_) s.air_grid_->restore(std::move(grid));
+    if (s.air_grid_) s.air_grid_->restore(std::move(grid));  // checked above: cannot throw
     // Queries between steps see the state (as after a step).
     s.findNeighbors();
     s.computeDensity();

@@ -468,6 +468,7 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   // A reset may leave particles inside the body or over-stretched; the
   // first step moves them back without turning the move into velocity.
   absorb_corrections_ = true;
+  spring_dv_.clear();  // the next implicit solve starts from zero
 }
 
 void Solver::setThreadCount(int threads) {
@@ -1270,7 +1271,7 @@ double Solver::holdTimeStep() const {
 }
 
 double Solver::airStableTimeStep() const {
-  if (air_grid_) return air_grid_->stableTimeStep();
+  if (air_grid_) return INFINITY;  // the grid's air steps at its own pace (AirGrid::due)
   return air_ ? air_->stableTimeStep() : INFINITY;
 }
 
@@ -1317,6 +1318,8 @@ void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
   in.gamma = params_.spring_damping;
   in.tolerance = params_.implicit_tolerance;
   in.max_iterations = params_.implicit_iterations;
+  // warm start from the last step's answer (kept in snapshots)
+  if (spring_dv_.size() == particles_.size()) in.guess = spring_dv_.data();
   const ImplicitSpringReport rep = implicit_->solve(in, threads_, spring_dv_);
   stats_.spring_iterations = rep.iterations;
   stats_.spring_residual = rep.residual;
@@ -1911,14 +1914,15 @@ void Solver::step() {
   if (air_) {
     moveAir(dt, frames, head_start, head_end);
     lap(st.air);
-  } else if (air_grid_) {
-    // the grid asks the bodies again only when they moved
+  } else if (air_grid_ && air_grid_->due(dt)) {
+    // the grid steps at its own pace, and asks the bodies again only when
+    // they moved
     AirGrid::BodySampler bodies;
     if (airBodiesMoved(frames, head_end))
       bodies = [&](const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) {
         worldBodySample(frames, head_end, w, count, phi, v);
       };
-    air_grid_->advance(t_end, dt, bodies, threads_);
+    air_grid_->advance(t_end, bodies, threads_);
     lap(st.air);
   }
 

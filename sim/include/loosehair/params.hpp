@@ -56,9 +56,10 @@ struct SimParams {
   /// any time step, so the step is set by accuracy instead of by the
   /// stiffest spring. Off: symplectic Euler, as in the paper.
   bool implicit_springs = true;
-  /// Relative residual at which the implicit spring solve stops
-  /// (dimensionless, preconditioned norm).
-  float implicit_tolerance = 1.0e-2f;
+  /// Residual at which the implicit spring solve stops, relative to the
+  /// right-hand side's (dimensionless, preconditioned norm); the solve
+  /// starts from the last step's answer.
+  float implicit_tolerance = 5.0e-3f;
   /// Most conjugate-gradient iterations of the implicit spring solve a step.
   int implicit_iterations = 50;
 

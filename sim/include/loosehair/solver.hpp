@@ -347,7 +347,7 @@ class Solver {
   std::unique_ptr<Sliced> sliced_;
   std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
   std::unique_ptr<ImplicitSprings> implicit_;  // params_.implicit_springs
-  std::vector<glm::vec3> spring_dv_;          // its velocity change, this step
+  std::vector<glm::vec3> spring_dv_;          // its velocity change, this step (the next one's start)
   std::vector<glm::vec3> tie_point_;     // setTieTethers; both empty: none
   std::vector<float> tie_reach_;
 
