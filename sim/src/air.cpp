@@ -78,12 +78,7 @@ std::vector<std::string> validate(const WindParams& w) {
 }
 
 AirSystem::AirSystem(const WindParams& params) : p_(params) {
-  const auto problems = validate(p_);
-  if (!problems.empty()) {
-    std::string msg = "invalid wind parameters:";
-    for (const auto& pr : problems) msg += "\n  " + pr;
-    throw std::invalid_argument(msg);
-  }
+  requireValid(p_);
   const WindAxes axes = windAxes(p_);
   e_wind_ = axes.wind;
   e_up_ = axes.up;

@@ -21,12 +21,7 @@ constexpr int kStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0
 }  // namespace
 
 AirGrid::AirGrid(const WindParams& params) : p_(params) {
-  const auto problems = validate(p_);
-  if (!problems.empty()) {
-    std::string msg = "invalid wind parameters:";
-    for (const auto& pr : problems) msg += "\n  " + pr;
-    throw std::invalid_argument(msg);
-  }
+  requireValid(p_);
   axes_ = windAxes(p_);
   h_ = p_.spacing;
   for (int a = 0; a < 3; ++a)
@@ -621,6 +616,10 @@ void AirGrid::advance(double t, const BodySampler& bodies, int threads) {
   std::swap(u_, next_);
   imposeBoundaries(t);
   project(threads);
+}
+
+std::size_t AirGrid::openCellCount() const {
+  return static_cast<std::size_t>(std::count(solid_.begin(), solid_.end(), std::uint8_t{0}));
 }
 
 void AirGrid::openCells(std::vector<glm::vec3>& centre, std::vector<glm::vec3>& velocity) const {

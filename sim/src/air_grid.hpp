@@ -75,6 +75,8 @@ class AirGrid {
   glm::ivec3 cells() const { return {n_[0], n_[1], n_[2]}; }
   float cellSize() const { return h_; }
   std::size_t cellCount() const { return cell_count_; }
+  /// The cells not inside a body (nor sealed in by bodies).
+  std::size_t openCellCount() const;
   /// World centres and world velocities of the cells not inside a body.
   void openCells(std::vector<glm::vec3>& centre, std::vector<glm::vec3>& velocity) const;
   /// The air's world velocity at a world point (inside the box).

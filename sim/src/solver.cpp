@@ -1218,11 +1218,7 @@ void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadK
 }
 
 std::size_t Solver::airCount() const {
-  if (air_grid_) {
-    std::vector<glm::vec3> x, v;
-    air_grid_->openCells(x, v);
-    return x.size();
-  }
+  if (air_grid_) return air_grid_->openCellCount();
   return air_ ? air_->size() : 0;
 }
 

@@ -1,13 +1,23 @@
-// What both air models share of the wind parameters (wind.hpp): the gust
-// profile and the box's axes.
+// What both air models share of the wind parameters (wind.hpp): their
+// check, the gust profile and the box's axes.
 #include "loosehair/wind.hpp"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace loosehair {
+
+void requireValid(const WindParams& w) {
+  const auto problems = validate(w);
+  if (problems.empty()) return;
+  std::string msg = "invalid wind parameters:";
+  for (const auto& pr : problems) msg += "\n  " + pr;
+  throw std::invalid_argument(msg);
+}
 
 float windSpeedAt(const WindParams& w, double t) {
   const auto& pr = w.profile;

@@ -66,6 +66,8 @@ struct WindParams {
 
 /// Every problem with `w`, one sentence each naming the field and value.
 std::vector<std::string> validate(const WindParams& w);
+/// Throws std::invalid_argument listing every problem of `w`.
+void requireValid(const WindParams& w);
 
 /// Wind speed upwind at time t (m/s), gusts included.
 float windSpeedAt(const WindParams& w, double t);
