@@ -335,6 +335,16 @@ void AirGrid::project(int threads) {
           if (e < kSigma * diag_[q]) e = diag_[q];
           mic_[q] = 1.0 / std::sqrt(e);
         }
+    // the factor's off-diagonal entries: a cell's coupling to its +x, +y,
+    // +z neighbour times its inverse diagonal
+    mic_up_.assign(3 * nc, 0.0);
+    for (int k = 0; k < n_[2]; ++k)
+      for (int j = 0; j < n_[1]; ++j)
+        for (int i = 0; i < n_[0]; ++i) {
+          const std::size_t q = cell(i, j, k);
+          const int at[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a) mic_up_[3 * q + static_cast<std::size_t>(a)] = plus(q, a, at[a]) * mic_[q];
+        }
     mic_stale_ = false;
   }
   auto precondition = [&] {
@@ -348,12 +358,9 @@ void AirGrid::project(int threads) {
             continue;
           }
           double t = r_[q];
-          const int at[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a) {
-            if (at[a] == 0) continue;
-            const std::size_t p = q - stride[2 * a];
-            t -= plus(p, a, at[a] - 1) * mic_[p] * z_[p];
-          }
+          if (i > 0) t -= mic_up_[3 * (q - sx) + 0] * z_[q - sx];
+          if (j > 0) t -= mic_up_[3 * (q - sy) + 1] * z_[q - sy];
+          if (k > 0) t -= mic_up_[3 * (q - sz) + 2] * z_[q - sz];
           z_[q] = t * mic_[q];
         }
     // L^T z = q, backwards
@@ -363,11 +370,9 @@ void AirGrid::project(int threads) {
           const std::size_t q = cell(i, j, k);
           if (!links_[q]) continue;
           double t = z_[q];
-          const int at[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a) {
-            if (at[a] + 1 >= n_[a]) continue;
-            t -= plus(q, a, at[a]) * mic_[q] * z_[q + stride[2 * a + 1]];
-          }
+          if (i + 1 < n_[0]) t -= mic_up_[3 * q + 0] * z_[q + sx];
+          if (j + 1 < n_[1]) t -= mic_up_[3 * q + 1] * z_[q + sy];
+          if (k + 1 < n_[2]) t -= mic_up_[3 * q + 2] * z_[q + sz];
           z_[q] = t * mic_[q];
         }
     double rz = 0.0;

@@ -149,7 +149,8 @@ class AirGrid {
   std::vector<glm::vec3> solid_v_;    // per cell: body velocity (grid axes)
   std::vector<std::uint8_t> links_;   // per cell: bit d set = face d takes the pressure gradient
   std::vector<double> diag_, x_, r_, z_, d_, ad_;
-  std::vector<double> mic_;  // the preconditioner's inverse diagonal
+  std::vector<double> mic_;     // the preconditioner's inverse diagonal
+  std::vector<double> mic_up_;  // its +x, +y, +z couplings times that, per cell
   bool mic_stale_ = true;
   // placeBodies' scratch
   std::vector<glm::vec3> centre_, body_v_;
