@@ -46,7 +46,7 @@ class Writer {
   template <class T>
   void array(const std::vector<T>& values) {
     put<std::uint64_t>(values.size());
-    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    if (!values.empty()) out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
   }
   std::string out;
 };
@@ -72,7 +72,8 @@ class Reader {
            std::to_string(expected_count));
     if (count > (bytes_.size() - at_) / sizeof(T)) need(SIZE_MAX, what);
     std::vector<T> values(static_cast<std::size_t>(count));
-    std::memcpy(values.data(), bytes_.data() + at_, values.size() * sizeof(T));
+    if (!values.empty())  // (an empty vector's data() may be null)
+      std::memcpy(values.data(), bytes_.data() + at_, values.size() * sizeof(T));
     at_ += values.size() * sizeof(T);
     return values;
   }
