@@ -61,26 +61,6 @@ glm::vec3 AirGrid::toWorld(const glm::vec3& g) const {
   return origin_ + g.x * axes_.wind + g.y * axes_.up + g.z * axes_.side;
 }
 
-void AirGrid::stencil(int c, const glm::vec3& q, std::size_t* index, float* weight) const {
-  const auto& d = fdim_[static_cast<std::size_t>(c)];
-  int i0[3];
-  float f[3];
-  for (int a = 0; a < 3; ++a) {
-    const float x = q[a] / h_ - (a == c ? 0.0f : 0.5f);
-    const int hi = d[static_cast<std::size_t>(a)] - 2;
-    const int i = std::clamp(static_cast<int>(std::floor(x)), 0, hi);
-    i0[a] = i;
-    f[a] = std::clamp(x - static_cast<float>(i), 0.0f, 1.0f);
-  }
-  int t = 0;
-  for (int dz = 0; dz < 2; ++dz)
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx, ++t) {
-        index[t] = face(c, i0[0] + dx, i0[1] + dy, i0[2] + dz);
-        weight[t] = (dx ? f[0] : 1.0f - f[0]) * (dy ? f[1] : 1.0f - f[1]) * (dz ? f[2] : 1.0f - f[2]);
-      }
-}
-
 void AirGrid::stencils(const glm::vec3& q, std::uint32_t* index, float* weight) const {
   // per axis: the lower node and fraction on the faces' own axis (offset 0)
   // and on the others (offset half a cell)
@@ -111,19 +91,6 @@ void AirGrid::stencils(const glm::vec3& q, std::uint32_t* index, float* weight) 
           weight[t] = (dx ? f[0] : 1.0f - f[0]) * (dy ? f[1] : 1.0f - f[1]) * (dz ? f[2] : 1.0f - f[2]);
         }
   }
-}
-
-float AirGrid::sample(const std::vector<float>& u, int c, const glm::vec3& q) const {
-  std::size_t index[8];
-  float weight[8];
-  stencil(c, q, index, weight);
-  float s = 0.0f;
-  for (int t = 0; t < 8; ++t) s += weight[t] * u[index[t]];
-  return s;
-}
-
-glm::vec3 AirGrid::sampleAll(const std::array<std::vector<float>, 3>& u, const glm::vec3& q) const {
-  return {sample(u[0], 0, q), sample(u[1], 1, q), sample(u[2], 2, q)};
 }
 
 void AirGrid::placeBodies(const BodySampler& bodies) {
@@ -239,9 +206,60 @@ void AirGrid::imposeBoundaries(double t) {
   }
 }
 
+double AirGrid::outflow(int i, int j, int k) const {
+  return static_cast<double>(u_[0][face(0, i + 1, j, k)]) - u_[0][face(0, i, j, k)] +
+         u_[1][face(1, i, j + 1, k)] - u_[1][face(1, i, j, k)] + u_[2][face(2, i, j, k + 1)] -
+         u_[2][face(2, i, j, k)];
+}
+
+void AirGrid::buildPreconditioner() {
+  // The matrix's diagonal (the linked faces of each open cell), then
+  // modified incomplete Cholesky, MIC(0) (Bridson, Fluid Simulation for
+  // Computer Graphics, ch. 4): the factor's inverse diagonal in cell order
+  // and its +x, +y, +z couplings; a cell's coupling to its +a neighbour is
+  // -1 where that face is linked inside the box.
+  const std::size_t nc = cell_count_;
+  const std::size_t stride[3] = {1, static_cast<std::size_t>(n_[0]),
+                                 static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1])};
+  auto plus = [&](std::size_t q, int axis, int at) {
+    return (links_[q] >> (2 * axis + 1)) & 1u && at + 1 < n_[axis] ? -1.0 : 0.0;
+  };
+  diag_.resize(nc);
+  for (std::size_t q = 0; q < nc; ++q) diag_[q] = static_cast<double>(std::popcount(links_[q]));
+  mic_.assign(nc, 0.0);
+  mic_up_.assign(3 * nc, 0.0);
+  constexpr double kTau = 0.97, kSigma = 0.25;
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        const std::size_t q = cell(i, j, k);
+        if (!links_[q]) continue;
+        double e = diag_[q];
+        const int at[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a) {
+          if (at[a] == 0) continue;
+          const std::size_t p = q - stride[a];
+          const double c = plus(p, a, at[a] - 1) * mic_[p];
+          if (c == 0.0) continue;
+          e -= c * c;
+          double others = 0.0;
+          for (int b = 0; b < 3; ++b)
+            if (b != a) {
+              int pat[3] = {i, j, k};
+              pat[a] -= 1;
+              others += plus(p, b, pat[b]);
+            }
+          e -= kTau * plus(p, a, at[a] - 1) * others * mic_[p] * mic_[p];
+        }
+        if (e < kSigma * diag_[q]) e = diag_[q];
+        mic_[q] = 1.0 / std::sqrt(e);
+        for (int a = 0; a < 3; ++a) mic_up_[3 * q + static_cast<std::size_t>(a)] = plus(q, a, at[a]) * mic_[q];
+      }
+  mic_stale_ = false;
+}
+
 void AirGrid::project(int threads) {
   const std::size_t nc = cell_count_;
-  diag_.resize(nc);
   r_.resize(nc);
   z_.resize(nc);
   d_.resize(nc);
@@ -275,10 +293,8 @@ void AirGrid::project(int threads) {
   };
   auto& x = x_;
   x.resize(nc);
-  for (std::size_t q = 0; q < nc; ++q) {
-    diag_[q] = static_cast<double>(std::popcount(links_[q]));
-    x[q] = links_[q] ? static_cast<double>(pressure_[q]) : 0.0;
-  }
+  if (mic_stale_) buildPreconditioner();
+  for (std::size_t q = 0; q < nc; ++q) x[q] = links_[q] ? static_cast<double>(pressure_[q]) : 0.0;
   // b = -h div u (the flux out of each open cell)
   apply(x, ad_);
   double bnorm = 0.0;
@@ -290,63 +306,14 @@ void AirGrid::project(int threads) {
           r_[q] = 0.0;
           continue;
         }
-        const double flux = static_cast<double>(u_[0][face(0, i + 1, j, k)]) - u_[0][face(0, i, j, k)] +
-                            u_[1][face(1, i, j + 1, k)] - u_[1][face(1, i, j, k)] +
-                            u_[2][face(2, i, j, k + 1)] - u_[2][face(2, i, j, k)];
-        r_[q] = -flux - ad_[q];
+        r_[q] = -outflow(i, j, k) - ad_[q];
         bnorm = std::max(bnorm, std::abs(r_[q]));
       }
   // Preconditioned conjugate gradients; the sums and sweeps in cell order
   // on this thread. The flux imbalance left is at most a thousandth of the
   // fastest wind through a face.
   const double tolerance = 1e-3 * std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
-  // Modified incomplete Cholesky, MIC(0) (Bridson, Fluid Simulation for
-  // Computer Graphics, ch. 4): the factor's inverse diagonal in cell order,
-  // then two triangular sweeps a use; a cell's coupling to its +x, +y, +z
-  // neighbour is -1 where the face is linked inside the box.
-  auto plus = [&](std::size_t q, int axis, int at) {
-    return (links_[q] >> (2 * axis + 1)) & 1u && at + 1 < n_[axis] ? -1.0 : 0.0;
-  };
-  if (mic_.size() != nc || mic_stale_) {
-    mic_.assign(nc, 0.0);
-    constexpr double kTau = 0.97, kSigma = 0.25;
-    for (int k = 0; k < n_[2]; ++k)
-      for (int j = 0; j < n_[1]; ++j)
-        for (int i = 0; i < n_[0]; ++i) {
-          const std::size_t q = cell(i, j, k);
-          if (!links_[q]) continue;
-          double e = diag_[q];
-          const int at[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a) {
-            if (at[a] == 0) continue;
-            const std::size_t p = q - stride[2 * a];
-            const double c = plus(p, a, at[a] - 1) * mic_[p];
-            if (c == 0.0) continue;
-            e -= c * c;
-            double others = 0.0;
-            for (int b = 0; b < 3; ++b)
-              if (b != a) {
-                int pat[3] = {i, j, k};
-                pat[a] -= 1;
-                others += plus(p, b, pat[b]);
-              }
-            e -= kTau * plus(p, a, at[a] - 1) * others * mic_[p] * mic_[p];
-          }
-          if (e < kSigma * diag_[q]) e = diag_[q];
-          mic_[q] = 1.0 / std::sqrt(e);
-        }
-    // the factor's off-diagonal entries: a cell's coupling to its +x, +y,
-    // +z neighbour times its inverse diagonal
-    mic_up_.assign(3 * nc, 0.0);
-    for (int k = 0; k < n_[2]; ++k)
-      for (int j = 0; j < n_[1]; ++j)
-        for (int i = 0; i < n_[0]; ++i) {
-          const std::size_t q = cell(i, j, k);
-          const int at[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a) mic_up_[3 * q + static_cast<std::size_t>(a)] = plus(q, a, at[a]) * mic_[q];
-        }
-    mic_stale_ = false;
-  }
+  // the preconditioner: two triangular sweeps of MIC(0) (buildPreconditioner)
   auto precondition = [&] {
     // L q = r, forwards
     for (int k = 0; k < n_[2]; ++k)
@@ -644,7 +611,11 @@ void AirGrid::openCells(std::vector<glm::vec3>& centre, std::vector<glm::vec3>& 
 }
 
 glm::vec3 AirGrid::velocityAt(const glm::vec3& world) const {
-  const glm::vec3 v = sampleAll(u_, toGrid(world));
+  std::uint32_t index[kTaps];
+  float weight[kTaps];
+  stencils(toGrid(world), index, weight);
+  glm::vec3 v(0.0f);
+  for (int t = 0; t < kTaps; ++t) v[t / 8] += weight[t] * u_[static_cast<std::size_t>(t / 8)][index[t]];
   return v.x * axes_.wind + v.y * axes_.up + v.z * axes_.side;
 }
 
@@ -654,9 +625,7 @@ float AirGrid::maxDivergence() const {
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i) {
         if (!links_[cell(i, j, k)]) continue;
-        const float flux = u_[0][face(0, i + 1, j, k)] - u_[0][face(0, i, j, k)] + u_[1][face(1, i, j + 1, k)] -
-                           u_[1][face(1, i, j, k)] + u_[2][face(2, i, j, k + 1)] - u_[2][face(2, i, j, k)];
-        worst = std::max(worst, std::abs(flux) / h_);
+        worst = std::max(worst, static_cast<float>(std::abs(outflow(i, j, k))) / h_);
       }
   return worst;
 }

@@ -120,13 +120,15 @@ class AirGrid {
   /// A world point in grid metres (0 at the grid's lower corner).
   glm::vec3 toGrid(const glm::vec3& world) const;
   glm::vec3 toWorld(const glm::vec3& grid) const;
-  /// Trilinear stencil of component c at grid point q (clamped to the
-  /// faces): 8 face indices and weights.
-  void stencil(int c, const glm::vec3& q, std::size_t* index, float* weight) const;
-  /// The stencils of all three components at q (24 taps, component-major).
+  /// The trilinear stencils of all three components at grid point q
+  /// (clamped to the faces): kTaps face indices and weights,
+  /// component-major.
   void stencils(const glm::vec3& q, std::uint32_t* index, float* weight) const;
-  float sample(const std::vector<float>& u, int c, const glm::vec3& q) const;
-  glm::vec3 sampleAll(const std::array<std::vector<float>, 3>& u, const glm::vec3& q) const;
+  /// The flux out of cell (i, j, k), h div u (m/s).
+  double outflow(int i, int j, int k) const;
+  /// The pressure matrix's diagonal and its MIC(0) factor, for the cells'
+  /// present links.
+  void buildPreconditioner();
   /// Body distances and velocities at the cell centres; the cells that the
   /// open faces cannot reach (sealed by bodies) count as bodies too.
   void placeBodies(const BodySampler& bodies);
@@ -151,7 +153,7 @@ class AirGrid {
   std::vector<double> diag_, x_, r_, z_, d_, ad_;
   std::vector<double> mic_;     // the preconditioner's inverse diagonal
   std::vector<double> mic_up_;  // its +x, +y, +z couplings times that, per cell
-  bool mic_stale_ = true;
+  bool mic_stale_ = true;  // the links changed since buildPreconditioner
   // placeBodies' scratch
   std::vector<glm::vec3> centre_, body_v_;
   std::vector<float> body_phi_;

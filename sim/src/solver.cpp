@@ -1152,7 +1152,7 @@ void Solver::setWind(const WindParams& wind) {
     air_bodies_key_.clear();
     airBodiesMoved(frames, head);
     grid->fill(time_, [&](const glm::vec3* w, std::size_t n, float* phi, glm::vec3* v) {
-      worldBodySample(frames, head, w, n, phi, v);
+      worldBodySample(frames, head, w, n, phi, v, true);
     });
     air_.reset();
     air_grid_ = std::move(grid);
@@ -1167,8 +1167,10 @@ void Solver::setWind(const WindParams& wind) {
 }
 
 bool Solver::airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head) {
-  // Everything the bodies' distances and velocities depend on, bit for bit.
-  std::vector<double> key;
+  // Everything the bodies' distances and velocities depend on, bit for bit
+  // (the scratch keeps its capacity from step to step).
+  std::vector<double>& key = air_bodies_scratch_;
+  key.clear();
   auto put = [&key](const auto& v, int n) {
     for (int k = 0; k < n; ++k) key.push_back(static_cast<double>(glm::value_ptr(v)[k]));
   };
@@ -1187,34 +1189,32 @@ bool Solver::airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKine
   }
   const bool moved = key.size() != air_bodies_key_.size() ||
                      std::memcmp(key.data(), air_bodies_key_.data(), key.size() * sizeof(double)) != 0;
-  air_bodies_key_ = std::move(key);
+  std::swap(key, air_bodies_key_);
   return moved;
 }
 
 void Solver::worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                             const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity) const {
+                             const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity,
+                             bool rough) const {
   const glm::dmat3 rt = glm::transpose(head.pose.rotation);
   const glm::vec3 omega(head.angular_velocity);
   const glm::mat3 rot(head.pose.rotation);
   const glm::vec3 frame_v(head.velocity);
   parallel::forEach(threads_, (n + kBodyBlock - 1) / kBodyBlock, [&](std::size_t bb) {
     const std::size_t b = bb * kBodyBlock, len = std::min(kBodyBlock, n - b);
-    glm::vec3 local[kBodyBlock], nrm[kBodyBlock], surface[kBodyBlock];
+    glm::vec3 local[kBodyBlock]{}, nrm[kBodyBlock], surface[kBodyBlock];
     for (std::size_t k = 0; k < len; ++k) local[k] = glm::vec3(rt * (glm::dvec3(world[b + k]) - head.pose.center));
-    queryBodies(frames, head, local, len, phi + b, nrm, surface, INFINITY, true);
+    queryBodies(frames, head, local, len, phi + b, nrm, velocity ? surface : nullptr, INFINITY, rough);
     // the bodies' velocity relative to the head frame, made a world one
-    for (std::size_t k = 0; k < len; ++k)
-      velocity[b + k] = rot * (surface[k] + glm::cross(omega, local[k])) + frame_v;
+    if (velocity)
+      for (std::size_t k = 0; k < len; ++k)
+        velocity[b + k] = rot * (surface[k] + glm::cross(omega, local[k])) + frame_v;
   });
 }
 
 void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                                const glm::vec3* world, std::size_t n, float* phi) const {
-  const glm::dmat3 rt = glm::transpose(head.pose.rotation);
-  std::vector<glm::vec3> local(n), nrm(n);
-  for (std::size_t k = 0; k < n; ++k)
-    local[k] = glm::vec3(rt * (glm::dvec3(world[k]) - head.pose.center));
-  queryBodies(frames, head, local.data(), n, phi, nrm.data(), nullptr);
+  worldBodySample(frames, head, world, n, phi, nullptr, false);
 }
 
 std::size_t Solver::airCount() const {
@@ -1916,7 +1916,7 @@ void Solver::step() {
     AirGrid::BodySampler bodies;
     if (airBodiesMoved(frames, head_end))
       bodies = [&](const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) {
-        worldBodySample(frames, head_end, w, count, phi, v);
+        worldBodySample(frames, head_end, w, count, phi, v, true);
       };
     air_grid_->advance(t_end, bodies, threads_);
     lap(st.air);

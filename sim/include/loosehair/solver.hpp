@@ -298,10 +298,12 @@ class Solver {
   /// Whether the bodies are placed otherwise than at the last call (the
   /// grid air's bodies need placing again).
   bool airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
-  std::vector<double> air_bodies_key_;
-  /// Body distances and world velocities at world points (the grid air's bodies).
+  std::vector<double> air_bodies_key_, air_bodies_scratch_;
+  /// Body distances and (if `velocity`) world velocities at world points;
+  /// `rough`: the bodies' grid distances (Body::roughDistanceBelow).
   void worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                       const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity) const;
+                       const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity,
+                       bool rough) const;
   std::size_t updateDirections(Scratch& s);  // returns the particles with non-finite state
 
   SimParams params_;
