@@ -295,7 +295,8 @@ void AirGrid::project(int threads) {
   x.resize(nc);
   if (mic_stale_) buildPreconditioner();
   for (std::size_t q = 0; q < nc; ++q) x[q] = links_[q] ? static_cast<double>(pressure_[q]) : 0.0;
-  // b = -h div u (the flux out of each open cell)
+  // r = b - A x from the last pressure, b = -h div u (minus the flux out of
+  // each open cell)
   apply(x, ad_);
   double bnorm = 0.0;
   for (int k = 0; k < n_[2]; ++k)
