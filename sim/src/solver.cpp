@@ -100,6 +100,9 @@ constexpr float kRootFactor = -1.0f;
 
 constexpr std::size_t kBodyBlock = 256;
 constexpr float kSkin = 1e-6f;  // m: how far out of a body a pushed particle is put
+// m: what a particle's clearance must exceed to skip the exact query, room
+// for the rounding of positions and body placements (~1e-7 m) many times over
+constexpr float kClearMargin = 2e-5f;
 // m/s: the fastest approach to a body that speculative contacts catch
 // within one step (faster ones are left to the projection)
 constexpr float kSpeculativeSpeed = 2.0f;
@@ -299,6 +302,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   limited_position_.assign(n, glm::vec3(0.0f));
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
+  body_clearance_.assign(n, -INFINITY);
   resizeScratch(*scratch_, false);
 
   // Initial density: rest density rho0 and the kernel-free collision and
@@ -1337,6 +1341,11 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   strain_records_[0].resize(n);
   glm::vec4* strain_record = strain_records_[0].data();
   const float* inv_mass = inverse_mass_.data();
+  // the rough answers' worst error over the bodies asked: phi - error is a
+  // lower bound of the distance (Body::roughError)
+  float rough_error = head_->roughError();
+  for (const BodyFrame& f : frames) rough_error = std::max(rough_error, f.body->roughError());
+  float* clearance = body_clearance_.data();
   std::size_t contacts = 0;
   std::atomic<std::size_t> contacts_sum{0};
   parallel::run(threads_, [&] {
@@ -1386,6 +1395,8 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
         v[i] = vi;
         x[i] += dt * vi;
         integrated_position_[i] = x[i];
+        // phi is 1-Lipschitz: the step moved the particle dt |v| at most
+        clearance[i] = body_phi_[i] - rough_error - dt * glm::length(vi);
         strain_record[i] = glm::vec4(x[i], inv_mass[i]);
       }
     }
@@ -1584,7 +1595,8 @@ void Solver::setTieTethers(std::vector<glm::vec3> point, std::vector<float> reac
 // pushed are outside the bodies with obstacles, so outside those without.
 // On the mesh-head scenes the later rounds asked all 256 particles of any
 // block with one particle inside.
-void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
+void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
+                                const std::vector<BodyFrame>& frames,
                                 const std::vector<BodyFrame>& solid_frames,
                                 const HeadKinematics& head) {
   const std::size_t n = particles_.size();
@@ -1604,6 +1616,28 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
   const float reach_scale = 1.0f + params_.tether_slack;
   static_assert(kBodyBlock <= 65536);
   prepareBodyHints(frames);
+  // A particle's clearance now: integrate()'s bound, less how far it moved
+  // since (the strain limit, the tethers) and how far any world body moved
+  // in its frame (rigidly: a body's distance is 1-Lipschitz in the point).
+  // Bodies that came or went since integrate(): no bound.
+  const bool same_bodies =
+      start_frames.size() == frames.size() &&
+      std::equal(frames.begin(), frames.end(), start_frames.begin(),
+                 [](const BodyFrame& a, const BodyFrame& c) { return a.body == c.body; });
+  bool bodies_moved = false;
+  for (std::size_t k = 0; same_bodies && k < frames.size(); ++k)
+    bodies_moved = bodies_moved || frames[k].m != start_frames[k].m || frames[k].d != start_frames[k].d;
+  const float* clear = body_clearance_.data();
+  auto clearance = [&](std::size_t i) {
+    if (!same_bodies) return -INFINITY;
+    const glm::vec3 xi = integrated_position_[i];
+    float lower = clear[i] - glm::length(x[i] - xi);
+    for (std::size_t k = 0; bodies_moved && k < frames.size(); ++k)
+      lower = std::min(lower, clear[i] - glm::length(x[i] - xi) -
+                                  glm::length((frames[k].m * xi + frames[k].d) -
+                                              (start_frames[k].m * xi + start_frames[k].d)));
+    return lower;
+  };
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
   parallel::forEachDynamic(
@@ -1617,14 +1651,23 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
         std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
         glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
         float q_phi[kBodyBlock];
-        std::size_t asked = len;
+        std::size_t asked = 0;
         std::uint32_t index[kBodyBlock];  // the particles asked
+        // The first round asks about the particles integrate() did not
+        // prove clear of every body; the others keep that proof.
         for (std::size_t o = 0; o < len; ++o) {
-          ask[o] = static_cast<std::uint16_t>(o);
-          index[o] = static_cast<std::uint32_t>(b + o);
+          const std::size_t i = b + o;
+          if (root[i]) continue;  // never pushed
+          const float lower = clearance(i);
+          if (lower > kClearMargin) {
+            body_phi_[i] = lower;
+            continue;
+          }
+          ask[asked++] = static_cast<std::uint16_t>(o);
         }
         for (int round = 0; round < total_rounds; ++round) {
-          if (round == 0) {
+          if (round == 0 && asked == len) {
+            for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
             queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f, false,
                         index);
           } else {
@@ -1901,10 +1944,11 @@ void Solver::step() {
   // Corrections: strain limit, tethers, and no particle left inside a body.
   const std::size_t limited = limitStrain();
   HeadKinematics head_end;
+  const std::vector<BodyFrame> start_frames = frames;
   placeBodies(t_end, frames, head_end);
   std::vector<BodyFrame> solid_frames;  // without obstacles: the last round
   placeBodies(t_end, solid_frames, head_end, false);
-  projectOutOfBodies(dt, frames, solid_frames, head_end);  // and the tethers
+  projectOutOfBodies(dt, start_frames, frames, solid_frames, head_end);  // and the tethers
   lap(st.strain_limit);
 
   if (air_) {

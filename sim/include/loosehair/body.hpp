@@ -47,6 +47,11 @@ class Body {
                                   glm::vec3* normal) const {
     signedDistanceBelow(p, n, limit, phi, normal);
   }
+  /// How far (m) roughDistanceBelow's answers may lie above the true
+  /// signed distance: rough - roughError() is a lower bound of it
+  /// everywhere (the solver's proof that a particle is clear of the body
+  /// without asking again). 0 where rough is the exact query, as by default.
+  virtual float roughError() const { return 0.0f; }
 };
 
 /// An analytic sphere.
@@ -191,6 +196,7 @@ class MeshBody final : public Body {
                                  glm::vec3* normal, std::int32_t* hint) const override;
   void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                           glm::vec3* normal) const override;
+  float roughError() const override { return grid_error_; }
   const GridSdfBody& grid() const { return *grid_; }
   /// The grid's worst error (m): a Lipschitz bound, sqrt(3) voxels.
   float gridError() const { return grid_error_; }

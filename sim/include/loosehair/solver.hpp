@@ -291,7 +291,9 @@ class Solver {
   std::size_t integrate(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
   std::size_t limitStrain();
   void applyTethers(std::size_t b, std::size_t e);  // particles [b, e)
-  void projectOutOfBodies(float dt, const std::vector<BodyFrame>& frames,
+  /// `start_frames`: the world bodies where integrate() saw them.
+  void projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
+                          const std::vector<BodyFrame>& frames,
                           const std::vector<BodyFrame>& solid_frames, const HeadKinematics& head);
   void moveAir(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head_start,
                const HeadKinematics& head_end);
@@ -344,6 +346,10 @@ class Solver {
   std::vector<glm::vec4> strain_records_[2];  // (x, 1/m) in and out of a strain iteration
   std::vector<float> body_phi_;
   std::vector<glm::vec3> body_normal_;
+  // per particle, made by integrate(): a lower bound of its distance from
+  // every body at its integrated position, with the bodies where they were
+  // at the step's start (projectOutOfBodies skips whom it proves clear)
+  std::vector<float> body_clearance_;
   std::unique_ptr<Scratch> scratch_;
   struct Sliced;  // the connections in the layout of the connection passes
   std::unique_ptr<Sliced> sliced_;
