@@ -1,6 +1,7 @@
 // Backward-Euler velocity solve of the loose springs (implicit_springs.hpp).
 #include "implicit_springs.hpp"
 
+#include "pair_columns.hpp"
 #include "parallel.hpp"
 
 #include <glm/geometric.hpp>
@@ -38,6 +39,55 @@ void sliceProduct(std::size_t rows, std::size_t q0, const float* __restrict ux, 
       ax[l] += s * nx;
       ay[l] += s * ny;
       az[l] += s * nz;
+    }
+  }
+}
+
+
+// The set-up of one slice (16 lanes, row by row, each lane's sums in its
+// list's order): per entry the pair's unit direction n and c = scale w
+// (0 where `live` is 0 or past the lane's degree), and per lane the sums
+// of c n n^T (6 numbers) and of w n (n . (v_j - v_i)). The lanes are the
+// vector's: arithmetic across them, gathers of the partners.
+struct SetupLanes {
+  float xi[L], yi[L], zi[L], vxi[L], vyi[L], vzi[L];
+  float degree[L], live[L];
+  float a[6][L], pull[3][L];
+};
+LOOSEHAIR_PAIR_KERNEL
+void sliceSetup(std::size_t rows, std::size_t q0, float scale, const std::uint32_t* __restrict partner,
+                const float* __restrict weight, const glm::vec3* __restrict x, const glm::vec3* __restrict v,
+                float* __restrict ux, float* __restrict uy, float* __restrict uz, float* __restrict c,
+                SetupLanes& __restrict s) {
+  for (int k = 0; k < 6; ++k)
+    for (std::size_t l = 0; l < L; ++l) s.a[k][l] = 0.0f;
+  for (int k = 0; k < 3; ++k)
+    for (std::size_t l = 0; l < L; ++l) s.pull[k][l] = 0.0f;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::size_t q = q0 + r * L;
+    const float row = static_cast<float>(r);
+    for (std::size_t l = 0; l < L; ++l) {
+      const std::uint32_t j = partner[q + l];
+      const bool on = s.live[l] != 0.0f && row < s.degree[l];
+      const float dx = x[j].x - s.xi[l], dy = x[j].y - s.yi[l], dz = x[j].z - s.zi[l];
+      const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const bool unit = on && len > 0.0f;
+      const float nx = unit ? dx / len : 0.0f, ny = unit ? dy / len : 0.0f, nz = unit ? dz / len : 0.0f;
+      const float w = on ? weight[q + l] : 0.0f, cq = on ? scale * w : 0.0f;
+      ux[q + l] = nx;
+      uy[q + l] = ny;
+      uz[q + l] = nz;
+      c[q + l] = cq;
+      s.a[0][l] += on ? cq * nx * nx : 0.0f;
+      s.a[1][l] += on ? cq * nx * ny : 0.0f;
+      s.a[2][l] += on ? cq * nx * nz : 0.0f;
+      s.a[3][l] += on ? cq * ny * ny : 0.0f;
+      s.a[4][l] += on ? cq * ny * nz : 0.0f;
+      s.a[5][l] += on ? cq * nz * nz : 0.0f;
+      const float along = w * (nx * (v[j].x - s.vxi[l]) + ny * (v[j].y - s.vyi[l]) + nz * (v[j].z - s.vzi[l]));
+      s.pull[0][l] += on ? along * nx : 0.0f;
+      s.pull[1][l] += on ? along * ny : 0.0f;
+      s.pull[2][l] += on ? along * nz : 0.0f;
     }
   }
 }
@@ -85,47 +135,37 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
     };
     // Each owner's entries, its 3x3 block and its right-hand side
     // dt f_i + dt^2 sum_j w n (n . (v_j - v_i)), in list order.
+    SetupLanes lanes;
     for (std::size_t s = sb; s < se; ++s) {
       const std::size_t row0 = cs.row_begin[s], rows = cs.row_begin[s + 1] - row0;
       for (std::size_t l = 0; l < L; ++l) {
         const std::size_t lane = s * L + l;
         const std::uint32_t i = cs.owner[lane];
-        const bool real = lane < n, fixed = root[i] != 0;
-        const auto degree = static_cast<std::size_t>(cs.degree[lane]);
-        const glm::vec3 xi = x[i], vi = v[i];
-        float a[6] = {0, 0, 0, 0, 0, 0};
-        glm::vec3 pull(0.0f);
-        for (std::size_t r = 0; r < rows; ++r) {
-          const std::size_t q = (row0 + r) * L + l;
-          if (!real || fixed || r >= degree) {
-            ux_[q] = uy_[q] = uz_[q] = c_[q] = 0.0f;
-            continue;
-          }
-          const std::uint32_t j = cs.partner[q];
-          const glm::vec3 d = x[j] - xi;
-          const float len = glm::length(d);
-          const glm::vec3 u = len > 0.0f ? d / len : glm::vec3(0.0f);
-          const float w = in.weight[q], c = scale * w;
-          ux_[q] = u.x;
-          uy_[q] = u.y;
-          uz_[q] = u.z;
-          c_[q] = c;
-          a[0] += c * u.x * u.x;
-          a[1] += c * u.x * u.y;
-          a[2] += c * u.x * u.z;
-          a[3] += c * u.y * u.y;
-          a[4] += c * u.y * u.z;
-          a[5] += c * u.z * u.z;
-          pull += (w * glm::dot(u, v[j] - vi)) * u;
-        }
-        if (!real) continue;
+        lanes.xi[l] = x[i].x;
+        lanes.yi[l] = x[i].y;
+        lanes.zi[l] = x[i].z;
+        lanes.vxi[l] = v[i].x;
+        lanes.vyi[l] = v[i].y;
+        lanes.vzi[l] = v[i].z;
+        lanes.degree[l] = cs.degree[lane];
+        lanes.live[l] = lane < n && root[i] == 0 ? 1.0f : 0.0f;
+      }
+      sliceSetup(rows, row0 * L, scale, cs.partner.data(), in.weight, x, v, ux_.data(), uy_.data(), uz_.data(),
+                 c_.data(), lanes);
+      for (std::size_t l = 0; l < L; ++l) {
+        const std::size_t lane = s * L + l;
+        if (lane >= n) continue;
+        const std::uint32_t i = cs.owner[lane];
         float* pc = &precond_[6 * std::size_t{i}];
-        if (fixed) {
+        if (root[i]) {
           std::fill(pc, pc + 6, 0.0f);
           r_[i] = glm::vec3(0.0f);
           continue;
         }
-        const glm::mat3 block(m[i] + a[0], a[1], a[2], a[1], m[i] + a[3], a[4], a[2], a[4], m[i] + a[5]);
+        const float* a[6] = {&lanes.a[0][l], &lanes.a[1][l], &lanes.a[2][l],
+                             &lanes.a[3][l], &lanes.a[4][l], &lanes.a[5][l]};
+        const glm::mat3 block(m[i] + *a[0], *a[1], *a[2], *a[1], m[i] + *a[3], *a[4], *a[2], *a[4],
+                              m[i] + *a[5]);
         const glm::mat3 inv = glm::inverse(block);
         pc[0] = inv[0][0];
         pc[1] = inv[0][1];
@@ -133,6 +173,7 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
         pc[3] = inv[1][1];
         pc[4] = inv[1][2];
         pc[5] = inv[2][2];
+        const glm::vec3 pull(lanes.pull[0][l], lanes.pull[1][l], lanes.pull[2][l]);
         r_[i] = dt * f[i] + (dt * dt) * pull;
       }
     }
