@@ -119,15 +119,22 @@ struct ExactDistance::Tree {
   static constexpr std::uint32_t kLeaf = 8;
   std::vector<Node> nodes;
   std::vector<std::uint32_t> order;  // triangle ids in leaf order
-  std::vector<glm::vec3> corners;    // 3 a triangle, in leaf order
   // Each triangle's plane (unit normal n, offset w: n.p + w is the distance
-  // from the plane) and bounding sphere (centre, radius), in leaf order and
-  // by id: the distances from the plane and from the sphere are lower
-  // bounds of the distance from the triangle, so a triangle either of them
-  // puts farther than the ball (by more than `tolerance`, which covers the
-  // rounding) cannot be the nearest and is not tested. The plane rejects
-  // what lies beside a curved surface, the sphere what lies along a flat one.
-  std::vector<glm::vec4> leaf_plane, plane, leaf_sphere, sphere;
+  // from the plane) and bounding sphere (centre, radius): the distances
+  // from the plane and from the sphere are lower bounds of the distance
+  // from the triangle, so a triangle either of them puts farther than the
+  // ball (by more than `tolerance`, which covers the rounding) cannot be
+  // the nearest and is not tested. The plane rejects what lies beside a
+  // curved surface, the sphere what lies along a flat one. A triangle's
+  // tests and corners are one record, in leaf order (a cell's or a leaf's
+  // triangles are then a few neighbouring records, not four arrays).
+  struct Leaf {
+    glm::vec4 plane, sphere;
+    glm::vec3 a, b, c;
+    std::uint32_t id;
+  };
+  std::vector<Leaf> leaves;
+  std::vector<std::uint32_t> rank;  // per triangle id: its record in leaves
   float tolerance = 0.0f;
   // The triangles (by leaf order) of each cell: a small ball is searched
   // there rather than down the hierarchy.
@@ -143,25 +150,22 @@ struct ExactDistance::Tree {
       centre[k] = (vertices[triangles[k].x] + vertices[triangles[k].y] + vertices[triangles[k].z]) / 3.0f;
     nodes.reserve(2 * nt / kLeaf + 2);
     split(0, static_cast<std::uint32_t>(nt), centre);
-    corners.resize(3 * nt);
+    std::vector<glm::vec3> corners(3 * nt);
     for (std::size_t k = 0; k < nt; ++k)
       for (int i = 0; i < 3; ++i) corners[3 * k + static_cast<std::size_t>(i)] = vertices[triangles[order[k]][i]];
-    plane.resize(nt);
+    leaves.resize(nt);
+    rank.resize(nt);
     for (std::size_t k = 0; k < nt; ++k) {
-      const glm::vec3 n = face_normal[k], a = vertices[triangles[k].x];
-      plane[k] = glm::vec4(n, -glm::dot(n, a));
-    }
-    sphere.resize(nt);
-    for (std::size_t k = 0; k < nt; ++k) {
-      const glm::vec3 a = vertices[triangles[k].x], b = vertices[triangles[k].y], c = vertices[triangles[k].z];
-      const glm::vec3 m = (a + b + c) / 3.0f;
-      sphere[k] = glm::vec4(m, std::max({glm::length(a - m), glm::length(b - m), glm::length(c - m)}));
-    }
-    leaf_plane.resize(nt);
-    leaf_sphere.resize(nt);
-    for (std::size_t k = 0; k < nt; ++k) {
-      leaf_plane[k] = plane[order[k]];
-      leaf_sphere[k] = sphere[order[k]];
+      const std::uint32_t t = order[k];
+      const glm::vec3 a = vertices[triangles[t].x], b = vertices[triangles[t].y], c = vertices[triangles[t].z];
+      const glm::vec3 n = face_normal[t], m = (a + b + c) / 3.0f;
+      leaves[k].plane = glm::vec4(n, -glm::dot(n, a));
+      leaves[k].sphere = glm::vec4(m, std::max({glm::length(a - m), glm::length(b - m), glm::length(c - m)}));
+      leaves[k].a = a;
+      leaves[k].b = b;
+      leaves[k].c = c;
+      leaves[k].id = t;
+      rank[t] = static_cast<std::uint32_t>(k);
     }
     // rounding of coordinates of size `extent` in the plane distance and in
     // nearestOnTriangle: a few units in the last place of float each
@@ -233,8 +237,12 @@ struct ExactDistance::Tree {
     }
   };
   void offer(Nearest& q, std::uint32_t t) const {
-    if (!q.near(plane[t], sphere[t], tolerance)) return;
-    q.offer(t, vertices[triangles[t].x], vertices[triangles[t].y], vertices[triangles[t].z]);
+    const Leaf& l = leaves[rank[t]];
+    if (q.near(l.plane, l.sphere, tolerance)) q.offer(t, l.a, l.b, l.c);
+  }
+  void offerLeaf(Nearest& q, std::uint32_t k) const {
+    const Leaf& l = leaves[k];
+    if (q.near(l.plane, l.sphere, tolerance)) q.offer(l.id, l.a, l.b, l.c);
   }
   // The search of a ball within the cells' reach (the reach and the
   // ball's rounding allowed for): every triangle that can be nearer than
@@ -242,9 +250,7 @@ struct ExactDistance::Tree {
   bool searchCells(Nearest& q) const {
     if (q.reach < 0.0f) q.reach = std::sqrt(q.r2) + tolerance;
     if (!(q.reach <= cells.reach())) return false;
-    cells.forEachNear(q.p, q.reach, [&](std::uint32_t k) {
-      if (q.near(leaf_plane[k], leaf_sphere[k], tolerance)) q.offer(order[k], corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]);
-    });
+    cells.forEachNear(q.p, q.reach, [&](std::uint32_t k) { offerLeaf(q, k); });
     return true;
   }
   void search(Nearest& q) const {
@@ -257,8 +263,7 @@ struct ExactDistance::Tree {
       if (boxDistance2(q.p, node.lo, node.hi) > q.r2) continue;  // the ball shrank
       if (node.count > 0) {
         for (std::uint32_t k = node.first_or_second; k < node.first_or_second + node.count; ++k)
-          if (q.near(leaf_plane[k], leaf_sphere[k], tolerance))
-            q.offer(order[k], corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]);
+          offerLeaf(q, k);
         continue;
       }
       const std::uint32_t a = static_cast<std::uint32_t>(&node - nodes.data()) + 1,
