@@ -45,49 +45,32 @@ void sliceProduct(std::size_t rows, std::size_t q0, const float* __restrict ux, 
 
 
 // The set-up of one slice (16 lanes, row by row, each lane's sums in its
-// list's order): per entry the pair's unit direction n and c = scale w
-// (0 where `live` is 0 or past the lane's degree), and per lane the sums
-// of c n n^T (6 numbers) and of w n (n . (v_j - v_i)). The lanes are the
-// vector's: arithmetic across them, gathers of the partners.
+// list's order): per entry c = scale w (0 where `live` is 0 or past the
+// lane's degree), and per lane the sums of c n n^T (6 numbers).
 struct SetupLanes {
-  float xi[L], yi[L], zi[L], vxi[L], vyi[L], vzi[L];
   float degree[L], live[L];
-  float a[6][L], pull[3][L];
+  float a[6][L];
 };
 LOOSEHAIR_PAIR_KERNEL
-void sliceSetup(std::size_t rows, std::size_t q0, float scale, const std::uint32_t* __restrict partner,
-                const float* __restrict weight, const glm::vec3* __restrict x, const glm::vec3* __restrict v,
-                float* __restrict ux, float* __restrict uy, float* __restrict uz, float* __restrict c,
-                SetupLanes& __restrict s) {
+void sliceSetup(std::size_t rows, std::size_t q0, float scale, const float* __restrict weight,
+                const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
+                float* __restrict c, SetupLanes& __restrict s) {
   for (int k = 0; k < 6; ++k)
     for (std::size_t l = 0; l < L; ++l) s.a[k][l] = 0.0f;
-  for (int k = 0; k < 3; ++k)
-    for (std::size_t l = 0; l < L; ++l) s.pull[k][l] = 0.0f;
   for (std::size_t r = 0; r < rows; ++r) {
     const std::size_t q = q0 + r * L;
     const float row = static_cast<float>(r);
     for (std::size_t l = 0; l < L; ++l) {
-      const std::uint32_t j = partner[q + l];
       const bool on = s.live[l] != 0.0f && row < s.degree[l];
-      const float dx = x[j].x - s.xi[l], dy = x[j].y - s.yi[l], dz = x[j].z - s.zi[l];
-      const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
-      const bool unit = on && len > 0.0f;
-      const float nx = unit ? dx / len : 0.0f, ny = unit ? dy / len : 0.0f, nz = unit ? dz / len : 0.0f;
-      const float w = on ? weight[q + l] : 0.0f, cq = on ? scale * w : 0.0f;
-      ux[q + l] = nx;
-      uy[q + l] = ny;
-      uz[q + l] = nz;
+      const float nx = ux[q + l], ny = uy[q + l], nz = uz[q + l];
+      const float cq = on ? scale * weight[q + l] : 0.0f;
       c[q + l] = cq;
-      s.a[0][l] += on ? cq * nx * nx : 0.0f;
-      s.a[1][l] += on ? cq * nx * ny : 0.0f;
-      s.a[2][l] += on ? cq * nx * nz : 0.0f;
-      s.a[3][l] += on ? cq * ny * ny : 0.0f;
-      s.a[4][l] += on ? cq * ny * nz : 0.0f;
-      s.a[5][l] += on ? cq * nz * nz : 0.0f;
-      const float along = w * (nx * (v[j].x - s.vxi[l]) + ny * (v[j].y - s.vyi[l]) + nz * (v[j].z - s.vzi[l]));
-      s.pull[0][l] += on ? along * nx : 0.0f;
-      s.pull[1][l] += on ? along * ny : 0.0f;
-      s.pull[2][l] += on ? along * nz : 0.0f;
+      s.a[0][l] += cq * nx * nx;
+      s.a[1][l] += cq * nx * ny;
+      s.a[2][l] += cq * nx * nz;
+      s.a[3][l] += cq * ny * ny;
+      s.a[4][l] += cq * ny * nz;
+      s.a[5][l] += cq * nz * nz;
     }
   }
 }
@@ -99,9 +82,6 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
   const std::size_t n = in.particles, slices = cs.sliceCount();
   const std::size_t windows = (slices + kWindowSlices - 1) / kWindowSlices;
   const std::size_t entries = cs.entryCount();
-  ux_.resize(entries);
-  uy_.resize(entries);
-  uz_.resize(entries);
   c_.resize(entries);
   precond_.resize(6 * n);
   r_.resize(n);
@@ -117,7 +97,7 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
   rz_partial_.assign(windows, 0.0);
   const float dt = in.dt, scale = dt * dt + in.gamma * dt;
   const double tol2 = static_cast<double>(in.tolerance) * in.tolerance;
-  const glm::vec3 *x = in.position, *v = in.velocity, *f = in.force;
+  const glm::vec3* f = in.force;
   const float* m = in.mass;
   const std::uint8_t* root = in.is_root;
   ImplicitSpringReport report;
@@ -140,18 +120,10 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
       const std::size_t row0 = cs.row_begin[s], rows = cs.row_begin[s + 1] - row0;
       for (std::size_t l = 0; l < L; ++l) {
         const std::size_t lane = s * L + l;
-        const std::uint32_t i = cs.owner[lane];
-        lanes.xi[l] = x[i].x;
-        lanes.yi[l] = x[i].y;
-        lanes.zi[l] = x[i].z;
-        lanes.vxi[l] = v[i].x;
-        lanes.vyi[l] = v[i].y;
-        lanes.vzi[l] = v[i].z;
         lanes.degree[l] = cs.degree[lane];
-        lanes.live[l] = lane < n && root[i] == 0 ? 1.0f : 0.0f;
+        lanes.live[l] = lane < n && root[cs.owner[lane]] == 0 ? 1.0f : 0.0f;
       }
-      sliceSetup(rows, row0 * L, scale, cs.partner.data(), in.weight, x, v, ux_.data(), uy_.data(), uz_.data(),
-                 c_.data(), lanes);
+      sliceSetup(rows, row0 * L, scale, in.weight, in.unit_x, in.unit_y, in.unit_z, c_.data(), lanes);
       for (std::size_t l = 0; l < L; ++l) {
         const std::size_t lane = s * L + l;
         if (lane >= n) continue;
@@ -162,10 +134,9 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
           r_[i] = glm::vec3(0.0f);
           continue;
         }
-        const float* a[6] = {&lanes.a[0][l], &lanes.a[1][l], &lanes.a[2][l],
-                             &lanes.a[3][l], &lanes.a[4][l], &lanes.a[5][l]};
-        const glm::mat3 block(m[i] + *a[0], *a[1], *a[2], *a[1], m[i] + *a[3], *a[4], *a[2], *a[4],
-                              m[i] + *a[5]);
+        const float a0 = lanes.a[0][l], a1 = lanes.a[1][l], a2 = lanes.a[2][l], a3 = lanes.a[3][l],
+                    a4 = lanes.a[4][l], a5 = lanes.a[5][l];
+        const glm::mat3 block(m[i] + a0, a1, a2, a1, m[i] + a3, a4, a2, a4, m[i] + a5);
         const glm::mat3 inv = glm::inverse(block);
         pc[0] = inv[0][0];
         pc[1] = inv[0][1];
@@ -173,8 +144,7 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
         pc[3] = inv[1][1];
         pc[4] = inv[1][2];
         pc[5] = inv[2][2];
-        const glm::vec3 pull(lanes.pull[0][l], lanes.pull[1][l], lanes.pull[2][l]);
-        r_[i] = dt * f[i] + (dt * dt) * pull;
+        r_[i] = dt * f[i] + (dt * dt) * in.pull[i];
       }
     }
     // ap = A src and src . ap, per window
@@ -194,7 +164,7 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
             az[l] = m[i] * pi.z;
           }
           const std::size_t row0 = cs.row_begin[s];
-          sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, ux_.data(), uy_.data(), uz_.data(), c_.data(),
+          sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, in.unit_x, in.unit_y, in.unit_z, c_.data(),
                        cs.partner.data(), src.data(), pix, piy, piz, ax, ay, az);
           for (std::size_t l = 0; l < L && s * L + l < n; ++l) {
             const std::uint32_t i = cs.owner[s * L + l];

@@ -45,8 +45,11 @@ class ImplicitSprings {
   struct Input {
     const ConnectionSlices* layout = nullptr;
     const float* weight = nullptr;  // alpha_ij k_ij per slice entry (the spring pass's)
-    const glm::vec3* position = nullptr;
-    const glm::vec3* velocity = nullptr;
+    /// The pair's unit direction n per slice entry, and per particle
+    /// sum_j alpha_ij k_ij (n . (v_j - v_i)) n (the spring pass's: the
+    /// solve gathers no partner).
+    const float *unit_x = nullptr, *unit_y = nullptr, *unit_z = nullptr;
+    const glm::vec3* pull = nullptr;
     const glm::vec3* force = nullptr;  // every force of the step
     const float* mass = nullptr;
     const std::uint8_t* is_root = nullptr;
@@ -66,9 +69,9 @@ class ImplicitSprings {
   ImplicitSpringReport solve(const Input& in, int threads, std::vector<glm::vec3>& dv);
 
  private:
-  // per slice entry: the pair's unit direction and (dt^2 + gamma dt) w,
-  // 0 for padding and for the entries of roots
-  std::vector<float> ux_, uy_, uz_, c_;
+  // per slice entry: (dt^2 + gamma dt) w, 0 for padding and for the
+  // entries of roots
+  std::vector<float> c_;
   std::vector<float> precond_;  // per particle: the 6 of the inverse 3x3 block
   std::vector<glm::vec3> r_, z_, p_, ap_;
   std::vector<double> pap_partial_, rz_partial_;  // per window

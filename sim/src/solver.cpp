@@ -654,6 +654,10 @@ void Solver::resizeScratch(Scratch& s, bool keep_k) const {
   s.factor_root.assign(n, 0.0f);
   s.factor_tip.assign(n, 0.0f);
   s.weight.assign(sliced_->layout.entryCount(), 0.0f);  // in the slice layout
+  s.unit_x.assign(sliced_->layout.entryCount(), 0.0f);
+  s.unit_y.assign(sliced_->layout.entryCount(), 0.0f);
+  s.unit_z.assign(sliced_->layout.entryCount(), 0.0f);
+  s.pull.assign(n, glm::vec3(0.0f));
   s.k.assign(keep_k ? m : 0, 0.0f);
   s.sums_current = false;
 }
@@ -735,7 +739,8 @@ namespace {
 // The damped spring forces of the connections of a run of slices:
 // alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|,
 // summed per lane in list order; and alpha_ij k_ij per entry, kept for the
-// direction pass. alpha_ij (eq. 14) from the owner's factor on the entry's
+// direction pass. For the implicit solve (implicit_springs.hpp), n per
+// entry and alpha_ij k_ij (v_ij . n) n summed per lane as well. alpha_ij (eq. 14) from the owner's factor on the entry's
 // side and the partner's on the other side (gathered); roots are known by
 // their factors' kRootFactor.
 struct SpringTerms {
@@ -752,13 +757,15 @@ void springSlices(
     const float* __restrict zj, const float* __restrict vxj, const float* __restrict vyj,
     const float* __restrict vzj, const float* __restrict frj, const float* __restrict ftj,
     const float* __restrict strength, const float* __restrict rest, float* __restrict weight,
-    float* __restrict fx_out, float* __restrict fy_out, float* __restrict fz_out) {
+    float* __restrict nx_out, float* __restrict ny_out, float* __restrict nz_out,
+    float* __restrict fx_out, float* __restrict fy_out, float* __restrict fz_out,
+    float* __restrict px_out, float* __restrict py_out, float* __restrict pz_out) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
   const float inv_h = p.inv_h, norm_w = p.norm_w, gamma = p.gamma;
   std::size_t q0 = 0;
   for (std::size_t sl = 0; sl < slices; ++sl) {
-    float fx[L], fy[L], fz[L];
-    for (std::size_t l = 0; l < L; ++l) fx[l] = fy[l] = fz[l] = 0.0f;
+    float fx[L], fy[L], fz[L], px[L], py[L], pz[L];
+    for (std::size_t l = 0; l < L; ++l) fx[l] = fy[l] = fz[l] = px[l] = py[l] = pz[l] = 0.0f;
     const std::size_t o = sl * L;
     for (std::uint32_t r = 0; r < rows[sl]; ++r, q0 += L) {
       const float row = static_cast<float>(r);
@@ -784,12 +791,25 @@ void springSlices(
         fx[l] = valid ? fx[l] + f * nx : fx[l];
         fy[l] = valid ? fy[l] + f * ny : fy[l];
         fz[l] = valid ? fz[l] + f * nz : fz[l];
+        // the implicit solve's n, by division (its own rounding, kept)
+        const float mx = len > 0.0f ? dx / len : 0.0f, my = len > 0.0f ? dy / len : 0.0f,
+                    mz = len > 0.0f ? dz / len : 0.0f;
+        nx_out[q] = mx;
+        ny_out[q] = my;
+        nz_out[q] = mz;
+        const float g = w * (mx * ux + my * uy + mz * uz);
+        px[l] = valid ? px[l] + g * mx : px[l];
+        py[l] = valid ? py[l] + g * my : py[l];
+        pz[l] = valid ? pz[l] + g * mz : pz[l];
       }
     }
     for (std::size_t l = 0; l < L; ++l) {
       fx_out[o + l] = fx[l];
       fy_out[o + l] = fy[l];
       fz_out[o + l] = fz[l];
+      px_out[o + l] = px[l];
+      py_out[o + l] = py[l];
+      pz_out[o + l] = pz[l];
     }
   }
 }
@@ -805,7 +825,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
   const SpringTerms terms{sk.inv_h, sk.norm_w, params_.spring_damping};
   // the first 8 columns of each: the two records' 4 + 4 floats (gatherRecordPairs)
   enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
-  enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, kLaneColumns };
+  enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, PX, PY, PZ, kLaneColumns };
   const std::size_t n = particles_.size();
   assert(s.spring_records.size() == 2 * n);  // made by computeSpringFactors
   const float* records = &s.spring_records[0].x;
@@ -826,10 +846,13 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
                    col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
                    col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
                    col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.strength.data() + q0,
-                   sl.rest.data() + q0, s.weight.data() + q0, col.lane(FX), col.lane(FY),
-                   col.lane(FZ));
-      for (std::size_t l = 0; l < run.used; ++l)
+                   sl.rest.data() + q0, s.weight.data() + q0, s.unit_x.data() + q0,
+                   s.unit_y.data() + q0, s.unit_z.data() + q0, col.lane(FX), col.lane(FY),
+                   col.lane(FZ), col.lane(PX), col.lane(PY), col.lane(PZ));
+      for (std::size_t l = 0; l < run.used; ++l) {
         force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
+        s.pull[owner[l]] = glm::vec3(col.lane(PX)[l], col.lane(PY)[l], col.lane(PZ)[l]);
+      }
     });
   });
 }
@@ -1308,8 +1331,10 @@ void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
   ImplicitSprings::Input in;
   in.layout = &sliced_->layout;
   in.weight = s.weight.data();
-  in.position = particles_.position.data();
-  in.velocity = particles_.velocity.data();
+  in.unit_x = s.unit_x.data();
+  in.unit_y = s.unit_y.data();
+  in.unit_z = s.unit_z.data();
+  in.pull = s.pull.data();
   in.force = force_.data();
   in.mass = particles_.mass.data();
   in.is_root = particles_.is_root.data();

@@ -17,6 +17,11 @@ struct Solver::Scratch {
   std::vector<float> factor_root;  // a_r,i, eq. 12
   std::vector<float> factor_tip;   // a_t,i, eq. 13
   std::vector<float> weight;       // alpha_ij k_ij of this step (by the spring pass), sliced
+  /// The pair's unit direction n = x_ij / |x_ij| (0 for |x_ij| = 0), sliced,
+  /// and per particle sum_j alpha_ij k_ij (n . v_ij) n: by the spring pass,
+  /// for the implicit solve's matrix and right-hand side.
+  std::vector<float> unit_x, unit_y, unit_z;
+  std::vector<glm::vec3> pull;
   std::vector<float> k;            // k_ij at the current positions: for the queries only
   /// What the spring pass reads of a partner, two 16-byte records per
   /// particle: (x, a_r) and (v, a_t); one cache line instead of three.
