@@ -24,7 +24,9 @@ inline glm::vec3 applySym(const float* a, const glm::vec3& v) {
 }
 
 // (A p)_i = m_i p_i + sum_j c n (n . (p_i - p_j)) for the 16 lanes of one
-// slice, row by row (each lane in its list's order).
+// slice, row by row (each lane in its list's order); multiversioned like
+// the pair kernels (the same bits in every version).
+LOOSEHAIR_PAIR_KERNEL
 void sliceProduct(std::size_t rows, std::size_t q0, const float* __restrict ux, const float* __restrict uy,
                   const float* __restrict uz, const float* __restrict c, const std::uint32_t* __restrict partner,
                   const glm::vec3* __restrict p, const float* pix, const float* piy, const float* piz,
