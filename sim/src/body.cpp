@@ -57,4 +57,14 @@ void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
   }
 }
 
+float UnionBody::roughError() const {
+  float most = 0.0f;
+  for (const auto& part : parts_) {
+    const float e = part->roughError();
+    if (!(e >= 0.0f)) return -1.0f;
+    most = std::max(most, e);
+  }
+  return most;
+}
+
 }  // namespace loosehair

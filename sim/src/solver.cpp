@@ -1367,9 +1367,14 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   glm::vec4* strain_record = strain_records_[0].data();
   const float* inv_mass = inverse_mass_.data();
   // the rough answers' worst error over the bodies asked: phi - error is a
-  // lower bound of the distance (Body::roughError)
+  // lower bound of the distance (Body::roughError); a body without such a
+  // bound leaves every particle to be asked
   float rough_error = head_->roughError();
-  for (const BodyFrame& f : frames) rough_error = std::max(rough_error, f.body->roughError());
+  for (const BodyFrame& f : frames) {
+    const float e = f.body->roughError();
+    rough_error = e >= 0.0f && rough_error >= 0.0f ? std::max(rough_error, e) : -1.0f;
+  }
+  if (!(rough_error >= 0.0f)) rough_error = INFINITY;
   float* clearance = body_clearance_.data();
   std::size_t contacts = 0;
   std::atomic<std::size_t> contacts_sum{0};

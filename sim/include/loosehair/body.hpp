@@ -47,11 +47,13 @@ class Body {
                                   glm::vec3* normal) const {
     signedDistanceBelow(p, n, limit, phi, normal);
   }
-  /// How far (m) roughDistanceBelow's answers may lie above the true
-  /// signed distance: rough - roughError() is a lower bound of it
-  /// everywhere (the solver's proof that a particle is clear of the body
-  /// without asking again). 0 where rough is the exact query, as by default.
-  virtual float roughError() const { return 0.0f; }
+  /// How far (m) roughDistanceBelow's answers may lie above the exact
+  /// signed distance, where the exact distance is 1-Lipschitz and decides
+  /// the sign signedDistanceBelow gives below 0: rough - roughError() is
+  /// then a lower bound of it everywhere (the solver's proof that a
+  /// particle is clear of the body without asking again). Negative: no
+  /// such bound (the default; the solver then asks about every particle).
+  virtual float roughError() const { return -1.0f; }
 };
 
 /// An analytic sphere.
@@ -60,6 +62,7 @@ class SphereBody final : public Body {
   SphereBody(glm::vec3 center, float radius);
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
+  float roughError() const override { return 0.0f; }  // exact
   glm::vec3 center() const { return center_; }
   float radius() const { return radius_; }
 
@@ -74,6 +77,7 @@ class CapsuleBody final : public Body {
   CapsuleBody(glm::vec3 a, glm::vec3 b, float radius);
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
+  float roughError() const override { return 0.0f; }  // exact
 
  private:
   glm::vec3 a_, b_;
@@ -86,6 +90,10 @@ class UnionBody final : public Body {
   void add(std::shared_ptr<const Body> body) { parts_.push_back(std::move(body)); }
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
+  /// The parts' largest (their signedDistance is within it of the exact
+  /// distance: exact, or a MeshBody's grid beyond its band); negative if
+  /// any part has none.
+  float roughError() const override;
 
  private:
   std::vector<std::shared_ptr<const Body>> parts_;
@@ -196,6 +204,8 @@ class MeshBody final : public Body {
                                  glm::vec3* normal, std::int32_t* hint) const override;
   void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                           glm::vec3* normal) const override;
+  /// Its grid's error: the rough answers (and signedDistance's beyond its
+  /// band) are within it of the exact distance, which decides the sign.
   float roughError() const override { return grid_error_; }
   const GridSdfBody& grid() const { return *grid_; }
   /// The grid's worst error (m): a Lipschitz bound, sqrt(3) voxels.
