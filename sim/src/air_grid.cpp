@@ -438,15 +438,22 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
     hair_vb_[i] = {glm::dot(vw, axes_.wind), glm::dot(vw, axes_.up), glm::dot(vw, axes_.side)};
     stencils(q, f, w);
   });
-  // The hair mass each face holds (in hair order, on this thread).
-  for (auto& m : mass_) std::fill(m.begin(), m.end(), 0.0f);
+  // The hair mass each face holds: each component's faces summed in hair
+  // order by one thread (the components side by side).
   coupled_ = 0;
   for (std::size_t i = 0; i < nh; ++i) {
     const float* w = &tap_w_[i * kTaps];
-    if (w[0] + w[1] + w[2] + w[3] + w[4] + w[5] + w[6] + w[7] == 0.0f) continue;
-    ++coupled_;
-    for (int t = 0; t < kTaps; ++t) mass_[static_cast<std::size_t>(t / 8)][tap_face_[i * kTaps + static_cast<std::size_t>(t)]] += w[t] * hair_m[i];
+    if (w[0] + w[1] + w[2] + w[3] + w[4] + w[5] + w[6] + w[7] != 0.0f) ++coupled_;
   }
+  parallel::forEach(threads, 3, [&](std::size_t c) {
+    auto& m = mass_[c];
+    std::fill(m.begin(), m.end(), 0.0f);
+    for (std::size_t i = 0; i < nh; ++i) {
+      const float* w = &tap_w_[i * kTaps + 8 * c];
+      const std::uint32_t* f = &tap_face_[i * kTaps + 8 * c];
+      for (int t = 0; t < 8; ++t) m[f[t]] += w[t] * hair_m[i];
+    }
+  });
   // Limiters as the particle air's: a side whose velocity would relax by
   // more than half in a step has its pair forces scaled down; a pair takes
   // the smaller of its two.
@@ -480,15 +487,21 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
     const glm::vec3 world = force.x * axes_.wind + force.y * axes_.up + force.z * axes_.side;
     hair_force[i] += rot_t * world;
   });
+  // The impulses onto the faces, each component in hair order by one
+  // thread, as the masses.
   glm::dvec3 on_air(0.0);
-  for (std::size_t i = 0; i < nh; ++i)
-    for (int t = 0; t < kTaps; ++t) {
-      const float push = tap_push_[i * kTaps + static_cast<std::size_t>(t)];
-      if (push == 0.0f) continue;
-      const int c = t / 8;
-      u_[static_cast<std::size_t>(c)][tap_face_[i * kTaps + static_cast<std::size_t>(t)]] += push;
-      on_air[c] += static_cast<double>(push) * face_mass / dt;
-    }
+  parallel::forEach(threads, 3, [&](std::size_t c) {
+    auto& u = u_[c];
+    double sum = 0.0;
+    for (std::size_t i = 0; i < nh; ++i)
+      for (std::size_t t = 8 * c; t < 8 * c + 8; ++t) {
+        const float push = tap_push_[i * kTaps + t];
+        if (push == 0.0f) continue;
+        u[tap_face_[i * kTaps + t]] += push;
+        sum += static_cast<double>(push) * face_mass / dt;
+      }
+    on_air[static_cast<glm::length_t>(c)] = sum;
+  });
   drag_on_air_ = on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
 }
 
