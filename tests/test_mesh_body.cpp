@@ -96,6 +96,23 @@ double exactSignedDistance(const TriangleMesh& m, glm::vec3 pf) {
   return inside ? -d : d;
 }
 
+// `m` checked (as a loaded mesh would be), baked on a grid of `voxel`, as
+// a mesh body.
+struct BakedBody {
+  MeshReport report;
+  std::shared_ptr<GridSdfBody> grid;
+  std::shared_ptr<MeshBody> body;
+};
+BakedBody meshBody(TriangleMesh& m, float voxel, const char* name = "test mesh") {
+  BakedBody t;
+  t.report = checkMesh(m, name);
+  SdfBakeOptions opt;
+  opt.voxel_size = voxel;
+  t.grid = GridSdfBody::bake(m, opt);
+  t.body = std::make_shared<MeshBody>(m, t.grid);
+  return t;
+}
+
 struct Comparison {
   double worst_exact = 0, worst_grid = 0;
   int sign_errors = 0, points = 0;
@@ -103,11 +120,9 @@ struct Comparison {
 
 Comparison compare(const TriangleMesh& mesh, float voxel, float spread, std::uint32_t seed) {
   TriangleMesh m = mesh;
-  checkMesh(m, "test mesh");
-  SdfBakeOptions opt;
-  opt.voxel_size = voxel;
-  const auto grid = GridSdfBody::bake(m, opt);
-  const MeshBody body(m, grid);
+  const BakedBody t = meshBody(m, voxel);
+  const auto& grid = t.grid;
+  const MeshBody& body = *t.body;
   // points near the surface: vertices and face centres pushed along random
   // directions by up to `spread`
   std::vector<glm::vec3> p;
@@ -168,10 +183,8 @@ TEST(MeshBody, ExactDistanceOnSharpEdgesAndCreases) {
 
 TEST(MeshBody, BelowALimitIsExactOrABound) {
   TriangleMesh m = bumpySphere(0.1f, 3, 0.1f);
-  checkMesh(m, "test mesh");
-  SdfBakeOptions opt;
-  opt.voxel_size = 0.01f;
-  const MeshBody body(m, GridSdfBody::bake(m, opt));
+  const BakedBody t = meshBody(m, 0.01f);
+  const MeshBody& body = *t.body;
   std::vector<glm::vec3> p;
   for (int k = 0; k < 400; ++k) {
     const float a = 0.137f * static_cast<float>(k), b = 0.071f * static_cast<float>(k);
@@ -198,11 +211,9 @@ TEST(MeshBody, BelowALimitIsExactOrABound) {
 // millimetres; the hair must still end every step outside the triangles.
 TEST(MeshBody, HairStaysOutsideTheExactSurface) {
   TriangleMesh m = bumpySphere(0.1f, 3, 0.06f);
-  checkMesh(m, "test mesh");
-  SdfBakeOptions opt;
-  opt.voxel_size = 0.01f;
-  auto grid = GridSdfBody::bake(m, opt);
-  auto body = std::make_shared<MeshBody>(m, grid);
+  const BakedBody baked = meshBody(m, 0.01f);
+  const auto& grid = baked.grid;
+  const auto& body = baked.body;
   SceneDesc scene = lhtest::sphereScene(800);
   Solver solver = buildSolver(scene);
   // the same hair on the bumpy head: roots projected onto its surface
@@ -222,7 +233,7 @@ TEST(MeshBody, HairStaysOutsideTheExactSurface) {
       float g;
       glm::vec3 gn;
       grid->signedDistance(&p.position[i], 1, &g, &gn);
-      if (g > 3.0f * opt.voxel_size) continue;
+      if (g > 3.0f * grid->voxelSize()) continue;
       deepest = std::min(deepest, exactSignedDistance(m, p.position[i]));
     }
   }
@@ -237,11 +248,9 @@ TEST(MeshBody, HairStaysOutsideTheExactSurface) {
 // with one have no such bound.
 TEST(MeshBody, RoughErrorBoundsTheRoughAnswers) {
   TriangleMesh m = bumpySphere(0.1f, 3, 0.06f);
-  checkMesh(m, "test mesh");
-  SdfBakeOptions opt;
-  opt.voxel_size = 0.01f;
-  auto grid = GridSdfBody::bake(m, opt);
-  auto body = std::make_shared<MeshBody>(m, grid);
+  const BakedBody baked = meshBody(m, 0.01f);
+  const auto& grid = baked.grid;
+  const auto& body = baked.body;
   EXPECT_FLOAT_EQ(body->roughError(), body->gridError());
   EXPECT_EQ(SphereBody(glm::vec3(0.0f), 0.1f).roughError(), 0.0f);
   EXPECT_LT(grid->roughError(), 0.0f);
@@ -276,10 +285,7 @@ TEST(MeshBody, RoughErrorBoundsTheRoughAnswers) {
 // the ball reached in the step is left inside it.
 TEST(MeshBody, HairStaysOutOfAWorldBodyMovingThroughIt) {
   TriangleMesh m = bumpySphere(0.05f, 3, 0.06f);
-  checkMesh(m, "test ball");
-  SdfBakeOptions opt;
-  opt.voxel_size = 0.008f;
-  auto ball = std::make_shared<MeshBody>(m, GridSdfBody::bake(m, opt));
+  const auto ball = meshBody(m, 0.008f, "test ball").body;
   Solver solver = buildSolver(lhtest::sphereScene(800));
   const HeadTrajectory sweep = HeadTrajectory::keyframes(
       {{1.0, glm::dvec3(0.0), glm::dvec3(-0.3, -0.17, -0.09)}, {1.2, glm::dvec3(0.0), glm::dvec3(0.3, -0.17, -0.09)}});
@@ -318,11 +324,9 @@ TEST(MeshBody, OverlappingClosedPartsActAsTheirUnion) {
   const glm::vec3 centre(0.0f, 0.0f, 0.1f);
   for (const auto& v : eye.vertices) m.vertices.push_back(v + centre);
   for (const auto& t : eye.triangles) m.triangles.push_back(t + glm::u32vec3(base));
-  MeshReport report = checkMesh(m, "head with an eye");
-  ASSERT_EQ(report.components, 2u);
-  SdfBakeOptions opt;
-  opt.voxel_size = 0.01f;
-  const MeshBody body(m, GridSdfBody::bake(m, opt));
+  const BakedBody t = meshBody(m, 0.01f, "head with an eye");
+  ASSERT_EQ(t.report.components, 2u);
+  const MeshBody& body = *t.body;
   int wrong = 0, points = 0;
   for (int k = 0; k < 2000; ++k) {
     // around the eye's rim, where the two surfaces meet, and over it

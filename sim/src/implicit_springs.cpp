@@ -45,7 +45,6 @@ void sliceProduct(std::size_t rows, std::size_t q0, const float* __restrict ux, 
   }
 }
 
-
 // The set-up of one slice (16 lanes, row by row, each lane's sums in its
 // list's order): per entry c = scale w (0 where `live` is 0 or past the
 // lane's degree), and per lane the sums of c n n^T (6 numbers).

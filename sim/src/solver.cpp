@@ -739,10 +739,10 @@ namespace {
 // The damped spring forces of the connections of a run of slices:
 // alpha_ij k_ij (|x_ij| - l_ij + gamma (v_ij . n)) n, n = x_ij / |x_ij|,
 // summed per lane in list order; and alpha_ij k_ij per entry, kept for the
-// direction pass. For the implicit solve (implicit_springs.hpp), n per
-// entry and alpha_ij k_ij (v_ij . n) n summed per lane as well. alpha_ij (eq. 14) from the owner's factor on the entry's
-// side and the partner's on the other side (gathered); roots are known by
-// their factors' kRootFactor.
+// direction pass; for the implicit solve (implicit_springs.hpp), n per
+// entry and alpha_ij k_ij (v_ij . n) n summed per lane as well. alpha_ij
+// (eq. 14) from the owner's factor on the entry's side and the partner's on
+// the other side (gathered); roots are known by their factors' kRootFactor.
 struct SpringTerms {
   float inv_h, norm_w;  // kernel W(r, h1)
   float gamma;          // spring damping (s)
@@ -1369,12 +1369,9 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   // the rough answers' worst error over the bodies asked: phi - error is a
   // lower bound of the distance (Body::roughError); a body without such a
   // bound leaves every particle to be asked
-  float rough_error = head_->roughError();
-  for (const BodyFrame& f : frames) {
-    const float e = f.body->roughError();
-    rough_error = e >= 0.0f && rough_error >= 0.0f ? std::max(rough_error, e) : -1.0f;
-  }
-  if (!(rough_error >= 0.0f)) rough_error = INFINITY;
+  auto error = [](const Body& body) { return body.roughError() < 0.0f ? INFINITY : body.roughError(); };
+  float rough_error = error(*head_);
+  for (const BodyFrame& f : frames) rough_error = std::max(rough_error, error(*f.body));
   float* clearance = body_clearance_.data();
   std::size_t contacts = 0;
   std::atomic<std::size_t> contacts_sum{0};
@@ -1661,12 +1658,11 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
   auto clearance = [&](std::size_t i) {
     if (!same_bodies) return -INFINITY;
     const glm::vec3 xi = integrated_position_[i];
-    float lower = clear[i] - glm::length(x[i] - xi);
+    float body_move = 0.0f;  // the farthest a world body moved at xi
     for (std::size_t k = 0; bodies_moved && k < frames.size(); ++k)
-      lower = std::min(lower, clear[i] - glm::length(x[i] - xi) -
-                                  glm::length((frames[k].m * xi + frames[k].d) -
-                                              (start_frames[k].m * xi + start_frames[k].d)));
-    return lower;
+      body_move = std::max(body_move, glm::length((frames[k].m * xi + frames[k].d) -
+                                                  (start_frames[k].m * xi + start_frames[k].d)));
+    return clear[i] - glm::length(x[i] - xi) - body_move;
   };
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
@@ -1965,20 +1961,18 @@ void Solver::step() {
     lap(st.springs);
   }
 
-  std::vector<BodyFrame> frames;
   HeadKinematics head_start;
-  placeBodies(time_, frames, head_start);
-  const std::size_t contacts = integrate(dt, frames, head_start);
+  placeBodies(time_, start_frames_, head_start);
+  const std::size_t contacts = integrate(dt, start_frames_, head_start);
   lap(st.integrate);
 
   // Corrections: strain limit, tethers, and no particle left inside a body.
   const std::size_t limited = limitStrain();
   HeadKinematics head_end;
-  const std::vector<BodyFrame> start_frames = frames;
-  placeBodies(t_end, frames, head_end);
-  std::vector<BodyFrame> solid_frames;  // without obstacles: the last round
-  placeBodies(t_end, solid_frames, head_end, false);
-  projectOutOfBodies(dt, start_frames, frames, solid_frames, head_end);  // and the tethers
+  const std::vector<BodyFrame>& frames = end_frames_;
+  placeBodies(t_end, end_frames_, head_end);
+  placeBodies(t_end, solid_frames_, head_end, false);  // without obstacles: the last round
+  projectOutOfBodies(dt, start_frames_, frames, solid_frames_, head_end);  // and the tethers
   lap(st.strain_limit);
 
   if (air_) {

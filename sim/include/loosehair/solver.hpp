@@ -350,6 +350,9 @@ class Solver {
   // every body at its integrated position, with the bodies where they were
   // at the step's start (projectOutOfBodies skips whom it proves clear)
   std::vector<float> body_clearance_;
+  // step()'s placements of the world bodies, reused from step to step: at
+  // the start, at the end, and at the end without obstacles
+  std::vector<BodyFrame> start_frames_, end_frames_, solid_frames_;
   std::unique_ptr<Scratch> scratch_;
   struct Sliced;  // the connections in the layout of the connection passes
   std::unique_ptr<Sliced> sliced_;
