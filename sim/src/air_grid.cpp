@@ -30,11 +30,12 @@ AirGrid::AirGrid(const WindParams& params) : p_(params) {
                                 (static_cast<float>(n_[0]) * axes_.wind + static_cast<float>(n_[1]) * axes_.up +
                                  static_cast<float>(n_[2]) * axes_.side);
   cell_count_ = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(n_[2]);
+  solve_pad_ = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]);
   for (int c = 0; c < 3; ++c) {
     auto& d = fdim_[static_cast<std::size_t>(c)];
     for (int a = 0; a < 3; ++a) d[static_cast<std::size_t>(a)] = n_[a] + (a == c ? 1 : 0);
     const std::size_t faces = static_cast<std::size_t>(d[0]) * static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(d[2]);
-    for (auto* field : {&u_, &next_, &mass_}) (*field)[static_cast<std::size_t>(c)].assign(faces, 0.0f);
+    for (auto* field : {&u_, &next_}) (*field)[static_cast<std::size_t>(c)].assign(faces, 0.0f);
   }
   pressure_.assign(cell_count_, 0.0f);
   solid_.assign(cell_count_, 0);
@@ -213,88 +214,79 @@ double AirGrid::outflow(int i, int j, int k) const {
 }
 
 void AirGrid::buildPreconditioner() {
-  // The matrix's diagonal (the linked faces of each open cell), then
-  // modified incomplete Cholesky, MIC(0) (Bridson, Fluid Simulation for
-  // Computer Graphics, ch. 4): the factor's inverse diagonal in cell order
-  // and its +x, +y, +z couplings; a cell's coupling to its +a neighbour is
-  // -1 where that face is linked inside the box.
-  const std::size_t nc = cell_count_;
+  // The matrix (each open cell's linked faces on the diagonal, -1 to each
+  // linked neighbour inside the box), then modified incomplete Cholesky,
+  // MIC(0) (Bridson, Fluid Simulation for Computer Graphics, ch. 4): the
+  // factor's inverse diagonal in cell order and its +x, +y, +z couplings.
+  // All in the padded cell order (solve_pad_ zero cells before and after),
+  // so the solve's loops read their neighbours without a test: a coupling
+  // to a neighbour outside the box, or of a closed cell, is 0.
+  const std::size_t nc = cell_count_, pad = solve_pad_, total = nc + 2 * pad;
   const std::size_t stride[3] = {1, static_cast<std::size_t>(n_[0]),
                                  static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1])};
-  auto plus = [&](std::size_t q, int axis, int at) {
-    return (links_[q] >> (2 * axis + 1)) & 1u && at + 1 < n_[axis] ? -1.0 : 0.0;
-  };
-  diag_.resize(nc);
-  for (std::size_t q = 0; q < nc; ++q) diag_[q] = static_cast<double>(std::popcount(links_[q]));
-  mic_.assign(nc, 0.0);
-  mic_up_.assign(3 * nc, 0.0);
-  constexpr double kTau = 0.97, kSigma = 0.25;
+  diag_.assign(total, 0.0);
+  mic_.assign(total, 0.0);
+  for (int a = 0; a < 3; ++a) {
+    coupling_[static_cast<std::size_t>(a)].assign(total, 0.0);
+    mic_up_[static_cast<std::size_t>(a)].assign(total, 0.0);
+  }
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i) {
-        const std::size_t q = cell(i, j, k);
-        if (!links_[q]) continue;
-        double e = diag_[q];
+        const std::size_t q = cell(i, j, k), p = q + pad;
         const int at[3] = {i, j, k};
-        for (int a = 0; a < 3; ++a) {
-          if (at[a] == 0) continue;
-          const std::size_t p = q - stride[a];
-          const double c = plus(p, a, at[a] - 1) * mic_[p];
-          if (c == 0.0) continue;
-          e -= c * c;
-          double others = 0.0;
-          for (int b = 0; b < 3; ++b)
-            if (b != a) {
-              int pat[3] = {i, j, k};
-              pat[a] -= 1;
-              others += plus(p, b, pat[b]);
-            }
-          e -= kTau * plus(p, a, at[a] - 1) * others * mic_[p] * mic_[p];
-        }
-        if (e < kSigma * diag_[q]) e = diag_[q];
-        mic_[q] = 1.0 / std::sqrt(e);
-        for (int a = 0; a < 3; ++a) mic_up_[3 * q + static_cast<std::size_t>(a)] = plus(q, a, at[a]) * mic_[q];
+        diag_[p] = static_cast<double>(std::popcount(links_[q]));
+        for (int a = 0; a < 3; ++a)
+          if ((links_[q] >> (2 * a + 1)) & 1u && at[a] + 1 < n_[a]) coupling_[static_cast<std::size_t>(a)][p] = -1.0;
       }
+  constexpr double kTau = 0.97, kSigma = 0.25;
+  for (std::size_t p = pad; p < pad + nc; ++p) {
+    if (diag_[p] == 0.0) continue;
+    double e = diag_[p];
+    for (std::size_t a = 0; a < 3; ++a) {
+      const std::size_t m = p - stride[a];  // in the pad below the first slab
+      const double c = coupling_[a][m] * mic_[m];
+      if (c == 0.0) continue;
+      e -= c * c;
+      double others = 0.0;
+      for (std::size_t b = 0; b < 3; ++b)
+        if (b != a) others += coupling_[b][m];
+      e -= kTau * coupling_[a][m] * others * mic_[m] * mic_[m];
+    }
+    if (e < kSigma * diag_[p]) e = diag_[p];
+    mic_[p] = 1.0 / std::sqrt(e);
+    for (std::size_t a = 0; a < 3; ++a) mic_up_[a][p] = coupling_[a][p] * mic_[p];
+  }
+  // the sweeps' chain along x: a cell's coupling to the one before it
+  // (forwards) or after it (backwards), times its own inverse diagonal
+  for (auto& chain : mic_chain_) chain.assign(total, 0.0);
+  for (std::size_t p = pad; p < pad + nc; ++p) {
+    mic_chain_[0][p] = mic_up_[0][p - 1] * mic_[p];
+    mic_chain_[1][p] = mic_up_[0][p] * mic_[p];
+  }
   mic_stale_ = false;
 }
 
 void AirGrid::project(int threads) {
-  const std::size_t nc = cell_count_;
-  r_.resize(nc);
-  z_.resize(nc);
-  d_.resize(nc);
-  ad_.resize(nc);
-  const std::size_t sx = 1, sy = static_cast<std::size_t>(n_[0]),
-                    sz = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]);
-  const std::size_t stride[6] = {sx, sx, sy, sy, sz, sz};
-  // A x for the cells, from the link bits (neighbours outside the box are
-  // the open air at pressure 0).
-  auto apply = [&](const std::vector<double>& x, std::vector<double>& out) {
-    parallel::forEach(threads, static_cast<std::size_t>(n_[2]), [&](std::size_t kk) {
-      const int k = static_cast<int>(kk);
-      for (int j = 0; j < n_[1]; ++j)
-        for (int i = 0; i < n_[0]; ++i) {
-          const std::size_t q = cell(i, j, k);
-          const std::uint8_t bits = links_[q];
-          if (!bits) {
-            out[q] = 0.0;
-            continue;
-          }
-          double s = diag_[q] * x[q];
-          const int at[6] = {i, i, j, j, k, k};
-          const int top[6] = {0, n_[0] - 1, 0, n_[1] - 1, 0, n_[2] - 1};
-          for (int d = 0; d < 6; ++d) {
-            if (!(bits & (1u << d)) || at[d] == top[d]) continue;
-            s -= (d & 1) ? x[q + stride[d]] : x[q - stride[d]];
-          }
-          out[q] = s;
-        }
+  const std::size_t nc = cell_count_, pad = solve_pad_, total = nc + 2 * pad;
+  const std::size_t sy = static_cast<std::size_t>(n_[0]), sz = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]);
+  if (mic_stale_) buildPreconditioner();
+  for (auto* v : {&x_, &r_, &z_, &d_, &ad_}) v->assign(total, 0.0);
+  const double* cx = coupling_[0].data();
+  const double* cy = coupling_[1].data();
+  const double* cz = coupling_[2].data();
+  // out = A v over the cells (padded order; the pads of v are 0), in slabs
+  // of constant k
+  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
+    parallel::forEach(threads, static_cast<std::size_t>(n_[2]), [&](std::size_t k) {
+      const double* x = v.data();
+      for (std::size_t p = pad + k * sz, e = p + sz; p < e; ++p)
+        out[p] = diag_[p] * x[p] + cx[p] * x[p + 1] + cx[p - 1] * x[p - 1] + cy[p] * x[p + sy] +
+                 cy[p - sy] * x[p - sy] + cz[p] * x[p + sz] + cz[p - sz] * x[p - sz];
     });
   };
   auto& x = x_;
-  x.resize(nc);
-  if (mic_stale_) buildPreconditioner();
-  for (std::size_t q = 0; q < nc; ++q) x[q] = links_[q] ? static_cast<double>(pressure_[q]) : 0.0;
+  for (std::size_t q = 0; q < nc; ++q) x[q + pad] = links_[q] ? static_cast<double>(pressure_[q]) : 0.0;
   // r = b - A x from the last pressure, b = -h div u (minus the flux out of
   // each open cell)
   apply(x, ad_);
@@ -303,48 +295,34 @@ void AirGrid::project(int threads) {
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i) {
         const std::size_t q = cell(i, j, k);
-        if (!links_[q]) {
-          r_[q] = 0.0;
-          continue;
-        }
-        r_[q] = -outflow(i, j, k) - ad_[q];
-        bnorm = std::max(bnorm, std::abs(r_[q]));
+        if (!links_[q]) continue;
+        r_[q + pad] = -outflow(i, j, k) - ad_[q + pad];
+        bnorm = std::max(bnorm, std::abs(r_[q + pad]));
       }
   // Preconditioned conjugate gradients; the sums and sweeps in cell order
   // on this thread. The flux imbalance left is at most a thousandth of the
   // fastest wind through a face.
   const double tolerance = 1e-3 * std::max(0.1, static_cast<double>(windMaxSpeed(p_)));
-  // the preconditioner: two triangular sweeps of MIC(0) (buildPreconditioner)
+  const std::size_t begin = pad, end = pad + nc;
+  // the preconditioner: two triangular sweeps of MIC(0)
+  // (buildPreconditioner); a closed cell's inverse diagonal is 0, so its z
+  // stays 0. Along x each cell waits for the one before it: that chain is
+  // one multiply-add a cell (mic_x_ is the x coupling times the inverse
+  // diagonal), the rows below and behind are done already.
+  const double* my = mic_up_[1].data();
+  const double* mz = mic_up_[2].data();
+  const double* chain_fwd = mic_chain_[0].data();
+  const double* chain_bwd = mic_chain_[1].data();
   auto precondition = [&] {
-    // L q = r, forwards
-    for (int k = 0; k < n_[2]; ++k)
-      for (int j = 0; j < n_[1]; ++j)
-        for (int i = 0; i < n_[0]; ++i) {
-          const std::size_t q = cell(i, j, k);
-          if (!links_[q]) {
-            z_[q] = 0.0;
-            continue;
-          }
-          double t = r_[q];
-          if (i > 0) t -= mic_up_[3 * (q - sx) + 0] * z_[q - sx];
-          if (j > 0) t -= mic_up_[3 * (q - sy) + 1] * z_[q - sy];
-          if (k > 0) t -= mic_up_[3 * (q - sz) + 2] * z_[q - sz];
-          z_[q] = t * mic_[q];
-        }
-    // L^T z = q, backwards
-    for (int k = n_[2] - 1; k >= 0; --k)
-      for (int j = n_[1] - 1; j >= 0; --j)
-        for (int i = n_[0] - 1; i >= 0; --i) {
-          const std::size_t q = cell(i, j, k);
-          if (!links_[q]) continue;
-          double t = z_[q];
-          if (i + 1 < n_[0]) t -= mic_up_[3 * q + 0] * z_[q + sx];
-          if (j + 1 < n_[1]) t -= mic_up_[3 * q + 1] * z_[q + sy];
-          if (k + 1 < n_[2]) t -= mic_up_[3 * q + 2] * z_[q + sz];
-          z_[q] = t * mic_[q];
-        }
+    double* z = z_.data();
+    double prev = 0.0;  // z of the cell before (0: the pad's)
+    for (std::size_t p = begin; p < end; ++p)  // L q = r, forwards
+      z[p] = prev = (r_[p] - my[p - sy] * z[p - sy] - mz[p - sz] * z[p - sz]) * mic_[p] - chain_fwd[p] * prev;
+    prev = 0.0;
+    for (std::size_t p = end; p-- > begin;)  // L^T z = q, backwards
+      z[p] = prev = (z[p] - my[p] * z[p + sy] - mz[p] * z[p + sz]) * mic_[p] - chain_bwd[p] * prev;
     double rz = 0.0;
-    for (std::size_t q = 0; q < nc; ++q) rz += r_[q] * z_[q];
+    for (std::size_t p = begin; p < end; ++p) rz += r_[p] * z[p];
     return rz;
   };
   double rz = precondition();
@@ -355,23 +333,23 @@ void AirGrid::project(int threads) {
   while (worst > tolerance && it < kMaxIterations) {
     apply(d_, ad_);
     double dad = 0.0;
-    for (std::size_t q = 0; q < nc; ++q) dad += d_[q] * ad_[q];
+    for (std::size_t p = begin; p < end; ++p) dad += d_[p] * ad_[p];
     if (!(dad > 0.0)) break;
     const double alpha = rz / dad;
     worst = 0.0;
-    for (std::size_t q = 0; q < nc; ++q) {
-      x[q] += alpha * d_[q];
-      r_[q] -= alpha * ad_[q];
-      worst = std::max(worst, std::abs(r_[q]));
+    for (std::size_t p = begin; p < end; ++p) {
+      x[p] += alpha * d_[p];
+      r_[p] -= alpha * ad_[p];
+      worst = std::max(worst, std::abs(r_[p]));
     }
     const double rz_next = precondition();
     const double beta = rz_next / rz;
     rz = rz_next;
-    for (std::size_t q = 0; q < nc; ++q) d_[q] = z_[q] + beta * d_[q];
+    for (std::size_t p = begin; p < end; ++p) d_[p] = z_[p] + beta * d_[p];
     ++it;
   }
   last_iterations_ = it;
-  for (std::size_t q = 0; q < nc; ++q) pressure_[q] = static_cast<float>(x[q]);
+  for (std::size_t q = 0; q < nc; ++q) pressure_[q] = static_cast<float>(x[q + pad]);
   // u -= grad p on the linked faces (a face is linked from both of its
   // open cells, or from its one open cell at the box's open faces).
   for (int c = 0; c < 3; ++c) {
@@ -391,7 +369,7 @@ void AirGrid::project(int threads) {
           // linked from the open side(s)
           const bool linked = has_above ? (links_[qa] >> lower_bit) & 1u : (links_[qb] >> upper_bit) & 1u;
           if (!linked) continue;
-          const double pa = has_above ? x[qa] : 0.0, pb = has_below ? x[qb] : 0.0;
+          const double pa = has_above ? x[qa + pad] : 0.0, pb = has_below ? x[qb + pad] : 0.0;
           u[face(c, i, j, k)] -= static_cast<float>(pa - pb);
         }
     });
@@ -414,94 +392,149 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
                            std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
                            std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
                            float dt, int threads) {
-  const std::size_t nh = hair_x.size();
-  tap_face_.resize(nh * kTaps);
-  tap_w_.resize(nh * kTaps);
-  tap_push_.resize(nh * kTaps);
+  const std::size_t nh = hair_x.size(), nc = cell_count_;
+  hair_cell_.resize(nh);
+  hair_w_.resize(nh);
   hair_vb_.resize(nh);
+  cell_air_.resize(nc);
+  cell_push_.resize(nc);
   const glm::mat3 rot(head.pose.rotation), rot_t = glm::transpose(glm::mat3(head.pose.rotation));
   const glm::vec3 centre(head.pose.center), omega(head.angular_velocity), frame_v(head.velocity);
   const glm::vec3 extent = h_ * glm::vec3(static_cast<float>(n_[0]), static_cast<float>(n_[1]), static_cast<float>(n_[2]));
-  // Stencils and the hair's world velocities in the grid's axes.
-  parallel::forEach(threads, nh, [&](std::size_t i) {
-    float* w = &tap_w_[i * kTaps];
-    std::uint32_t* f = &tap_face_[i * kTaps];
-    const glm::vec3 q = toGrid(rot * hair_x[i] + centre);
-    const bool inside = q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y &&
-                        q.z <= extent.z;
-    if (hair_root[i] || !inside) {
-      std::fill(w, w + kTaps, 0.0f);
-      std::fill(f, f + kTaps, 0u);
-      return;
-    }
-    const glm::vec3 vw = rot * (hair_v[i] + glm::cross(omega, hair_x[i])) + frame_v;
-    hair_vb_[i] = {glm::dot(vw, axes_.wind), glm::dot(vw, axes_.up), glm::dot(vw, axes_.side)};
-    stencils(q, f, w);
-  });
-  // The hair mass each face holds: each component's faces summed in hair
-  // order by one thread (the components side by side).
-  coupled_ = 0;
-  for (std::size_t i = 0; i < nh; ++i) {
-    const float* w = &tap_w_[i * kTaps];
-    if (w[0] + w[1] + w[2] + w[3] + w[4] + w[5] + w[6] + w[7] != 0.0f) ++coupled_;
-  }
-  parallel::forEach(threads, 3, [&](std::size_t c) {
-    auto& m = mass_[c];
-    std::fill(m.begin(), m.end(), 0.0f);
-    for (std::size_t i = 0; i < nh; ++i) {
-      const float* w = &tap_w_[i * kTaps + 8 * c];
-      const std::uint32_t* f = &tap_face_[i * kTaps + 8 * c];
-      for (int t = 0; t < 8; ++t) m[f[t]] += w[t] * hair_m[i];
-    }
-  });
-  // Limiters as the particle air's: a side whose velocity would relax by
-  // more than half in a step has its pair forces scaled down; a pair takes
-  // the smaller of its two.
-  const float rate = p_.drag_rate, face_mass = p_.density * h_ * h_ * h_;
+  const std::uint32_t sy = static_cast<std::uint32_t>(n_[0]), sz = sy * static_cast<std::uint32_t>(n_[1]);
+  // a stencil's eight cells: the base and +x, +y, +z combinations
+  const std::uint32_t offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  const float rate = p_.drag_rate, cell_mass = p_.density * h_ * h_ * h_;
   const float hair_limit = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
-  for (auto& m : mass_)  // each face's hair mass becomes its limiter
-    for (float& v : m) {
-      const float r = rate * v / face_mass;
-      v = r * dt > 0.5f ? 0.5f / (r * dt) : 1.0f;
-    }
-  auto faceLimit = [&](int c, std::uint32_t f) { return mass_[static_cast<std::size_t>(c)][f]; };
-  parallel::forEach(threads, nh, [&](std::size_t i) {
-    const float* w = &tap_w_[i * kTaps];
-    const std::uint32_t* f = &tap_face_[i * kTaps];
-    float* push = &tap_push_[i * kTaps];
-    glm::vec3 force(0.0f);
-    for (int c = 0; c < 3; ++c) {
-      float fc = 0.0f;
-      for (int t = 8 * c; t < 8 * c + 8; ++t) {
-        if (w[t] == 0.0f) {
-          push[t] = 0.0f;
+  // The pair forces of a hair particle and its cells, on the hair (the
+  // cells take minus them): rate m_i w_t L_t (U_t - v_i), with the pair's
+  // limiter L_t = min(the hair's, the cell's). cell_air_ holds (U, L).
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  parallel::run(threads, [&] {
+    // 1. Each hair particle's stencil (the lower cell and the fractions of
+    //    the trilinear weights between cell centres) and its world velocity
+    //    in the grid's axes; the cells' velocities, the mean of each
+    //    component's two faces.
+    {
+      const auto [b, e] = parallel::share(nh);
+      for (std::size_t i = b; i < e; ++i) {
+        const glm::vec3 q = toGrid(rot * hair_x[i] + centre);
+        const bool inside = q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y &&
+                            q.z <= extent.z;
+        if (hair_root[i] || !inside) {
+          hair_cell_[i] = kNone;
           continue;
         }
-        const float pair = rate * hair_m[i] * w[t] * std::min(hair_limit, faceLimit(c, f[t])) *
-                           (u_[static_cast<std::size_t>(c)][f[t]] - hair_vb_[i][c]);
-        fc += pair;
-        push[t] = -pair * dt / face_mass;
+        int lo[3];
+        glm::vec3 f;
+        for (int a = 0; a < 3; ++a) {
+          // x >= -0.5 inside the box: truncation is the floor where it
+          // matters (below 0 both clamp to the first cell, fraction 0)
+          const float x = q[a] / h_ - 0.5f;
+          lo[a] = std::clamp(static_cast<int>(x), 0, n_[a] - 2);
+          f[a] = std::clamp(x - static_cast<float>(lo[a]), 0.0f, 1.0f);
+        }
+        hair_cell_[i] = static_cast<std::uint32_t>(cell(lo[0], lo[1], lo[2]));
+        const float yz[4] = {(1.0f - f.y) * (1.0f - f.z), f.y * (1.0f - f.z), (1.0f - f.y) * f.z, f.y * f.z};
+        for (int t = 0; t < 4; ++t) {
+          hair_w_[i][2 * t] = (1.0f - f.x) * yz[t];
+          hair_w_[i][2 * t + 1] = f.x * yz[t];
+        }
+        const glm::vec3 vw = rot * (hair_v[i] + glm::cross(omega, hair_x[i])) + frame_v;
+        hair_vb_[i] = {glm::dot(vw, axes_.wind), glm::dot(vw, axes_.up), glm::dot(vw, axes_.side)};
       }
-      force[c] = fc;
+      const auto [kb, ke] = parallel::share(static_cast<std::size_t>(n_[2]));
+      for (int k = static_cast<int>(kb); k < static_cast<int>(ke); ++k)
+        for (int j = 0; j < n_[1]; ++j)
+          for (int i = 0; i < n_[0]; ++i)
+            cell_air_[cell(i, j, k)] = glm::vec4(0.5f * glm::vec3(u_[0][face(0, i, j, k)] + u_[0][face(0, i + 1, j, k)],
+                                                                  u_[1][face(1, i, j, k)] + u_[1][face(1, i, j + 1, k)],
+                                                                  u_[2][face(2, i, j, k)] + u_[2][face(2, i, j, k + 1)]),
+                                                  0.0f);
     }
-    const glm::vec3 world = force.x * axes_.wind + force.y * axes_.up + force.z * axes_.side;
-    hair_force[i] += rot_t * world;
-  });
-  // The impulses onto the faces, each component in hair order by one
-  // thread, as the masses.
-  glm::dvec3 on_air(0.0);
-  parallel::forEach(threads, 3, [&](std::size_t c) {
-    auto& u = u_[c];
-    double sum = 0.0;
-    for (std::size_t i = 0; i < nh; ++i)
-      for (std::size_t t = 8 * c; t < 8 * c + 8; ++t) {
-        const float push = tap_push_[i * kTaps + t];
-        if (push == 0.0f) continue;
-        u[tap_face_[i * kTaps + t]] += push;
-        sum += static_cast<double>(push) * face_mass / dt;
+    parallel::barrier();
+    // 2. The hair mass each cell holds, which makes its limiter (as the
+    //    particle air's: a side whose velocity would relax by more than
+    //    half in a step has its pair forces scaled down; a pair takes the
+    //    smaller of its two). Each thread owns a range of cells and adds
+    //    their taps in hair order: the same sums for any thread count.
+    const auto [cb, ce] = parallel::share(nc);
+    for (std::size_t i = 0; i < nh; ++i) {
+      const std::uint32_t base = hair_cell_[i];
+      if (base == kNone || base + offset[7] < cb || base >= ce) continue;
+      const auto& w = hair_w_[i];
+      for (int t = 0; t < 8; ++t) {
+        const std::uint32_t q = base + offset[t];
+        if (q >= cb && q < ce) cell_air_[q].w += w[t] * hair_m[i];
       }
-    on_air[static_cast<glm::length_t>(c)] = sum;
+    }
+    for (std::size_t q = cb; q < ce; ++q) {
+      const float r = rate * cell_air_[q].w / cell_mass;
+      cell_air_[q].w = std::min(hair_limit, r * dt > 0.5f ? 0.5f / (r * dt) : 1.0f);
+    }
+    parallel::barrier();
+    // 3. The force on each hair particle.
+    {
+      const auto [b, e] = parallel::share(nh);
+      for (std::size_t i = b; i < e; ++i) {
+        const std::uint32_t base = hair_cell_[i];
+        if (base == kNone) continue;
+        const auto& w = hair_w_[i];
+        glm::vec3 sum_u(0.0f);  // sum_t w_t L_t U_t
+        float sum_w = 0.0f;     // sum_t w_t L_t
+        for (int t = 0; t < 8; ++t) {
+          const glm::vec4 air = cell_air_[base + offset[t]];
+          const float a = w[t] * air.w;
+          sum_u += a * glm::vec3(air);
+          sum_w += a;
+        }
+        const glm::vec3 force = rate * hair_m[i] * (sum_u - sum_w * hair_vb_[i]);
+        const glm::vec3 world = force.x * axes_.wind + force.y * axes_.up + force.z * axes_.side;
+        hair_force[i] += rot_t * world;
+      }
+    }
+    // 4. The opposite impulses onto the cells (velocity changes), each
+    //    thread its cells in hair order, as the masses.
+    std::fill(cell_push_.begin() + static_cast<std::ptrdiff_t>(cb), cell_push_.begin() + static_cast<std::ptrdiff_t>(ce), glm::vec3(0.0f));
+    const float to_velocity = -rate * dt / cell_mass;
+    for (std::size_t i = 0; i < nh; ++i) {
+      const std::uint32_t base = hair_cell_[i];
+      if (base == kNone || base + offset[7] < cb || base >= ce) continue;
+      const auto& w = hair_w_[i];
+      const float scale = to_velocity * hair_m[i];
+      const glm::vec3 v = hair_vb_[i];
+      for (int t = 0; t < 8; ++t) {
+        const std::uint32_t q = base + offset[t];
+        if (q < cb || q >= ce) continue;
+        const glm::vec4 air = cell_air_[q];
+        cell_push_[q] += (scale * w[t] * air.w) * (glm::vec3(air) - v);
+      }
+    }
+    parallel::barrier();
+    // 5. Each cell's impulse goes half to each of its two faces of every
+    //    component (so the faces' momentum changes by the cells'), the faces
+    //    shared by the threads in slabs along z.
+    const auto [kb, ke] = parallel::share(static_cast<std::size_t>(n_[2]) + 1);
+    for (int c = 0; c < 3; ++c) {
+      const auto& d = fdim_[static_cast<std::size_t>(c)];
+      auto& u = u_[static_cast<std::size_t>(c)];
+      for (int k = static_cast<int>(kb); k < std::min(static_cast<int>(ke), d[2]); ++k)
+        for (int j = 0; j < d[1]; ++j)
+          for (int i = 0; i < d[0]; ++i) {
+            int at[3] = {i, j, k};
+            float sum = 0.0f;
+            if (at[c] < n_[c]) sum += cell_push_[cell(at[0], at[1], at[2])][c];
+            at[c] -= 1;
+            if (at[c] >= 0) sum += cell_push_[cell(at[0], at[1], at[2])][c];
+            u[face(c, i, j, k)] += 0.5f * sum;
+          }
+    }
   });
+  coupled_ = static_cast<std::size_t>(std::count_if(hair_cell_.begin(), hair_cell_.end(), [](std::uint32_t q) { return q != kNone; }));
+  // the air's side of the exchange, summed in cell order
+  glm::dvec3 on_air(0.0);
+  for (const glm::vec3& push : cell_push_) on_air += glm::dvec3(push);
+  on_air *= static_cast<double>(cell_mass) / static_cast<double>(dt);
   drag_on_air_ = on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
 }
 

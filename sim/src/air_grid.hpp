@@ -6,18 +6,22 @@
 // the field to zero divergence (a pressure solve), so no sound speed bounds
 // the step. The hair and the air exchange the drag of SPEC §5,
 //
-//   f_hair_i = dw m_i sum_f w_if (u_f - v_i),   the faces f get minus it,
+//   f_hair_i = dw m_i sum_c w_ic (U_c - v_i),   the cells c get minus it,
 //
-// with the trilinear weights w_if of the hair particle at each face of each
-// velocity component (sum_f w_if = 1): the air's SPH average replaced by the
-// grid's interpolation. The two forces of a pair are one expression, so the
-// exchange keeps momentum; the same limiter as the particle air keeps either
-// side from overshooting. The box's faces: upwind the wind's velocity,
-// downwind open (pressure 0), across the four sides the flow just inside
-// (no pressure there); bodies are solid cells whose faces move with them.
+// with U_c the air's velocity at the centre of cell c (each component the
+// mean of its two faces) and w_ic the trilinear weights of the hair
+// particle between the eight nearest cell centres (sum_c w_ic = 1): the
+// air's SPH average replaced by the grid's interpolation. A cell's impulse
+// goes half to each of its two faces of each component. The two forces of
+// a pair are one expression, so the exchange keeps momentum; the same
+// limiter as the particle air keeps either side from overshooting. The
+// box's faces: upwind the wind's velocity, downwind open (pressure 0),
+// across the four sides the flow just inside (no pressure there); bodies
+// are solid cells whose faces move with them.
 //
-// Every pass is per face or per cell from the previous arrays, the scatters
-// of the hair's impulses and the solve's sums run in a fixed order on one
+// Every pass is per face or per cell from the previous arrays; each cell's
+// sum of the hair's masses and impulses is taken in hair order (a thread
+// owns a range of cells), the solve's sums in a fixed order on one
 // thread: the results do not depend on the thread count.
 #pragma once
 
@@ -25,6 +29,7 @@
 #include "loosehair/wind.hpp"
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <array>
 #include <cstdint>
@@ -144,15 +149,20 @@ class AirGrid {
   std::array<std::array<int, 3>, 3> fdim_{};
   std::size_t cell_count_ = 0;
 
-  std::array<std::vector<float>, 3> u_, next_, mass_;
+  std::array<std::vector<float>, 3> u_, next_;
   double pending_ = 0.0;  // hair time since the air's last step (s)
   std::vector<float> pressure_;
   std::vector<std::uint8_t> solid_;   // per cell: inside a body (or sealed)
   std::vector<glm::vec3> solid_v_;    // per cell: body velocity (grid axes)
   std::vector<std::uint8_t> links_;   // per cell: bit d set = face d takes the pressure gradient
+  // the pressure solve's arrays, in cell order with solve_pad_ zero cells
+  // before and after (a slab: the loops read neighbours without a test)
+  std::size_t solve_pad_ = 0;
   std::vector<double> diag_, x_, r_, z_, d_, ad_;
-  std::vector<double> mic_;     // the preconditioner's inverse diagonal
-  std::vector<double> mic_up_;  // its +x, +y, +z couplings times that, per cell
+  std::array<std::vector<double>, 3> coupling_;  // the matrix's +x, +y, +z entries (-1 or 0)
+  std::vector<double> mic_;                      // the preconditioner's inverse diagonal
+  std::array<std::vector<double>, 3> mic_up_;    // its +x, +y, +z couplings times that
+  std::array<std::vector<double>, 2> mic_chain_;  // the x couplings before / after, times it again
   bool mic_stale_ = true;  // the links changed since buildPreconditioner
   // placeBodies' scratch
   std::vector<glm::vec3> centre_, body_v_;
@@ -163,12 +173,18 @@ class AirGrid {
   std::size_t coupled_ = 0;
   int last_iterations_ = 0;
 
-  // exchangeDrag's per-hair stencils: 3 components x 8 faces
+  // velocityAt's stencils: 3 components x 8 faces
   static constexpr int kTaps = 24;
-  std::vector<std::uint32_t> tap_face_;
-  std::vector<float> tap_w_;
-  std::vector<glm::vec3> hair_vb_;    // hair velocity in grid axes (world)
-  std::vector<float> tap_push_;       // per tap: the impulse it gives its face
+  // exchangeDrag's scratch: per hair particle the lower cell of its
+  // trilinear stencil between cell centres (UINT32_MAX: not coupled), the
+  // eight weights and its world velocity in grid axes; per cell the air's
+  // velocity at the centre with the pairs' limiter (the hair mass, until
+  // the limiter replaces it) and the velocity change the cell takes
+  std::vector<std::uint32_t> hair_cell_;
+  std::vector<std::array<float, 8>> hair_w_;
+  std::vector<glm::vec3> hair_vb_;
+  std::vector<glm::vec4> cell_air_;
+  std::vector<glm::vec3> cell_push_;
 };
 
 }  // namespace loosehair
