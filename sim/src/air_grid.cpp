@@ -307,7 +307,7 @@ void AirGrid::project(int threads) {
   // the preconditioner: two triangular sweeps of MIC(0)
   // (buildPreconditioner); a closed cell's inverse diagonal is 0, so its z
   // stays 0. Along x each cell waits for the one before it: that chain is
-  // one multiply-add a cell (mic_x_ is the x coupling times the inverse
+  // one multiply-add a cell (mic_chain_: the x coupling times the inverse
   // diagonal), the rows below and behind are done already.
   const double* my = mic_up_[1].data();
   const double* mz = mic_up_[2].data();
@@ -411,10 +411,10 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
   // limiter L_t = min(the hair's, the cell's). cell_air_ holds (U, L).
   constexpr std::uint32_t kNone = UINT32_MAX;
   parallel::run(threads, [&] {
-    // 1. Each hair particle's stencil (the lower cell and the fractions of
-    //    the trilinear weights between cell centres) and its world velocity
-    //    in the grid's axes; the cells' velocities, the mean of each
-    //    component's two faces.
+    // 1. Each hair particle's stencil (the lower of its eight cells and
+    //    their trilinear weights, between cell centres) and its world
+    //    velocity in the grid's axes; the cells' velocities, the mean of
+    //    each component's two faces.
     {
       const auto [b, e] = parallel::share(nh);
       for (std::size_t i = b; i < e; ++i) {
@@ -534,7 +534,7 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
   // the air's side of the exchange, summed in cell order
   glm::dvec3 on_air(0.0);
   for (const glm::vec3& push : cell_push_) on_air += glm::dvec3(push);
-  on_air *= static_cast<double>(cell_mass) / static_cast<double>(dt);
+  on_air *= dt > 0.0f ? static_cast<double>(cell_mass) / static_cast<double>(dt) : 0.0;
   drag_on_air_ = on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
 }
 
