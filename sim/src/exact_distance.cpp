@@ -236,14 +236,13 @@ struct ExactDistance::Tree {
       return !(std::fabs(glm::dot(glm::vec3(pl), p) + pl.w) > reach);
     }
   };
-  void offer(Nearest& q, std::uint32_t t) const {
-    const Leaf& l = leaves[rank[t]];
-    if (q.near(l.plane, l.sphere, tolerance)) q.offer(t, l.a, l.b, l.c);
-  }
+  // the triangle of record k (leaf order) to the search, if its plane and
+  // sphere let it be nearer than the ball
   void offerLeaf(Nearest& q, std::uint32_t k) const {
     const Leaf& l = leaves[k];
     if (q.near(l.plane, l.sphere, tolerance)) q.offer(l.id, l.a, l.b, l.c);
   }
+  void offer(Nearest& q, std::uint32_t t) const { offerLeaf(q, rank[t]); }  // by triangle id
   // The search of a ball within the cells' reach (the reach and the
   // ball's rounding allowed for): every triangle that can be nearer than
   // the ball's edge is offered, as by search(), so the answer is the same.
