@@ -30,7 +30,7 @@ void TriangleCells::build(const std::vector<glm::vec3>& corners, float margin, s
   lo -= glm::vec3(margin);
   hi += glm::vec3(margin);
   const glm::vec3 extent = hi - lo;
-  double cell = std::max(2.0 * size_sum / static_cast<double>(nt),
+  double cell = std::max(1.0 * size_sum / static_cast<double>(nt),
                          1e-6 * static_cast<double>(std::max({extent.x, extent.y, extent.z})) + 1e-9);
   auto count = [&](double s) {
     double n = 1;
