@@ -158,10 +158,13 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
   // The conversion's sign is unreliable a fraction of a voxel from the
   // surface (on the bundled head about 1 voxel in 700 of the band has it
   // flipped); MeshBody's bounds need exact voxels there, so the voxels
-  // within 2.5 voxels of the surface get the exact signed distance.
+  // within kExactBand voxels of the surface get the exact signed distance.
+  // (The conversion's distance is to some triangle, never below the exact
+  // one, so every voxel it put nearer than that is recomputed, and only
+  // those are: a value beyond the band may exceed the distance.)
   {
     const ExactDistance exact(mesh);
-    const float near = 2.5f * voxel;
+    const float near = kExactBand * voxel;
     const auto sx = static_cast<std::size_t>(dims.x), sy = static_cast<std::size_t>(dims.y);
     parallel::forEach(parallel::availableThreads(), static_cast<std::size_t>(dims.z), [&](std::size_t k) {
       for (std::size_t j = 0; j < sy; ++j)
@@ -276,6 +279,7 @@ GridSdfBody::Cell GridSdfBody::cell(const glm::vec3& p) const {
   locate(p, top, 1.0f / voxel_, c, pc, f);
   Cell out;
   out.lower = -INFINITY;
+  const float exact_band = kExactBand * voxel_;
   for (int dz = 0; dz < 2; ++dz)
     for (int dy = 0; dy < 2; ++dy)
       for (int dx = 0; dx < 2; ++dx) {
@@ -284,17 +288,20 @@ GridSdfBody::Cell GridSdfBody::cell(const glm::vec3& p) const {
                                     static_cast<std::size_t>(dims_.x) +
                                 static_cast<std::size_t>(c.x + dx);
         const glm::vec3 corner = lower_ + voxel_ * glm::vec3(c + glm::ivec3(dx, dy, dz));
-        // phi is 1-Lipschitz: phi(p) >= phi(corner) - |p - corner|
-        out.lower = std::max(out.lower, values_[idx] - glm::length(p - corner));
+        // phi is 1-Lipschitz: phi(p) >= phi(corner) - |p - corner|, where
+        // the corner's value is the distance (tests/test_mesh_body.cpp,
+        // ClearanceProofsAreLowerBounds: a value beyond the band overstated
+        // the distance by up to 1 mm on a bumpy sphere's 4 mm voxels)
+        if (std::fabs(values_[idx]) < exact_band)
+          out.lower = std::max(out.lower, values_[idx] - glm::length(p - corner));
         const std::int32_t t = nearest_[idx];
         if (t < 0) continue;
         bool seen = false;
         for (int k = 0; k < out.triangles; ++k) seen = seen || out.triangle[k] == t;
         if (!seen) out.triangle[out.triangles++] = t;
       }
-  // Stored values are exact distances or, beyond the bake's band, the
-  // band's width, which is less than the distance there: the bound holds
-  // for points outside the grid's box too.
+  // Exact values bound the distance at any point, also outside the grid's
+  // box (p is not clamped here).
   return out;
 }
 

@@ -137,7 +137,9 @@ class GridSdfBody final : public Body {
                            glm::vec3* normal) const override;
   /// What the corners of p's cell (p clamped to the grid) say about p.
   struct Cell {
-    float lower;         // a lower bound of the signed distance at p (m)
+    /// a lower bound of the signed distance at p (m), from the corners the
+    /// bake computed exactly (-infinity if none of them was)
+    float lower;
     static constexpr int kMaxTriangles = 8;
     int triangles = 0;   // the corners' distinct nearest triangles
     std::int32_t triangle[kMaxTriangles];
@@ -153,6 +155,9 @@ class GridSdfBody final : public Body {
  private:
   GridSdfBody() = default;
   static constexpr int kBrick = 8;
+  /// Voxels nearer the surface than this many voxels hold the exact signed
+  /// distance; farther ones the conversion's value, which can exceed it.
+  static constexpr float kExactBand = 2.5f;
   /// The cell of p (clamped to the grid), the point clamped to the grid's
   /// box (whose upper corner is `top`), and the cell's offset in voxels
   /// (`inv`: 1 / voxel size).
