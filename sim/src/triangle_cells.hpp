@@ -17,9 +17,9 @@ class TriangleCells {
  public:
   /// `corners`: three a triangle. Each triangle is listed (by its index in
   /// `corners` / 3) in every cell its box, grown by `margin`, overlaps. The
-  /// cell is the triangles' mean box size (twice that missed the L1
-  /// cache 1.4 times as often in the contact searches: docs/performance.md), coarser where more than
-  /// `max_cells` cells would be needed.
+  /// cell is the triangles' mean box size (twice that missed the L1 cache
+  /// 1.4 times as often in the contact searches: docs/performance.md),
+  /// coarser where more than `max_cells` cells would be needed.
   void build(const std::vector<glm::vec3>& corners, float margin, std::size_t max_cells);
 
   /// The largest ball radius forEachNear answers for: half a cell, so the
