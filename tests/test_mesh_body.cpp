@@ -381,8 +381,9 @@ TEST(TriangleCells, ListEveryTriangleWhoseBoxMeetsTheQuery) {
 
 // The exact distance answers a small ball from the cells and a large one
 // from the hierarchy: the same triangle and the same bits either way. A
-// seed at the true nearest triangle makes the ball small (the cells); no
-// seed leaves it infinite (the hierarchy alone).
+// seed at the true nearest triangle or beside it (a particle that slid
+// onto the next triangle) makes the ball small (the cells); no seed leaves
+// it infinite (the hierarchy alone).
 TEST(MeshBody, CellsAndHierarchyGiveTheSameNearestTriangle) {
   TriangleMesh m = bumpySphere(0.1f, 4, 0.12f);
   checkMesh(m, "test mesh");
@@ -398,15 +399,25 @@ TEST(MeshBody, CellsAndHierarchyGiveTheSameNearestTriangle) {
     glm::vec3 p = k % 4 == 0 ? a : (k % 4 == 1 ? 0.5f * (a + b) : a + static_cast<float>(u) * (b - a) + static_cast<float>(v) * (c - a));
     const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
     p += static_cast<float>(rng.uniform(-1.0, 1.0) * (k % 3 == 0 ? 1e-6 : 3e-3)) * n;
-    ExactDistance::Nearest whole{}, seeded{};
+    ExactDistance::Nearest whole{}, seeded{}, beside{};
     ASSERT_TRUE(exact.nearest(p, INFINITY, nullptr, 0, whole));
     const auto seed = static_cast<std::int32_t>(whole.triangle);
     const std::int32_t seeds[3] = {seed, static_cast<std::int32_t>((t + 97) % m.triangles.size()), seed};
     ASSERT_TRUE(exact.nearest(p, INFINITY, seeds, 3, seeded));
+    // seeded with a neighbour of the nearest
+    std::int32_t neighbour = -1;
+    for (std::size_t u = 0; u < m.triangles.size() && neighbour < 0; ++u)
+      for (int i = 0; i < 3 && u != whole.triangle; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (m.triangles[u][i] == m.triangles[whole.triangle][j]) neighbour = static_cast<std::int32_t>(u);
+    ASSERT_TRUE(exact.nearest(p, INFINITY, &neighbour, 1, beside));
     ++compared;
     ASSERT_EQ(seeded.triangle, whole.triangle) << "point " << k;
     ASSERT_EQ(seeded.signed_distance, whole.signed_distance) << "point " << k;
     ASSERT_EQ(seeded.normal, whole.normal) << "point " << k;
+    ASSERT_EQ(beside.triangle, whole.triangle) << "point " << k;
+    ASSERT_EQ(beside.signed_distance, whole.signed_distance) << "point " << k;
+    ASSERT_EQ(beside.normal, whole.normal) << "point " << k;
     // and against brute force
     ASSERT_NEAR(seeded.signed_distance, exactSignedDistance(m, p), 2e-6) << "point " << k;
   }
@@ -448,4 +459,34 @@ TEST(MeshBody, ClearanceProofsAreLowerBounds) {
     EXPECT_GT(proven, 1000);
     EXPECT_EQ(violations, 0) << "bump " << bump << ": worst excess " << worst * 1e3 << " mm";
   }
+}
+
+// Seeds only make a search faster, also where the surface nearest the seed
+// is not the nearest surface: inside a plate 2.5 mm thick made of 3 mm
+// triangles, a point nearer the bottom sheet, seeded with the top sheet's
+// triangle above it, still finds the bottom one. (A shortcut that settled a
+// search among the seed's neighbours without a sound bound on the other
+// triangles failed here.)
+TEST(MeshBody, ASeedOnTheFarSheetOfAThinPlateStillFindsTheNearOne) {
+  TriangleMesh m = bumpySphere(0.05f, 5, 0.0f);
+  for (auto& v : m.vertices) v.z *= 0.025f;
+  checkMesh(m, "plate");
+  const ExactDistance exact(m);
+  Random rng(3);
+  int bottom_found = 0;
+  for (int k = 0; k < 400; ++k) {
+    const float x = static_cast<float>(rng.uniform(-0.01, 0.01)), y = static_cast<float>(rng.uniform(-0.01, 0.01));
+    ExactDistance::Nearest above{}, whole{}, seeded{};
+    ASSERT_TRUE(exact.nearest(glm::vec3(x, y, 0.005f), INFINITY, nullptr, 0, above));
+    const glm::vec3 p(x, y, static_cast<float>(rng.uniform(-0.0012, 0.0012)));
+    ASSERT_TRUE(exact.nearest(p, INFINITY, nullptr, 0, whole));
+    const auto seed = static_cast<std::int32_t>(above.triangle);
+    ASSERT_TRUE(exact.nearest(p, INFINITY, &seed, 1, seeded));
+    ASSERT_EQ(seeded.triangle, whole.triangle) << "point " << k;
+    ASSERT_EQ(seeded.signed_distance, whole.signed_distance) << "point " << k;
+    ASSERT_LT(whole.signed_distance, 0.0f) << "point " << k;
+    ASSERT_NEAR(whole.signed_distance, exactSignedDistance(m, p), 2e-6) << "point " << k;
+    if (p.z < -0.0002f) bottom_found += whole.triangle != above.triangle ? 1 : 0;
+  }
+  EXPECT_GT(bottom_found, 100);
 }
