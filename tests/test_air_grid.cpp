@@ -183,7 +183,9 @@ TEST(AirGrid, HairAirDragIsEqualAndOpposite) {
   head.angular_velocity = glm::dvec3(0, 0, 1.0);
   // the hair's head-frame positions that land in the block
   for (auto& x : h.x) x = glm::vec3(glm::transpose(head.pose.rotation) * (glm::dvec3(x) - head.pose.center));
-  air.exchangeDrag(head, h.x, h.v, h.m, h.root, h.f, 0.02f, 2);  // a long step: the limiters act
+  const AirGrid::State before = air.state();
+  const float dt = 0.02f;  // a long step: the limiters act
+  air.exchangeDrag(head, h.x, h.v, h.m, h.root, h.f, dt, 2);
   EXPECT_EQ(air.coupledHair(), 2998u);
   EXPECT_EQ(h.f[5], glm::vec3(0)) << "roots are held by the head";
   EXPECT_EQ(h.f[9], glm::vec3(0));
@@ -198,6 +200,17 @@ TEST(AirGrid, HairAirDragIsEqualAndOpposite) {
   const glm::dvec3 total = on_hair + air.dragOnAir();
   EXPECT_LT(glm::length(total), 1e-5 * scale) << "momentum is exchanged, not made";
   EXPECT_GT(on_hair.x, 0.0) << "the wind pushes the hair downwind";
+  // and the faces' velocities carry it: their momentum change (grid axes,
+  // each face the air of one cell) is the hair's gain, reversed
+  const AirGrid::State after = air.state();
+  glm::dvec3 faces(0.0);
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t f = 0; f < after.u[c].size(); ++f)
+      faces[c] += static_cast<double>(after.u[c][f]) - static_cast<double>(before.u[c][f]);
+  const double cell_mass = static_cast<double>(box(3.0f).density) * std::pow(static_cast<double>(air.cellSize()), 3.0);
+  const glm::dvec3 on_faces = faces * cell_mass / static_cast<double>(dt);
+  EXPECT_NEAR(glm::length(on_faces), glm::length(on_hair), 1e-3 * scale);
+  EXPECT_LT(on_faces.x, 0.0) << "the air loses momentum downwind (grid axis 0 is the wind)";
 }
 
 TEST(AirGrid, DenseHairSlowsTheAirBehindIt) {

@@ -244,7 +244,9 @@ void AirGrid::buildPreconditioner() {
     if (diag_[p] == 0.0) continue;
     double e = diag_[p];
     for (std::size_t a = 0; a < 3; ++a) {
-      const std::size_t m = p - stride[a];  // in the pad below the first slab
+      // the cell before along a (at the box's low face: the last cell of
+      // the row or slab before, or the pad, whose coupling along a is 0)
+      const std::size_t m = p - stride[a];
       const double c = coupling_[a][m] * mic_[m];
       if (c == 0.0) continue;
       e -= c * c;
