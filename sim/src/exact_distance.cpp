@@ -119,20 +119,24 @@ struct ExactDistance::Tree {
   static constexpr std::uint32_t kLeaf = 8;
   std::vector<Node> nodes;
   std::vector<std::uint32_t> order;  // triangle ids in leaf order
-  // Each triangle's plane (unit normal n, offset w: n.p + w is the distance
-  // from the plane) and bounding sphere (centre, radius): the distances
-  // from the plane and from the sphere are lower bounds of the distance
-  // from the triangle, so a triangle either of them puts farther than the
-  // ball (by more than `tolerance`, which covers the rounding) cannot be
-  // the nearest and is not tested. The plane rejects what lies beside a
-  // curved surface, the sphere what lies along a flat one. A triangle's
-  // tests and corners are one record, in leaf order (a cell's or a leaf's
-  // triangles are then a few neighbouring records, not four arrays).
-  struct Leaf {
-    glm::vec4 plane, sphere;
-    glm::vec3 a, b, c;
-    std::uint32_t id;
+  // Each triangle's bounding sphere (centre, radius) and plane (unit
+  // normal n through corner a: n.(p - a) is the distance from the plane):
+  // the distances from the sphere and from the plane are lower bounds of
+  // the distance from the triangle, so a triangle either of them puts
+  // farther than the ball (by more than `tolerance`, which covers the
+  // rounding) cannot be the nearest and is not tested. The plane rejects
+  // what lies beside a curved surface, the sphere what lies along a flat
+  // one. A triangle's tests and corners are one record of one cache line,
+  // in leaf order (a cell's or a leaf's triangles are then a few
+  // neighbouring lines); its id is in `order`, read only for a triangle
+  // that wins or ties (records of 72 bytes, with the id and the plane's
+  // offset, straddled two lines).
+  struct alignas(64) Leaf {
+    glm::vec3 centre;
+    float radius;
+    glm::vec3 n, a, b, c;
   };
+  static_assert(sizeof(Leaf) == 64);
   std::vector<Leaf> leaves;
   std::vector<std::uint32_t> rank;  // per triangle id: its record in leaves
   float tolerance = 0.0f;
@@ -159,12 +163,12 @@ struct ExactDistance::Tree {
       const std::uint32_t t = order[k];
       const glm::vec3 a = vertices[triangles[t].x], b = vertices[triangles[t].y], c = vertices[triangles[t].z];
       const glm::vec3 n = face_normal[t], m = (a + b + c) / 3.0f;
-      leaves[k].plane = glm::vec4(n, -glm::dot(n, a));
-      leaves[k].sphere = glm::vec4(m, std::max({glm::length(a - m), glm::length(b - m), glm::length(c - m)}));
+      leaves[k].centre = m;
+      leaves[k].radius = std::max({glm::length(a - m), glm::length(b - m), glm::length(c - m)});
+      leaves[k].n = n;
       leaves[k].a = a;
       leaves[k].b = b;
       leaves[k].c = c;
-      leaves[k].id = t;
       rank[t] = static_cast<std::uint32_t>(k);
     }
     // rounding of coordinates of size `extent` in the plane distance and in
@@ -214,33 +218,35 @@ struct ExactDistance::Tree {
     std::uint32_t best = UINT32_MAX;
     glm::vec3 point{0.0f};
     Feature feature = kFace;
-    void offer(std::uint32_t t, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    // The triangle of record l, its id order[k], nearer than the best so far?
+    void offer(const Leaf& l, const std::uint32_t& id) {
       Feature f;
-      const glm::vec3 q = nearestOnTriangle(p, a, b, c, f);
+      const glm::vec3 q = nearestOnTriangle(p, l.a, l.b, l.c, f);
       const glm::vec3 d = p - q;
       const float d2 = glm::dot(d, d);
-      if (d2 < r2 || (d2 == r2 && t < best)) {
+      if (d2 < r2 || (d2 == r2 && id < best)) {
         r2 = d2;
-        best = t;
+        best = id;
         point = q;
         feature = f;
         reach = -1.0f;  // to be set from r2 by the tree
       }
     }
-    // Whether a triangle with this plane and sphere can be within the ball.
-    bool near(const glm::vec4& pl, const glm::vec4& sp, float tolerance) {
+    // Whether a triangle with this record's sphere and plane can be within
+    // the ball.
+    bool near(const Leaf& l, float tolerance) {
       if (reach < 0.0f) reach = std::sqrt(r2) + tolerance;
-      const glm::vec3 d = p - glm::vec3(sp);
-      const float out = reach + sp.w;
+      const glm::vec3 d = p - l.centre;
+      const float out = reach + l.radius;
       if (glm::dot(d, d) > out * out) return false;
-      return !(std::fabs(glm::dot(glm::vec3(pl), p) + pl.w) > reach);
+      return !(std::fabs(glm::dot(l.n, p - l.a)) > reach);
     }
   };
   // the triangle of record k (leaf order) to the search, if its plane and
   // sphere let it be nearer than the ball
   void offerLeaf(Nearest& q, std::uint32_t k) const {
     const Leaf& l = leaves[k];
-    if (q.near(l.plane, l.sphere, tolerance)) q.offer(l.id, l.a, l.b, l.c);
+    if (q.near(l, tolerance)) q.offer(l, order[k]);
   }
   void offer(Nearest& q, std::uint32_t t) const { offerLeaf(q, rank[t]); }  // by triangle id
   // The search of a ball within the cells' reach (the reach and the
