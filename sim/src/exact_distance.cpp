@@ -129,8 +129,8 @@ struct ExactDistance::Tree {
   // one. A triangle's tests and corners are one record of one cache line,
   // in leaf order (a cell's or a leaf's triangles are then a few
   // neighbouring lines); its id is in `order`, read only for a triangle
-  // that wins or ties (records of 72 bytes, with the id and the plane's
-  // offset, straddled two lines).
+  // the tests let through (records of 72 bytes, with the id and the
+  // plane's offset, straddled two lines).
   struct alignas(64) Leaf {
     glm::vec3 centre;
     float radius;
@@ -218,8 +218,8 @@ struct ExactDistance::Tree {
     std::uint32_t best = UINT32_MAX;
     glm::vec3 point{0.0f};
     Feature feature = kFace;
-    // The triangle of record l, its id order[k], nearer than the best so far?
-    void offer(const Leaf& l, const std::uint32_t& id) {
+    // The triangle of record l (its id: `id`) nearer than the best so far?
+    void offer(const Leaf& l, std::uint32_t id) {
       Feature f;
       const glm::vec3 q = nearestOnTriangle(p, l.a, l.b, l.c, f);
       const glm::vec3 d = p - q;
