@@ -20,6 +20,9 @@ MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> 
     : grid_(std::move(grid)) {
   if (!grid_) throw std::invalid_argument("MeshBody: no grid");
   exact_ = std::make_unique<ExactDistance>(mesh);
+  // sqrt(3/4) voxel for the interpolation, as much for the values' excess
+  // over the distance (the bake keeps it below GridSdfBody::kFarAllowance)
+  static_assert(GridSdfBody::kFarAllowance < 0.8660254f);
   grid_error_ = 1.7321f * grid_->voxelSize() * 1.001f + 1e-7f;
 }
 

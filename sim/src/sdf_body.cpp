@@ -3,6 +3,7 @@
 #include "loosehair/body.hpp"
 
 #include "exact_distance.hpp"
+#include "grid_value_bounds.hpp"
 #include "parallel.hpp"
 
 #include <openvdb/openvdb.h>
@@ -24,7 +25,10 @@ namespace loosehair {
 namespace {
 
 constexpr std::uint32_t kCacheMagic = 0x4c485344;  // "LHSD"
-constexpr std::uint32_t kCacheVersion = 4;  // 4: exact voxels near the surface, nearest triangles
+// 4: exact voxels near the surface, nearest triangles; 6: far values bounded
+// by the triangles (5 was taken by unlanded experiments, whose grids may
+// still sit in developers' caches)
+constexpr std::uint32_t kCacheVersion = 6;
 
 std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t bytes) {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -180,6 +184,11 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
           body->nearest_[at] = static_cast<std::int32_t>(tri);
         }
     });
+    // Beyond that band a value may exceed the distance; MeshBody's proofs of
+    // clearance allow kFarAllowance voxel of that (grid_value_bounds.hpp),
+    // and a voxel over it gets its exact value too.
+    const GridValues view{body->lower_, voxel, dims, body->values_, body->nearest_};
+    boundFarValues(exact, view, near, kFarAllowance * voxel, parallel::availableThreads());
   }
   body->computeBricks();
 
