@@ -150,12 +150,10 @@ class GridSdfBody final : public Body {
   glm::ivec3 dims() const { return dims_; }
   /// The baked value (m) of voxel (i, j, k), at lower() + voxelSize() (i, j, k).
   float voxelValue(int i, int j, int k) const { return at(i, j, k); }
-  /// How far (m) a baked value may exceed the exact signed distance at its
-  /// voxel: the bake gives any voxel over it its exact value. MeshBody's
-  /// error of sqrt(3) voxels is sqrt(3/4) voxel for the interpolation and
-  /// at least this for the values.
-  float valueExcessBound() const { return kFarAllowance * voxel_; }
-  /// valueExcessBound() in voxels: below sqrt(3/4), with room for rounding.
+  /// How far (voxels) a baked value may exceed the exact signed distance at
+  /// its voxel: the bake gives any voxel over it its exact value. MeshBody's
+  /// error of sqrt(3) voxels is sqrt(3/4) voxel for the interpolation and at
+  /// least this for the values (below sqrt(3/4), with room for rounding).
   static constexpr float kFarAllowance = 0.8f;
   /// Default cache directory: $LOOSEHAIR_CACHE_DIR, else $XDG_CACHE_HOME/loosehair,
   /// else $HOME/.cache/loosehair (empty if none of them is set).
