@@ -467,4 +467,65 @@ void AirSystem::emitAndRemove(double t, float dt, const HeadKinematics& head, co
   }
 }
 
+// ---- WindAir ------------------------------------------------------------------
+void AirSystem::exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
+                         std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
+                         std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force, float dt,
+                         int threads) {
+  // air neighbours, density, pressure, viscosity and the hair-air drag
+  setPose(head.pose);
+  findNeighbors(hair_x, dt, threads);
+  accumulateForces(hair_x, hair_v, hair_m, hair_root, hair_force, dt, threads);
+}
+
+void AirSystem::move(double t, double t_end, float dt, const Bodies& bodies, int threads) {
+  // Move the air, keep it out of the bodies (free slip), emit upwind and
+  // remove what left the box.
+  integrate(t, dt, bodies.start, threads);
+  constexpr std::size_t kBlock = 256;
+  const std::size_t na = x_.size();
+  parallel::forEach(threads, (na + kBlock - 1) / kBlock, [&](std::size_t bb) {
+    const std::size_t b = bb * kBlock, e = std::min(na, b + kBlock);
+    float phi[kBlock];
+    glm::vec3 nrm[kBlock], surface[kBlock];
+    bodies.local(&x_[b], e - b, phi, nrm, surface);
+    for (std::size_t a = b; a < e; ++a) {
+      const std::size_t k = a - b;
+      if (!(phi[k] < 0.0f)) continue;
+      x_[a] -= phi[k] * nrm[k];
+      const float vn = glm::dot(v_[a] - surface[k], nrm[k]);
+      if (vn < 0.0f) v_[a] -= vn * nrm[k];
+    }
+  });
+  emitAndRemove(t_end, dt, bodies.end, bodies.world_distance);
+}
+
+void AirSystem::worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const {
+  if (x) {
+    x->clear();
+    for (const auto& r : x_) x->emplace_back(head.pose.rotation * glm::dvec3(r) + head.pose.center);
+  }
+  if (v) {
+    v->clear();
+    for (std::size_t a = 0; a < x_.size(); ++a) {
+      const glm::dvec3 u = glm::dvec3(v_[a]) + glm::cross(head.angular_velocity, glm::dvec3(x_[a]));
+      v->emplace_back(head.pose.rotation * u + head.velocity);
+    }
+  }
+}
+
+void AirSystem::report(StepStats& stats) const {
+  stats.air_particles = x_.size();
+  stats.hair_air_pairs = hair_list_.size();
+  stats.coupled_hair = 0;
+  stats.air_iterations = 0;
+}
+
+void AirSystem::hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const {
+  const std::size_t na = x_.size();
+  mix(&na, sizeof na);
+  mix(x_.data(), na * sizeof(glm::vec3));
+  mix(v_.data(), na * sizeof(glm::vec3));
+}
+
 }  // namespace loosehair

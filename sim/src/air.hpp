@@ -9,6 +9,7 @@
 #include "loosehair/wind.hpp"
 #include "kernel.hpp"
 #include "neighbor_grid.hpp"
+#include "wind_air.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -17,7 +18,7 @@
 
 namespace loosehair {
 
-class AirSystem {
+class AirSystem final : public WindAir {
  public:
   /// Signed distance to the bodies for world-frame points (m, < 0 inside).
   using WorldDistance = std::function<void(const glm::vec3* world, std::size_t n, float* phi)>;
@@ -34,7 +35,7 @@ class AirSystem {
   /// The air's own stable step (s): weakly compressible, 0.5 h_air /
   /// (c + max speed); projected, h_air / max speed (the air moves at most
   /// h_air a step relative to the head).
-  double stableTimeStep() const;
+  double stableTimeStep() const override;
   float smoothingLength() const { return h_; }
   float particleMass() const { return mass_; }
   float restDensity() const { return rest_density_; }
@@ -59,12 +60,26 @@ class AirSystem {
   /// removes what left the box. `t` is the time at the end of the step.
   void emitAndRemove(double t, float dt, const HeadKinematics& head, const WorldDistance& bodies);
 
+  // WindAir: the exchange is findNeighbors and accumulateForces, the move
+  // integrate, the bodies' free-slip push and emitAndRemove, at every hair
+  // step.
+  AirModel model() const override { return AirModel::Particles; }
+  void exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
+                std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
+                std::span<glm::vec3> hair_force, float dt, int threads) override;
+  bool due(float) override { return true; }
+  void move(double t, double t_end, float dt, const Bodies& bodies, int threads) override;
+  std::size_t count() const override { return x_.size(); }
+  void worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const override;
+  void report(StepStats& stats) const override;
+  void hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const override;
+
   std::size_t size() const { return x_.size(); }
   std::vector<glm::vec3>& positions() { return x_; }
   std::vector<glm::vec3>& velocities() { return v_; }
   const std::vector<glm::vec3>& positions() const { return x_; }
   const std::vector<glm::vec3>& velocities() const { return v_; }
-  std::span<const float> density() const { return density_; }
+  std::span<const float> density() const override { return density_; }
   /// The drag force on the hair from the last accumulateForces (N); its sum
   /// is minus the sum of airDragForce.
   std::span<const glm::vec3> airDragForce() const { return drag_on_air_; }

@@ -694,4 +694,26 @@ void AirGrid::restore(State s) {
   pending_ = s.pending;
 }
 
+// ---- WindAir ------------------------------------------------------------------
+void AirGrid::worldState(const HeadKinematics&, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const {
+  std::vector<glm::vec3> unused;
+  openCells(x ? *x : unused, v ? *v : unused);
+}
+
+std::span<const float> AirGrid::density() const {
+  density_.assign(openCellCount(), p_.density);
+  return density_;
+}
+
+void AirGrid::report(StepStats& stats) const {
+  stats.air_particles = cellCount();
+  stats.hair_air_pairs = 0;
+  stats.coupled_hair = coupled_;
+  stats.air_iterations = last_iterations_;
+}
+
+void AirGrid::hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const {
+  for (const auto& u : u_) mix(u.data(), u.size() * sizeof(float));
+}
+
 }  // namespace loosehair

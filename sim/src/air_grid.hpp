@@ -27,11 +27,13 @@
 
 #include "loosehair/head_motion.hpp"
 #include "loosehair/wind.hpp"
+#include "wind_air.hpp"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -39,7 +41,7 @@
 
 namespace loosehair {
 
-class AirGrid {
+class AirGrid final : public WindAir {
  public:
   /// Signed distance (m, < 0 inside) and world velocity of the bodies at
   /// world points.
@@ -70,12 +72,35 @@ class AirGrid {
   /// Counts a hair step of `dt`; true when the air's own step is due (the
   /// time since its last step is nearest a whole number of hair steps to
   /// stepLength()).
-  bool due(float dt);
+  bool due(float dt) override;
   /// Moves the air over the time counted since its last step, ending at
   /// time t, the bodies where `bodies` says they are then (an empty
   /// `bodies`: where they were at the last step, for bodies that have not
   /// moved).
   void advance(double t, const BodySampler& bodies, int threads);
+
+  // WindAir: the exchange is exchangeDrag at every hair step, the move
+  // advance() when due (the bodies placed again only when they moved).
+  AirModel model() const override { return AirModel::Grid; }
+  void exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
+                std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
+                std::span<glm::vec3> hair_force, float dt, int threads) override {
+    exchangeDrag(head, hair_x, hair_v, hair_m, hair_root, hair_force, dt, threads);
+  }
+  void move(double, double t_end, float, const Bodies& bodies, int threads) override {
+    advance(t_end, bodies.moved ? bodies.world_sample : BodySampler{}, threads);
+  }
+  /// The open cells.
+  std::size_t count() const override { return openCellCount(); }
+  /// The open cells' centres and velocities (the grid is fixed in the world).
+  void worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const override;
+  /// The air is incompressible: the rest density in every open cell.
+  std::span<const float> density() const override;
+  /// None: the air steps at its own pace (due()).
+  double stableTimeStep() const override { return INFINITY; }
+  void report(StepStats& stats) const override;
+  /// The face velocities.
+  void hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const override;
 
   glm::ivec3 cells() const { return {n_[0], n_[1], n_[2]}; }
   float cellSize() const { return h_; }
@@ -185,6 +210,7 @@ class AirGrid {
   std::vector<glm::vec3> hair_vb_;
   std::vector<glm::vec4> cell_air_;
   std::vector<glm::vec3> cell_push_;
+  mutable std::vector<float> density_;  // density()'s
 };
 
 }  // namespace loosehair

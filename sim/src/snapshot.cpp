@@ -108,6 +108,18 @@ bool finite(const std::vector<float>& v) {
 
 // The solver's private state, for the snapshot only.
 struct SnapshotAccess {
+  // The wind's air as its model (wind_air.hpp): the snapshot holds each
+  // model's own state.
+  static AirGrid* gridAir(const Solver& s) {
+    return s.air_ && s.air_->model() == AirModel::Grid ? static_cast<AirGrid*>(s.air_.get()) : nullptr;
+  }
+  static AirSystem* particleAir(const Solver& s) {
+    return s.air_ && s.air_->model() == AirModel::Particles ? static_cast<AirSystem*>(s.air_.get()) : nullptr;
+  }
+  static std::uint8_t airKind(const Solver& s) {
+    return particleAir(s) ? kParticleAir : (gridAir(s) ? kGridAir : kNoAir);
+  }
+
   static std::uint64_t fingerprint(const Solver& s) {
     std::uint64_t h = 0xcbf29ce484222325ULL;
     auto mix = [&h](const auto& vec) {
@@ -129,12 +141,12 @@ struct SnapshotAccess {
     mix(c.partner);
     mix(c.rest_length);
     mix(c.strength);
-    if (s.air_) {
-      mix(s.air_->positions());
-      mix(s.air_->velocities());
+    if (const AirSystem* air = particleAir(s)) {
+      mix(air->positions());
+      mix(air->velocities());
     }
-    if (s.air_grid_)
-      for (const auto& u : s.air_grid_->state().u) mix(u);
+    if (const AirGrid* grid = gridAir(s))
+      for (const auto& u : grid->state().u) mix(u);
     // the physical parameters (not the thread count, nor the time step,
     // which the snapshot carries)
     const SimParams& q = s.params_;
@@ -172,15 +184,15 @@ struct SnapshotAccess {
     }
     // the implicit springs' last velocity change: the next solve's start
     w.array(s.spring_dv_);
-    w.put<std::uint8_t>(s.air_ ? kParticleAir : (s.air_grid_ ? kGridAir : kNoAir));
-    if (s.air_grid_) {
-      const AirGrid::State g = s.air_grid_->state();
+    w.put<std::uint8_t>(airKind(s));
+    if (const AirGrid* grid = gridAir(s)) {
+      const AirGrid::State g = grid->state();
       for (const auto& u : g.u) w.array(u);
       w.array(g.pressure);
       w.put<double>(g.pending);
     }
-    if (s.air_) {
-      const AirSystem::State a = s.air_->state();
+    if (const AirSystem* air = particleAir(s)) {
+      const AirSystem::State a = air->state();
       w.array(a.x);
       w.array(a.v);
       w.array(a.density);
@@ -215,7 +227,9 @@ struct SnapshotAccess {
       r.fail("the implicit springs' last velocity change has " + std::to_string(spring_dv.size()) +
              " values where the scene has " + std::to_string(n) + " particles");
     const auto air_kind = r.get<std::uint8_t>("the wind flag");
-    const std::uint8_t scene_kind = s.air_ ? kParticleAir : (s.air_grid_ ? kGridAir : kNoAir);
+    const std::uint8_t scene_kind = airKind(s);
+    AirGrid* const scene_grid = gridAir(s);
+    AirSystem* const scene_air = particleAir(s);
     if (air_kind != scene_kind) {
       if (air_kind == kNoAir) r.fail("the scene has wind and it has none");
       if (scene_kind == kNoAir) r.fail("it has wind and the scene has none");
@@ -226,8 +240,8 @@ struct SnapshotAccess {
     if (air_kind == kGridAir) {
       for (int c = 0; c < 3; ++c)
         grid.u[static_cast<std::size_t>(c)] =
-            r.array<float>("the air grid's velocities", s.air_grid_->faceCount(c));
-      grid.pressure = r.array<float>("the air grid's pressures", s.air_grid_->cellCount());
+            r.array<float>("the air grid's velocities", scene_grid->faceCount(c));
+      grid.pressure = r.array<float>("the air grid's pressures", scene_grid->cellCount());
       grid.pending = r.get<double>("the air grid's time since its step");
     }
     AirSystem::State air;
@@ -258,7 +272,7 @@ struct SnapshotAccess {
     }
 
     if (air_kind == kGridAir &&
-        (!std::isfinite(grid.pending) || grid.pending < 0.0 || grid.pending > 10.0 * s.air_grid_->stepLength()))
+        (!std::isfinite(grid.pending) || grid.pending < 0.0 || grid.pending > 10.0 * scene_grid->stepLength()))
       r.fail("the air grid's time since its step is " + std::to_string(grid.pending) + " s");
     // Everything checked: the solver changes only from here on.
     if (dt != s.params_.time_step) s.setTimeStep(dt);
@@ -270,8 +284,8 @@ struct SnapshotAccess {
     s.particles_.direction = std::move(direction);
     s.absorb_corrections_ = absorb;
     s.spring_dv_ = std::move(spring_dv);
-    if (s.air_) s.air_->restore(std::move(air));
-    if (s.air_grid_) s.air_grid_->restore(std::move(grid));  // checked above: cannot throw
+    if (scene_air) scene_air->restore(std::move(air));
+    if (scene_grid) scene_grid->restore(std::move(grid));  // checked above: cannot throw
     // Queries between steps see the state (as after a step).
     s.findNeighbors();
     s.computeDensity();

@@ -1181,15 +1181,13 @@ void Solver::setWind(const WindParams& wind) {
     grid->fill(time_, [&](const glm::vec3* w, std::size_t n, float* phi, glm::vec3* v) {
       worldBodySample(frames, head, w, n, phi, v, true);
     });
-    air_.reset();
-    air_grid_ = std::move(grid);
+    air_ = std::move(grid);
     return;
   }
   auto air = std::make_unique<AirSystem>(wind);
   air->fill(time_, head, [&](const glm::vec3* w, std::size_t n, float* phi) {
     worldBodyDistance(frames, head, w, n, phi);
   });
-  air_grid_.reset();
   air_ = std::move(air);
 }
 
@@ -1244,47 +1242,21 @@ void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadK
   worldBodySample(frames, head, world, n, phi, nullptr, false);
 }
 
-std::size_t Solver::airCount() const {
-  if (air_grid_) return air_grid_->openCellCount();
-  return air_ ? air_->size() : 0;
-}
+bool Solver::windOnGrid() const { return air_ && air_->model() == AirModel::Grid; }
+
+std::size_t Solver::airCount() const { return air_ ? air_->count() : 0; }
 
 void Solver::worldAirPositions(std::vector<glm::vec3>& out) const {
   out.clear();
-  if (air_grid_) {
-    std::vector<glm::vec3> v;
-    air_grid_->openCells(out, v);
-    return;
-  }
-  if (!air_) return;
-  const HeadPose pose = trajectory_.pose(time_);
-  for (const auto& x : air_->positions())
-    out.emplace_back(pose.rotation * glm::dvec3(x) + pose.center);
+  if (air_) air_->worldState(trajectory_.kinematics(time_), &out, nullptr);
 }
 
 void Solver::worldAirVelocities(std::vector<glm::vec3>& out) const {
   out.clear();
-  if (air_grid_) {
-    std::vector<glm::vec3> x;
-    air_grid_->openCells(x, out);
-    return;
-  }
-  if (!air_) return;
-  const HeadKinematics k = trajectory_.kinematics(time_);
-  const auto& x = air_->positions();
-  const auto& v = air_->velocities();
-  for (std::size_t a = 0; a < x.size(); ++a) {
-    const glm::dvec3 u = glm::dvec3(v[a]) + glm::cross(k.angular_velocity, glm::dvec3(x[a]));
-    out.emplace_back(k.pose.rotation * u + k.velocity);
-  }
+  if (air_) air_->worldState(trajectory_.kinematics(time_), nullptr, &out);
 }
 
 std::span<const float> Solver::airDensity() const {
-  if (air_grid_) {
-    // the grid's air is incompressible: its rest density in every cell
-    air_grid_density_.assign(airCount(), air_grid_->restDensity());
-    return air_grid_density_;
-  }
   return air_ ? air_->density() : std::span<const float>();
 }
 
@@ -1293,10 +1265,7 @@ double Solver::holdTimeStep() const {
   return w > 0.0 ? kMaxHoldPhasePerStep / w : INFINITY;
 }
 
-double Solver::airStableTimeStep() const {
-  if (air_grid_) return INFINITY;  // the grid's air steps at its own pace (AirGrid::due)
-  return air_ ? air_->stableTimeStep() : INFINITY;
-}
+double Solver::airStableTimeStep() const { return air_ ? air_->stableTimeStep() : INFINITY; }
 
 // ---- external forces in the head frame (SPEC §5) ----------------------------
 void Solver::addExternalForces() {
@@ -1747,36 +1716,6 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
       });
 }
 
-// ---- wind: move the air, keep it out of the bodies (free slip), emit upwind
-// and remove what left the box ----------------------------------------------------
-void Solver::moveAir(float dt, const std::vector<BodyFrame>& frames,
-                     const HeadKinematics& head_start, const HeadKinematics& head_end) {
-  air_->integrate(time_, dt, head_start, threads_);
-  auto& ax = air_->positions();
-  auto& av = air_->velocities();
-  const std::size_t na = ax.size();
-  parallel::forEach(threads_, static_cast<std::size_t>((na + kBodyBlock - 1) / kBodyBlock),
-                    [&](std::size_t bb) {
-                      const std::size_t b = bb * kBodyBlock;
-                      const std::size_t e = std::min(na, b + kBodyBlock);
-                      float phi[kBodyBlock];
-                      glm::vec3 nrm[kBodyBlock], surface[kBodyBlock];
-                      queryBodies(frames, head_end, &ax[b], e - b, phi, nrm, surface, INFINITY,
-                                  true);
-                      for (std::size_t a = b; a < e; ++a) {
-                        const std::size_t k = a - b;
-                        if (!(phi[k] < 0.0f)) continue;
-                        ax[a] -= phi[k] * nrm[k];
-                        const float vn = glm::dot(av[a] - surface[k], nrm[k]);
-                        if (vn < 0.0f) av[a] -= vn * nrm[k];
-                      }
-                    });
-  air_->emitAndRemove(time_ + params_.time_step, dt, head_end,
-                      [&](const glm::vec3* w, std::size_t count, float* phi) {
-                        worldBodyDistance(frames, head_end, w, count, phi);
-                      });
-}
-
 // ---- hair directions, eq. 15, with the spring lengths of the next step ------
 // The weights alpha_ij k_ij are this step's; x_ij are the new positions. The
 // same pass measures |x_ij|, k_ij and the side sums at the new positions,
@@ -1942,16 +1881,9 @@ void Solver::step() {
   if (params_.hair_hair) accumulateHairHairForces(force_, true);
   lap(st.hair_hair);
   if (air_) {
-    // air neighbours, density, pressure, viscosity and the hair-air drag (SPEC §5)
-    air_->setPose(trajectory_.pose(time_));
-    air_->findNeighbors(particles_.position, dt, threads_);
-    air_->accumulateForces(particles_.position, particles_.velocity, particles_.mass,
-                           particles_.is_root, force_, dt, threads_);
-    lap(st.air);
-  } else if (air_grid_) {
-    // the hair-air drag with the grid's air (air_grid.hpp)
-    air_grid_->exchangeDrag(trajectory_.kinematics(time_), particles_.position, particles_.velocity,
-                            particles_.mass, particles_.is_root, force_, dt, threads_);
+    // the hair-air drag (SPEC §5; wind_air.hpp)
+    air_->exchange(trajectory_.kinematics(time_), particles_.position, particles_.velocity, particles_.mass,
+                   particles_.is_root, force_, dt, threads_);
     lap(st.air);
   }
   addExternalForces();
@@ -1975,18 +1907,23 @@ void Solver::step() {
   projectOutOfBodies(dt, start_frames_, frames, solid_frames_, head_end);  // and the tethers
   lap(st.strain_limit);
 
-  if (air_) {
-    moveAir(dt, frames, head_start, head_end);
-    lap(st.air);
-  } else if (air_grid_ && air_grid_->due(dt)) {
-    // the grid steps at its own pace, and asks the bodies again only when
-    // they moved
-    AirGrid::BodySampler bodies;
-    if (airBodiesMoved(frames, head_end))
-      bodies = [&](const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) {
-        worldBodySample(frames, head_end, w, count, phi, v, true);
-      };
-    air_grid_->advance(t_end, bodies, threads_);
+  if (air_ && air_->due(dt)) {
+    // the air moves (the grid's at its own pace), the bodies where they
+    // are at the step's end
+    WindAir::Bodies bodies;
+    bodies.start = head_start;
+    bodies.end = head_end;
+    bodies.local = [&](const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal, glm::vec3* v) {
+      queryBodies(frames, head_end, x, count, phi, normal, v, INFINITY, true);
+    };
+    bodies.world_sample = [&](const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) {
+      worldBodySample(frames, head_end, w, count, phi, v, true);
+    };
+    bodies.world_distance = [&](const glm::vec3* w, std::size_t count, float* phi) {
+      worldBodyDistance(frames, head_end, w, count, phi);
+    };
+    bodies.moved = airBodiesMoved(frames, head_end);
+    air_->move(time_, t_end, dt, bodies, threads_);
     lap(st.air);
   }
 
@@ -2016,10 +1953,12 @@ void Solver::step() {
   stats_.body_contacts = contacts;
   stats_.strain_limited = limited;
   stats_.active_connections = s.active_entries / 2;
-  stats_.air_particles = air_ ? air_->size() : (air_grid_ ? air_grid_->cellCount() : 0);
-  stats_.hair_air_pairs = air_ ? air_->hairAirPairs() : 0;
-  stats_.coupled_hair = air_grid_ ? air_grid_->coupledHair() : 0;
-  stats_.air_iterations = air_grid_ ? air_grid_->lastIterations() : 0;
+  if (air_) {
+    air_->report(stats_);
+  } else {
+    stats_.air_particles = stats_.hair_air_pairs = stats_.coupled_hair = 0;
+    stats_.air_iterations = 0;
+  }
   if (thread_choice_) thread_choice_->record(seconds(step_start, Clock::now()));
   threads_ = max_threads_;
 }
@@ -2040,16 +1979,7 @@ std::uint64_t Solver::stateHash() const {
   mix(particles_.position.data(), n * sizeof(glm::vec3));
   mix(particles_.velocity.data(), n * sizeof(glm::vec3));
   mix(particles_.direction.data(), n * sizeof(glm::vec3));
-  if (air_) {
-    const std::size_t na = air_->size();
-    mix(&na, sizeof na);
-    mix(air_->positions().data(), na * sizeof(glm::vec3));
-    mix(air_->velocities().data(), na * sizeof(glm::vec3));
-  }
-  if (air_grid_) {
-    const AirGrid::State g = air_grid_->state();
-    for (const auto& u : g.u) mix(u.data(), u.size() * sizeof(float));
-  }
+  if (air_) air_->hashState(mix);
   return h;
 }
 

@@ -29,8 +29,7 @@
 namespace loosehair {
 
 class NeighborGrid;
-class AirSystem;
-class AirGrid;
+class WindAir;
 class ThreadChoice;
 struct ShapeKeeping;
 class ImplicitSprings;
@@ -152,9 +151,9 @@ class Solver {
   /// Turns on wind (SPEC §5): fills the air box at the current time.
   /// Throws std::invalid_argument with every problem of `wind`.
   void setWind(const WindParams& wind);
-  bool hasWind() const { return air_ != nullptr || air_grid_ != nullptr; }
+  bool hasWind() const { return air_ != nullptr; }
   /// The wind's air is a grid (WindParams::model), not particles.
-  bool windOnGrid() const { return air_grid_ != nullptr; }
+  bool windOnGrid() const;
   /// Air particles (0 without wind) and their state in world coordinates;
   /// with the air on a grid, the cells outside the bodies, at their centres.
   std::size_t airCount() const;
@@ -295,8 +294,6 @@ class Solver {
   void projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
                           const std::vector<BodyFrame>& frames,
                           const std::vector<BodyFrame>& solid_frames, const HeadKinematics& head);
-  void moveAir(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head_start,
-               const HeadKinematics& head_end);
   /// Whether the bodies are placed otherwise than at the last call (the
   /// grid air's bodies need placing again).
   bool airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
@@ -311,9 +308,7 @@ class Solver {
   SimParams params_;
   Particles particles_;
   std::vector<WorldBody> world_bodies_;
-  std::unique_ptr<AirSystem> air_;
-  std::unique_ptr<AirGrid> air_grid_;  // the wind's air on a grid (one of the two)
-  mutable std::vector<float> air_grid_density_;  // airDensity() of the grid's cells
+  std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
