@@ -133,7 +133,9 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   expectRejected(meshScene("", R"(, "wind": {"speed": -3})"), "wind.speed: must be a number in [0, 100]");
   expectRejected(meshScene("", R"(, "wind": {"direction": [0, 0, 0]})"), "wind.direction: must be a non-zero");
   expectRejected(meshScene("", R"(, "wind": {"profile": [[1, 1], [0.5, 1]]})"), "wind.profile[1]: times must increase");
-  expectRejected(meshScene("", R"(, "wind": {"spacing": 0.0001})"), "more than 20 million air particles");
+  expectRejected(meshScene("", R"(, "wind": {"spacing": 0.0001})"), "more than 20 million grid cells");
+  expectRejected(meshScene("", R"(, "wind": {"model": "particles", "spacing": 0.0001})"),
+                 "more than 20 million air particles");
   expectRejected(meshScene("", R"(, "wind": {"gust": 1})"), "wind.gust: unknown field");
   expectRejected(meshScene("", R"(, "wind": {"model": "foam"})"), "wind.model: must be \"grid\" or \"particles\", got \"foam\"");
   expectRejected(meshScene("", R"(, "wind": {"model": 3})"), "wind.model");

@@ -66,7 +66,10 @@ std::vector<std::string> validate(const WindParams& w) {
   else {
     double count = 1;
     for (int a = 0; a < 3; ++a) count *= std::ceil(w.box_size[a] / w.spacing);
-    if (count > 2.0e7) say("wind.spacing", w.spacing, "gives more than 20 million air particles in the box");
+    if (count > 2.0e7)
+      say("wind.spacing", w.spacing,
+          w.model == AirModel::Grid ? "gives more than 20 million grid cells in the box"
+                                    : "gives more than 20 million air particles in the box");
   }
   if (!std::isfinite(w.h_scale) || w.h_scale < 0.5f || w.h_scale > 4.0f) say("wind.h_scale", w.h_scale, "must be in [0.5, 4]");
   if (!std::isfinite(w.density) || !(w.density > 0.0f) || w.density > 1e4f) say("wind.density", w.density, "must be in (0, 1e4] kg/m^3");
