@@ -197,7 +197,7 @@ TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
     EXPECT_LE(report.substeps, 4);
   }
   expectSceneRejected(std::string(kSphere) + R"("wind": {"spacing": 0.002}})",
-                      {"bad.json", "wind.spacing", "air particles"});
+                      {"bad.json", "wind.spacing", "grid cells"});
   // with the limit raised the same scene is built
   SceneDesc scene =
       parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": false}})", "ok.json");
