@@ -38,7 +38,7 @@ void stepAir(AirSystem& air, double& t, float dt, std::span<const glm::vec3> hx,
 TEST(Wind, HairAirDragIsEqualAndOppositeAndAirForcesConserveMomentum) {
   AirSystem air(smallBox(3.0f));
   air.fill(0.0, HeadKinematics{}, {});
-  ASSERT_GT(air.size(), 500u);
+  ASSERT_GT(air.count(), 500u);
   Random rng(5);
   const std::size_t nh = 400;
   std::vector<glm::vec3> hx(nh), hv(nh), hf(nh, glm::vec3(0));
@@ -77,7 +77,7 @@ TEST(Wind, HairAirDragIsEqualAndOppositeAndAirForcesConserveMomentum) {
 TEST(Wind, StillAirStaysStillInItsOpenBox) {
   AirSystem air(smallBox(0.0f));
   air.fill(0.0, HeadKinematics{}, {});
-  const std::size_t n0 = air.size();
+  const std::size_t n0 = air.count();
   std::vector<glm::vec3> none;
   std::vector<float> nm;
   std::vector<std::uint8_t> nr;
@@ -90,18 +90,18 @@ TEST(Wind, StillAirStaysStillInItsOpenBox) {
     mean_speed += glm::length(v);
     drift += glm::dvec3(v);
   }
-  mean_speed /= static_cast<double>(air.size());
+  mean_speed /= static_cast<double>(air.count());
   // The jittered lattice relaxes with small velocities (SPH noise, a few
   // percent of the sound speed); nothing streams in or out of the faces.
   EXPECT_LT(mean_speed, 0.1 * air.soundSpeed());
-  EXPECT_LT(glm::length(drift) / static_cast<double>(air.size()), 0.01);
-  EXPECT_NEAR(static_cast<double>(air.size()) / static_cast<double>(n0), 1.0, 0.02);
+  EXPECT_LT(glm::length(drift) / static_cast<double>(air.count()), 0.01);
+  EXPECT_NEAR(static_cast<double>(air.count()) / static_cast<double>(n0), 1.0, 0.02);
 }
 
 TEST(Wind, SteadyWindCrossesTheBoxAtItsSpeed) {
   AirSystem air(smallBox(2.0f));
   air.fill(0.0, HeadKinematics{}, {});
-  const std::size_t n0 = air.size();
+  const std::size_t n0 = air.count();
   std::vector<glm::vec3> none;
   std::vector<float> nm;
   std::vector<std::uint8_t> nr;
@@ -110,11 +110,11 @@ TEST(Wind, SteadyWindCrossesTheBoxAtItsSpeed) {
   while (t < 0.5) stepAir(air, t, dt, none, none, nm, nr, none);
   double along = 0;
   for (const auto& v : air.velocities()) along += v.x;
-  along /= static_cast<double>(air.size());
+  along /= static_cast<double>(air.count());
   EXPECT_NEAR(along, 2.0, 0.2);
   EXPECT_GT(air.emitted(), n0) << "air keeps coming in upwind";
   EXPECT_GT(air.removed(), n0 / 2) << "and leaving downwind";
-  EXPECT_NEAR(static_cast<double>(air.size()) / static_cast<double>(n0), 1.0, 0.08);
+  EXPECT_NEAR(static_cast<double>(air.count()) / static_cast<double>(n0), 1.0, 0.08);
 }
 
 // The density projection (sim/src/air_projection.cpp): squeezed air
@@ -135,7 +135,7 @@ TEST(Wind, ProjectionSpreadsSqueezedAirByPairShifts) {
   const float from_face = 0.5f * w.box_size.y - 2.0f * w.spacing * w.h_scale;
   auto worst = [&](const AirSystem& a) {
     double e = 0;
-    for (std::size_t q = 0; q < a.size(); ++q) {
+    for (std::size_t q = 0; q < a.count(); ++q) {
       const glm::vec3 x = a.positions()[q];
       if (std::abs(x.x) < 0.1f && std::abs(x.y) < from_face && std::abs(x.z) < from_face)
         e = std::max(e, std::abs(static_cast<double>(a.density()[q]) / a.restDensity() - 1.0));
@@ -165,7 +165,7 @@ TEST(Wind, ProjectionSpreadsSqueezedAirByPairShifts) {
     moved += glm::length(glm::dvec3(v));
   }
   std::printf("momentum gained %.2e of the %.3f moved\n", glm::length(momentum), moved);
-  ASSERT_GT(moved, 0.05 * static_cast<double>(air.size())) << "m/s: the squeeze moves the air";
+  ASSERT_GT(moved, 0.05 * static_cast<double>(air.count())) << "m/s: the squeeze moves the air";
   EXPECT_LT(glm::length(momentum), 1e-4 * moved) << "pair shifts keep the momentum";
 }
 

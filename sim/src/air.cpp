@@ -500,7 +500,9 @@ void AirSystem::move(double t, double t_end, float dt, const Bodies& bodies, int
       if (vn < 0.0f) v_[a] -= vn * nrm[k];
     }
   });
-  emitAndRemove(t_end, dt, bodies.end, bodies.world_distance);
+  emitAndRemove(t_end, dt, bodies.end, [&bodies](const glm::vec3* w, std::size_t n, float* phi) {
+    bodies.worldDistance(w, n, phi);
+  });
 }
 
 void AirSystem::worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const {

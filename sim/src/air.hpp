@@ -69,12 +69,12 @@ class AirSystem final : public WindAir {
                 std::span<glm::vec3> hair_force, float dt, int threads) override;
   bool due(float) override { return true; }
   void move(double t, double t_end, float dt, const Bodies& bodies, int threads) override;
+  /// The air particles.
   std::size_t count() const override { return x_.size(); }
   void worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const override;
   void report(StepStats& stats) const override;
   void hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const override;
 
-  std::size_t size() const { return x_.size(); }
   std::vector<glm::vec3>& positions() { return x_; }
   std::vector<glm::vec3>& velocities() { return v_; }
   const std::vector<glm::vec3>& positions() const { return x_; }

@@ -695,6 +695,15 @@ void AirGrid::restore(State s) {
 }
 
 // ---- WindAir ------------------------------------------------------------------
+void AirGrid::move(double, double t_end, float, const Bodies& bodies, int threads) {
+  if (!bodies.moved) {
+    advance(t_end, {}, threads);
+    return;
+  }
+  advance(t_end, [&bodies](const glm::vec3* w, std::size_t n, float* phi, glm::vec3* v) { bodies.worldSample(w, n, phi, v); },
+          threads);
+}
+
 void AirGrid::worldState(const HeadKinematics&, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const {
   std::vector<glm::vec3> unused;
   openCells(x ? *x : unused, v ? *v : unused);

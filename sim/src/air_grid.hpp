@@ -87,9 +87,7 @@ class AirGrid final : public WindAir {
                 std::span<glm::vec3> hair_force, float dt, int threads) override {
     exchangeDrag(head, hair_x, hair_v, hair_m, hair_root, hair_force, dt, threads);
   }
-  void move(double, double t_end, float, const Bodies& bodies, int threads) override {
-    advance(t_end, bodies.moved ? bodies.world_sample : BodySampler{}, threads);
-  }
+  void move(double t, double t_end, float dt, const Bodies& bodies, int threads) override;
   /// The open cells.
   std::size_t count() const override { return openCellCount(); }
   /// The open cells' centres and velocities (the grid is fixed in the world).

@@ -1910,18 +1910,23 @@ void Solver::step() {
   if (air_ && air_->due(dt)) {
     // the air moves (the grid's at its own pace), the bodies where they
     // are at the step's end
-    WindAir::Bodies bodies;
+    struct StepBodies final : WindAir::Bodies {
+      const Solver& solver;
+      const std::vector<BodyFrame>& frames;
+      StepBodies(const Solver& s, const std::vector<BodyFrame>& f) : solver(s), frames(f) {}
+      void local(const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal,
+                 glm::vec3* v) const override {
+        solver.queryBodies(frames, end, x, count, phi, normal, v, INFINITY, true);
+      }
+      void worldSample(const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) const override {
+        solver.worldBodySample(frames, end, w, count, phi, v, true);
+      }
+      void worldDistance(const glm::vec3* w, std::size_t count, float* phi) const override {
+        solver.worldBodyDistance(frames, end, w, count, phi);
+      }
+    } bodies(*this, frames);
     bodies.start = head_start;
     bodies.end = head_end;
-    bodies.local = [&](const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal, glm::vec3* v) {
-      queryBodies(frames, head_end, x, count, phi, normal, v, INFINITY, true);
-    };
-    bodies.world_sample = [&](const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) {
-      worldBodySample(frames, head_end, w, count, phi, v, true);
-    };
-    bodies.world_distance = [&](const glm::vec3* w, std::size_t count, float* phi) {
-      worldBodyDistance(frames, head_end, w, count, phi);
-    };
     bodies.moved = airBodiesMoved(frames, head_end);
     air_->move(time_, t_end, dt, bodies, threads_);
     lap(st.air);

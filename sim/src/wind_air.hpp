@@ -1,9 +1,10 @@
 // The wind's air, whichever model carries it (SPEC §5; docs/design.md
 // "Air on a grid"): the paper's SPH air particles (air.hpp, AirSystem) or a
-// velocity field on a grid (air_grid.hpp, AirGrid). The solver talks to the
-// air through this interface only: the hair-air drag before the hair's
-// step, the air's own motion after it, and what the queries, statistics,
-// state hash and snapshots read.
+// velocity field on a grid (air_grid.hpp, AirGrid). Once it has built one,
+// the solver talks to the air through this interface only: the hair-air
+// drag before the hair's step, the air's own motion after it, and what the
+// queries, statistics and state hash read (snapshots, which hold each
+// model's own state, tell the two apart).
 #pragma once
 
 #include "loosehair/head_motion.hpp"
@@ -23,21 +24,25 @@ namespace loosehair {
 class WindAir {
  public:
   /// The bodies as the air asks for them when it moves, placed at the end
-  /// of the hair's step.
-  struct Bodies {
+  /// of the hair's step (the solver implements it for each step, without
+  /// allocating).
+  class Bodies {
+   public:
     HeadKinematics start, end;  // the head at the hair step's start and end
-    /// Grid signed distances (m, < 0 inside), outward normals and the
-    /// bodies' velocities (head frame) at head-frame points.
-    std::function<void(const glm::vec3* local, std::size_t n, float* phi, glm::vec3* normal,
-                       glm::vec3* velocity)>
-        local;
-    /// Grid signed distances and world velocities of the bodies at world
-    /// points.
-    std::function<void(const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity)> world_sample;
-    /// Exact signed distances at world points.
-    std::function<void(const glm::vec3* world, std::size_t n, float* phi)> world_distance;
     /// Whether the bodies are placed otherwise than at the air's last move.
     bool moved = true;
+    /// Grid signed distances (m, < 0 inside), outward normals and the
+    /// bodies' velocities (head frame) at head-frame points.
+    virtual void local(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
+                       glm::vec3* velocity) const = 0;
+    /// Grid signed distances and world velocities of the bodies at world
+    /// points.
+    virtual void worldSample(const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity) const = 0;
+    /// Exact signed distances at world points.
+    virtual void worldDistance(const glm::vec3* world, std::size_t n, float* phi) const = 0;
+
+   protected:
+    ~Bodies() = default;
   };
 
   virtual ~WindAir() = default;
