@@ -198,6 +198,16 @@ TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
   }
   expectSceneRejected(std::string(kSphere) + R"("wind": {"spacing": 0.002}})",
                       {"bad.json", "wind.spacing", "grid cells"});
+  // a long frame: the message names what bounds the step and the frame, not
+  // the stiffness (which does not bound the implicit springs)
+  expectSceneRejected(std::string(kSphere) + R"("frame_rate": 0.01})",
+                      {"bad.json", "implicit springs' accuracy", "1/0.01 s", "9000 steps", "frame_rate",
+                       "--allow-expensive"});
+  expectSceneRejected(std::string(kSphere) + R"("frame_rate": 0.1, "solver": {"collision_rate": 100}})",
+                      {"bad.json", "solver.collision_rate = 100", "4000 steps", "lower solver.collision_rate"});
+  // steps given by hand are held to the same limit
+  expectSceneRejected(std::string(kSphere) + R"("substeps": 100000})",
+                      {"bad.json", "substeps: 100000", "limit of 2000", "--allow-expensive"});
   // with the limit raised the same scene is built
   SceneDesc scene =
       parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": false}})", "ok.json");

@@ -670,25 +670,50 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
       throw SceneError(scene.source + ": " + e.what());
     }
   }
+  // The longest step each bound allows, and what to change to relax it: the
+  // auto step takes the shortest; a scene that would need more steps a
+  // frame than the limit (given or auto) is refused naming the bound.
+  struct StepBound {
+    double seconds;
+    std::string what, fix;
+  };
+  std::vector<StepBound> bounds;
+  if (params.implicit_springs)  // accuracy only (docs/design.md "Implicit springs": kAccurateStep)
+    bounds.push_back({kAccurateStep, "the implicit springs' accuracy (at most 1/90 s a step)",
+                      "raise frame_rate (shorter frames)"});
+  else  // 60% of the stable spring step
+    bounds.push_back({0.6 * solver.initReport().stable_time_step,
+                      "the explicit springs' stability (solver.youngs_modulus = " + num(params.youngs_modulus) + ")",
+                      "lower solver.youngs_modulus, raise the particle spacing (fewer hair.particles) or set "
+                      "solver.implicit_springs to true"});
+  // no velocity-decay rate above 0.25 per step (validate() rejects more)
+  for (const auto& [name, rate] : {std::pair{"collision_rate", params.collision_rate},
+                                   std::pair{"friction_rate", params.friction_rate},
+                                   std::pair{"air_drag", params.air_drag}})
+    if (rate > 0.0f)
+      bounds.push_back({0.25 / rate, std::string("solver.") + name + " = " + num(rate) + " 1/s",
+                        std::string("lower solver.") + name});
+  bounds.push_back({solver.airStableTimeStep(), "the wind's air particles (wind.speed, wind.spacing)",
+                    "use the grid air (wind.model \"grid\"), a larger wind.spacing or a lower wind.speed"});
+  bounds.push_back({solver.holdTimeStep(), "the style's holds (solver.shape_keeping and the ties' stiffness)",
+                    "soften the style's holds (a lower solver.shape_keeping)"});
+  const StepBound& tightest = *std::min_element(
+      bounds.begin(), bounds.end(), [](const StepBound& a, const StepBound& b) { return a.seconds < b.seconds; });
+  // (a bound that divides the frame exactly is not rounded up a step)
+  const double needed =
+      scene.substeps > 0 ? scene.substeps : std::ceil(frame_time / tightest.seconds * (1.0 - 1e-6));
+  if (needed > scene.limits.max_substeps) {
+    const std::string frame = "a frame (1/" + num(scene.frame_rate) + " s)";
+    if (scene.substeps > 0)
+      throw SceneError(scene.source + ": substeps: " + std::to_string(scene.substeps) +
+                       " steps a frame are above the limit of " + std::to_string(scene.limits.max_substeps) +
+                       ": use fewer substeps or \"auto\" (or --allow-expensive)");
+    throw SceneError(scene.source + ": " + tightest.what + " bounds the step to " + num(tightest.seconds * 1e3) +
+                     " ms, so " + frame + " would need " + std::to_string(static_cast<long long>(needed)) +
+                     " steps, above the limit of " + std::to_string(scene.limits.max_substeps) + ": " + tightest.fix +
+                     " (or --allow-expensive)");
+  }
   if (scene.substeps == 0) {
-    // 60% of the stable spring step, and no velocity-decay rate above
-    // 0.25 per step (validate() rejects more).
-    const double fastest_rate = std::max({params.collision_rate, params.friction_rate,
-                                          params.air_drag, 1e-9f});
-    // implicit springs: their stable step is no bound, only accuracy is
-    // (docs/design.md "Implicit springs": kAccurateStep)
-    const double spring_bound = params.implicit_springs ? kAccurateStep
-                                                        : 0.6 * solver.initReport().stable_time_step;
-    const double longest = std::min(
-        {spring_bound, 0.25 / fastest_rate, solver.airStableTimeStep(), solver.holdTimeStep()});
-    // (a bound that divides the frame exactly is not rounded up a step)
-    const double needed = std::ceil(frame_time / longest * (1.0 - 1e-6));
-    if (needed > scene.limits.max_substeps)
-      throw SceneError(scene.source + ": the stable time step is " + num(longest * 1e3) +
-                       " ms, so a frame would need " + std::to_string(static_cast<long long>(needed)) +
-                       " steps, above the limit of " + std::to_string(scene.limits.max_substeps) +
-                       ": lower solver.youngs_modulus, solver.collision_rate, solver.friction_rate or "
-                       "solver.air_drag, or raise the particle spacing (fewer hair.particles) (or --allow-expensive)");
     substeps = std::max(1, static_cast<int>(needed));
     solver.setTimeStep(frame_time / substeps);
   }
