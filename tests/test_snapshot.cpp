@@ -132,6 +132,23 @@ TEST(Snapshot, BadSnapshotsAreRefusedAndChangeNothing) {
   SceneDesc stiffer = scene;
   stiffer.sim.youngs_modulus *= 2;
   refused(encodeSnapshot(buildSolver(stiffer)), "another scene");
+  // another wind whose air starts the same (a grid air is still at t = 0
+  // when the gusts start from 0): the drag, the direction, the gusts
+  {
+    SceneDesc windy = tiny("tiny-wind.json");
+    windy.wind.profile = {{0.0, 0.0f}, {1.0, 1.0f}};
+    const std::string saved = encodeSnapshot(buildSolver(windy));
+    for (int change = 0; change < 3; ++change) {
+      SceneDesc other_wind = windy;
+      if (change == 0) other_wind.wind.drag_rate *= 2.0f;
+      if (change == 1) other_wind.wind.direction = {0.0f, 0.0f, 1.0f};
+      if (change == 2) other_wind.wind.profile = {{0.0, 0.0f}, {2.0, 1.0f}};
+      Solver elsewhere_wind = buildSolver(other_wind);
+      EXPECT_THROW(decodeSnapshot(elsewhere_wind, saved, "x.state"), SnapshotError) << "wind change " << change;
+    }
+    Solver same_wind = buildSolver(windy);
+    EXPECT_NO_THROW(decodeSnapshot(same_wind, saved, "x.state"));
+  }
   // a snapshot with wind on a scene without
   refused(encodeSnapshot(buildSolver(tiny("tiny-wind.json"))), "another scene");
   // and the good one is accepted

@@ -64,6 +64,7 @@ class AirSystem final : public WindAir {
   // integrate, the bodies' free-slip push and emitAndRemove, at every hair
   // step.
   AirModel model() const override { return AirModel::Particles; }
+  const WindParams& params() const override { return p_; }
   void exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
                 std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
                 std::span<glm::vec3> hair_force, float dt, int threads) override;

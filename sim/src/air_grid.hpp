@@ -82,6 +82,7 @@ class AirGrid final : public WindAir {
   // WindAir: the exchange is exchangeDrag at every hair step, the move
   // advance() when due (the bodies placed again only when they moved).
   AirModel model() const override { return AirModel::Grid; }
+  const WindParams& params() const override { return p_; }
   void exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
                 std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
                 std::span<glm::vec3> hair_force, float dt, int threads) override {

@@ -147,6 +147,21 @@ struct SnapshotAccess {
     }
     if (const AirGrid* grid = gridAir(s))
       for (const auto& u : grid->state().u) mix(u);
+    if (s.air_) {
+      // the wind: its initial air can be the same for another wind (a
+      // grid air that starts still, or a box far from the hair)
+      const WindParams& w = s.air_->params();
+      std::vector<double> wind = {static_cast<double>(w.model), w.direction.x, w.direction.y, w.direction.z,
+                                  w.speed, w.box_center.x, w.box_center.y, w.box_center.z, w.box_size.x,
+                                  w.box_size.y, w.box_size.z, w.spacing, w.h_scale, w.density,
+                                  static_cast<double>(w.projection_iterations), w.sound_speed, w.viscosity_rate,
+                                  w.drag_rate};
+      for (const auto& [time, scale] : w.profile) {
+        wind.push_back(time);
+        wind.push_back(scale);
+      }
+      mix(wind);
+    }
     // the physical parameters (not the thread count, nor the time step,
     // which the snapshot carries)
     const SimParams& q = s.params_;

@@ -47,6 +47,8 @@ class WindAir {
 
   virtual ~WindAir() = default;
   virtual AirModel model() const = 0;
+  /// The wind it was built from (a snapshot's scene fingerprint holds it).
+  virtual const WindParams& params() const = 0;
 
   /// The hair-air drag of a hair step `dt` from the state at its start (the
   /// head at `head`): adds the force on each non-root hair particle to
