@@ -58,8 +58,9 @@ constexpr const char* kSimulateUsage =
     "    --overwrite      let --dump (or render's --out) replace the frames of an\n"
     "                     earlier run in DIR (they are removed first)\n"
     "    --seed S         random seed of the hair sampling (default: the scene's \"seed\")\n"
-    "    --allow-expensive  start scenes that need very many steps, air particles or\n"
-    "                     distance-grid cells (refused by default, with what to change)\n"
+    "    --allow-expensive  start scenes that need very many steps, air particles,\n"
+    "                     distance-grid cells, style strands or render-strand points\n"
+    "                     (refused by default, with what to change)\n"
     "    --save-state F   write a snapshot of the whole state to F at the end (and\n"
     "                     every N frames with --save-every N); --resume F goes on\n"
     "                     from it, bit-identically\n"
@@ -142,6 +143,10 @@ void liftCostLimits(loosehair::SceneDesc& scene) {
   scene.limits.max_substeps = 1 << 30;
   scene.limits.max_air_particles = std::size_t{1} << 40;
   scene.limits.max_sdf_cells = 1e18;
+  const loosehair::StrandBudget all = loosehair::StrandBudget::unlimited();
+  scene.limits.max_style_strands = all.max_strands;
+  scene.limits.max_style_points = all.max_points;
+  scene.limits.max_strand_points = all.max_points;
 }
 
 // Makes `dir` ready for a run's frames: created if missing. A directory that

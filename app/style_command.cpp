@@ -14,7 +14,7 @@
 namespace loosehair::app {
 
 const char* const kStyleUsage =
-    "usage: loosehair style STYLE.json [--strands OUT] [--spacing MM]\n"
+    "usage: loosehair style STYLE.json [--strands OUT] [--spacing MM] [--allow-expensive]\n"
     "       loosehair style --import GROOM --head FILE.json --out STYLE.json\n"
     "                       [--scale S] [--max-root-distance MM] [--strands OUT]\n"
     "\n"
@@ -24,6 +24,8 @@ const char* const kStyleUsage =
     "                     OUT.obj (v and l elements), OUT.ply (vertex and edge\n"
     "                     elements) or OUT.hair (cyHair binary), by extension\n"
     "    --spacing MM     distance between the points of a strand (default 4 mm)\n"
+    "    --allow-expensive  build styles of more than 5 million strands or 50\n"
+    "                     million points (refused by default, naming the wisp)\n"
     "\n"
     "  --import reads a groom made elsewhere (.hair, or OBJ/PLY polylines) and\n"
     "  writes a style with one wisp a strand, rooted on the head of FILE.json\n"
@@ -39,6 +41,7 @@ namespace {
 struct StyleOptions {
   std::string style, groom, head, out, strands;
   double spacing_mm = 4.0, scale = 1.0, max_root_mm = 20.0;
+  bool allow_expensive = false;
 };
 
 StyleOptions parse(const std::vector<std::string>& args) {
@@ -52,6 +55,7 @@ StyleOptions parse(const std::vector<std::string>& args) {
     if (a == "--strands") o.strands = value();
     else if (a == "--spacing") o.spacing_mm = parseReal(a, value(), 0.1, 100.0, kStyleUsage);
     else if (a == "--import") o.groom = value();
+    else if (a == "--allow-expensive") o.allow_expensive = true;
     else if (a == "--head") o.head = value();
     else if (a == "--out") o.out = value();
     else if (a == "--scale") o.scale = parseReal(a, value(), 1e-6, 1e6, kStyleUsage);
@@ -99,12 +103,13 @@ int styleCommand(const std::vector<std::string>& args) {
   const StyleOptions o = parse(args);
   using Clock = std::chrono::steady_clock;
   const float spacing = static_cast<float>(o.spacing_mm * 1e-3);
+  const StrandBudget budget = o.allow_expensive ? StrandBudget::unlimited() : StrandBudget{};
   if (o.groom.empty()) {
     const Style style = loadStyle(o.style);
     const HeadModel head = HeadModel::build(style.head, style.source);
     checkStyle(style, head);
     const auto t0 = Clock::now();
-    const StrandSet strands = buildMemberStrands(style, head, spacing);
+    const StrandSet strands = buildMemberStrands(style, head, spacing, budget);
     report(style, strands, std::chrono::duration<double>(Clock::now() - t0).count());
     if (!o.strands.empty()) writeOut(strands, o.strands);
     return 0;
@@ -127,7 +132,7 @@ int styleCommand(const std::vector<std::string>& args) {
   saveStyle(style, o.out);
   style.source = o.out;
   const auto t0 = Clock::now();
-  const StrandSet strands = buildMemberStrands(style, head, spacing);
+  const StrandSet strands = buildMemberStrands(style, head, spacing, budget);
   report(style, strands, std::chrono::duration<double>(Clock::now() - t0).count());
   std::printf("style written: %s\n", o.out.c_str());
   if (!o.strands.empty()) writeOut(strands, o.strands);

@@ -112,3 +112,29 @@ TEST(StrandField, SameBitsForAnyThreadCount) {
   ASSERT_EQ(one.size(), three.size());
   EXPECT_EQ(0, std::memcmp(one.data(), three.data(), one.size() * sizeof(glm::vec3)));
 }
+
+TEST(StrandField, RenderStrandsAboveThePointLimitAreRefusedBeforeTheyAreMade) {
+  SceneDesc scene = lhtest::sphereScene(1500, "{}", R"({"type": "still"})");
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells);
+  RenderStrandOptions opt;
+  opt.strands = 800;
+  opt.points = 24;
+  EXPECT_EQ(growRenderStrands(scene, model, opt).size(), 800u);
+  // 2 million strands of 256 points (what the command line allows) would
+  // take tens of gigabytes: refused by the scene's limit, naming the options
+  opt.strands = 2'000'000;
+  opt.points = 256;
+  try {
+    (void)growRenderStrands(scene, model, opt);
+    FAIL() << "half a billion strand points were made";
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    for (const char* part : {"512000000 points", "limit of", "--strands", "--strand-points", "--allow-expensive"})
+      EXPECT_NE(what.find(part), std::string::npos) << part << " in: " << what;
+  }
+  // the limit is the scene's: lowered, it refuses the small set too
+  scene.limits.max_strand_points = 800 * 24 - 1;
+  opt.strands = 800;
+  opt.points = 24;
+  EXPECT_THROW((void)growRenderStrands(scene, model, opt), SceneError);
+}

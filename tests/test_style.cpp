@@ -154,6 +154,37 @@ TEST(StyleStrands, DeterministicForASeedAndDifferentForAnother) {
               std::memcmp(a.points.data(), c.points.data(), a.points.size() * sizeof(glm::vec3)) != 0);
 }
 
+TEST(StyleStrands, AStyleAboveTheBudgetIsRefusedBeforeItIsBuilt) {
+  const HeadModel& h = sphereModel();
+  Style s = twoWispStyle();
+  const StrandSet fits = buildMemberStrands(s, h);
+  ASSERT_GT(fits.size(), 10u);
+  // a budget below what the style grows: refused naming the style, the
+  // wisp that grows most and the way out
+  s.wisps[1].params.density = 1000.0f;
+  const StrandBudget small{fits.size(), 1'000'000};
+  try {
+    (void)buildMemberStrands(s, h, kStrandSpacing, small);
+    FAIL() << "a style above the budget was built";
+  } catch (const StyleError& e) {
+    const std::string what = e.what();
+    for (const char* part : {"test-style", "wisps[1]", "lower its density", "limit of", "--allow-expensive"})
+      EXPECT_NE(what.find(part), std::string::npos) << part << " in: " << what;
+  }
+  // the densest a style file allows, over the whole cap: millions of
+  // strands, refused by the default budget at once
+  for (Wisp& w : s.wisps) {
+    w.params.density = 10000.0f;
+    w.region = square({0.0f, 0.0f}, {1.0f, 1.0f});
+  }
+  EXPECT_THROW((void)buildMemberStrands(s, h), StyleError);
+  // a budget the style fits is a bound on what it grows
+  Style fitting = twoWispStyle();
+  fitting.wisps[0].params.strands = 40;
+  const StrandSet built = buildMemberStrands(fitting, h, kStrandSpacing, {fits.size() + 40, fits.points.size() * 4});
+  EXPECT_LE(built.size(), fits.size() + 40);
+}
+
 // ---- editing -----------------------------------------------------------------
 TEST(StyleEditing, MirrorTwiceIsTheIdentity) {
   const HeadModel& h = sphereModel();

@@ -398,7 +398,7 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
   const Style style = sceneStyle(scene, model, &rep);
-  const StrandSet strands = buildMemberStrands(style, model);
+  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, styleBudget(scene));
   if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
   rep.style_wisps = style.wisps.size();
   rep.style_strands = strands.size();

@@ -118,6 +118,9 @@ struct SceneDesc : HeadDesc {
     int max_substeps = 2000;                    // solver steps a frame
     std::size_t max_air_particles = 4'000'000;  // wind
     double max_sdf_cells = 256.0e6;             // a body's signed-distance grid (4 bytes a cell)
+    std::size_t max_style_strands = 5'000'000;  // a style's member strands
+    std::size_t max_style_points = 50'000'000;  // and their points
+    std::size_t max_strand_points = 20'000'000;  // render strands' points (about 120 bytes each, bound)
   } limits;
 };
 

@@ -168,6 +168,23 @@ struct StrandSet {
   std::size_t pointCount(std::size_t k) const { return first[k + 1] - first[k]; }
 };
 
+/// The most a style may grow (a style file's densities and counts multiply
+/// into millions of strands quickly): buildMemberStrands refuses a style
+/// whose wisps would grow more, before building anything.
+struct StrandBudget {
+  std::size_t max_strands = 5'000'000;
+  std::size_t max_points = 50'000'000;  // 12 bytes each
+  /// No limit but what the strand set can index (2^32 points).
+  static StrandBudget unlimited();
+};
+/// A scene's budget (its cost limits, which --allow-expensive lifts).
+inline StrandBudget styleBudget(const SceneDesc& scene) {
+  return {scene.limits.max_style_strands, scene.limits.max_style_points};
+}
+
+/// The distance between a member strand's points unless told (m).
+inline constexpr float kStrandSpacing = 0.004f;
+
 /// Grows every wisp's member strands (Zhang & Wünsche §3.2): roots spread by
 /// Poisson-disc sampling over the region at the density, each a copy of the
 /// key strand translated to its root, plus an offset that grows linearly
@@ -175,8 +192,11 @@ struct StrandSet {
 /// key strand's rotation-minimising frame; shortened by up to
 /// length_variation; curled if asked; gathered into the ties the key strand
 /// passes through; kept out of the head. `spacing` is the distance between
-/// polyline points (m). Deterministic for the wisps' seeds.
-StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing = 0.004f);
+/// polyline points (m). Deterministic for the wisps' seeds. Throws
+/// StyleError, naming the style and its largest wisp, when the strands or
+/// their points could exceed `budget`.
+StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing = kStrandSpacing,
+                             const StrandBudget& budget = {});
 
 /// Re-roots every wisp on another head by (u, v): triangle regions become
 /// the (u, v) polygons of their triangles, and each key strand leaves its

@@ -55,7 +55,7 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
   // counted with coarse polylines: the count does not depend on the spacing
   // of the points, and the coarse build costs a fraction of the real one
   constexpr float kCountingSpacing = 0.05f;
-  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing);
+  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing, styleBudget(scene));
   std::size_t counted = 0, dense = 0;
   for (std::size_t k = 0; k < counting.size(); ++k) {
     if (style.wisps[counting.wisp[k]].params.strands > 0)
@@ -68,7 +68,7 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
     for (Wisp& w : style.wisps)
       if (w.params.strands == 0) w.params.density *= scale;
   }
-  return buildMemberStrands(style, model);
+  return buildMemberStrands(style, model, kStrandSpacing, styleBudget(scene));
 }
 
 // One strand per scalp sample, hung like the particles (SPEC §6.1):
@@ -111,8 +111,25 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, cons
     throw std::invalid_argument("strands " + std::to_string(options.strands) + " is outside 1..2000000");
   if (options.points < 2 || options.points > 256)
     throw std::invalid_argument("points per strand " + std::to_string(options.points) + " is outside 2..256");
+  // strands times points, before they are made (a groom's one-strand wisps
+  // may come to more strands than asked)
+  auto check = [&](std::size_t strands) {
+    const double points = static_cast<double>(strands) * options.points;
+    if (points > static_cast<double>(scene.limits.max_strand_points))
+      throw SceneError(scene.source + ": " + std::to_string(strands) + " render strands of " +
+                       std::to_string(options.points) + " points make " +
+                       std::to_string(static_cast<long long>(points)) + " points, above the limit of " +
+                       std::to_string(scene.limits.max_strand_points) +
+                       ": ask for fewer strands or points a strand (--strands, --strand-points) (or "
+                       "--allow-expensive)");
+  };
   const bool styled = scene.hair.style_data || !scene.hair.style.empty();
-  if (styled) return resampleStrands(styleStrands(scene, model, options.strands), options.points);
+  if (styled) {
+    StrandSet grown = styleStrands(scene, model, options.strands);
+    check(grown.size());
+    return resampleStrands(grown, options.points);
+  }
+  check(options.strands);
   return hangingStrands(scene, model, options.strands, options.points, options.poisson_radius);
 }
 

@@ -50,6 +50,20 @@ std::int64_t cellKey(glm::ivec3 c) {
          (static_cast<std::int64_t>(c.z) * 83492791);
 }
 
+// Polyline points a segment of the key strand's dense curve, for `spacing`.
+int pointsASegment(const Wisp& w, float spacing) {
+  float longest = 0;
+  for (std::size_t k = 1; k < w.key_strand.size(); ++k)
+    longest = std::max(longest, glm::length(w.key_strand[k] - w.key_strand[k - 1]));
+  return std::clamp(static_cast<int>(std::ceil(longest / spacing)), 2, 256);
+}
+
+// The most strands memberRoots gives a wisp.
+double mostMembers(const Wisp& w, const HeadModel& head) {
+  if (w.params.strands > 0) return static_cast<double>(w.params.strands);
+  return std::max(1.0, std::round(static_cast<double>(w.params.density) * 1e4 * regionArea(w.region, head)));
+}
+
 // Roots of a wisp's members in (u, v), the region's root first.
 std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, Random& rng) {
   const ScalpTriangles& s = head.scalpTriangles();
@@ -57,8 +71,7 @@ std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, Random&
   std::vector<glm::vec2> roots{regionRoot(w.region, head)};
   if (tris.empty()) return roots;
   const double area = regionArea(w.region, head);
-  const double wanted = w.params.strands > 0 ? static_cast<double>(w.params.strands)
-                                             : std::max(1.0, std::round(w.params.density * 1e4 * area));
+  const double wanted = mostMembers(w, head);
   const auto target = static_cast<std::size_t>(wanted);
   if (target <= 1 || !(area > 0.0)) return roots;
   const float radius = static_cast<float>(0.6 / std::sqrt(wanted / area));
@@ -96,22 +109,56 @@ std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, Random&
   return roots;
 }
 
+// Refuses a style that could grow more than the budget, before any work.
+void checkBudget(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget) {
+  double strands = 0, points = 0, worst_points = -1;
+  std::size_t worst = 0;
+  for (std::size_t wi = 0; wi < style.wisps.size(); ++wi) {
+    const Wisp& w = style.wisps[wi];
+    if (w.key_strand.size() < 2) continue;
+    const double members = mostMembers(w, head);
+    const double each = static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0;
+    strands += members;
+    points += members * each;
+    if (members * each > worst_points) {
+      worst_points = members * each;
+      worst = wi;
+    }
+  }
+  if (strands <= static_cast<double>(budget.max_strands) && points <= static_cast<double>(budget.max_points)) return;
+  const Wisp& w = style.wisps[worst];
+  auto count = [](double v) { return std::to_string(static_cast<long long>(std::min(v, 9.0e18))); };
+  const std::string most =
+      2.0 * worst_points >= points
+          ? "most of them from wisps[" + std::to_string(worst) + "] (" + count(mostMembers(w, head)) +
+                " strands of " +
+                count(static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0) +
+                " points): lower its density or strands"
+          : "spread over " + std::to_string(style.wisps.size()) + " wisps: use fewer wisps or lower their densities";
+  throw StyleError(style.source + ": the wisps would grow up to " + count(strands) + " strands of " + count(points) +
+                   " points, above the limit of " + std::to_string(budget.max_strands) + " strands and " +
+                   std::to_string(budget.max_points) + " points, " + most +
+                   ", or use fewer key-strand control points or a coarser point spacing (or --allow-expensive)");
+}
+
 }  // namespace
 
-StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing) {
+StrandBudget StrandBudget::unlimited() {
+  // the strand set indexes its points with 32 bits
+  return {std::size_t{1} << 31, (std::size_t{1} << 32) - 1};
+}
+
+StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget) {
+  spacing = std::max(spacing, 1e-4f);
+  checkBudget(style, head, spacing, budget);
   StrandSet out;
   out.first.push_back(0);
-  spacing = std::max(spacing, 1e-4f);
   const float clearance = 1e-3f;
   for (std::size_t wi = 0; wi < style.wisps.size(); ++wi) {
     const Wisp& w = style.wisps[wi];
     const WispParams& par = w.params;
     if (w.key_strand.size() < 2) continue;
-    float longest = 0;
-    for (std::size_t k = 1; k < w.key_strand.size(); ++k)
-      longest = std::max(longest, glm::length(w.key_strand[k] - w.key_strand[k - 1]));
-    const int per = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 2, 256);
-    const std::vector<glm::vec3> key = catmullRom(w.key_strand, per);
+    const std::vector<glm::vec3> key = catmullRom(w.key_strand, pointsASegment(w, spacing));
     std::vector<float> sk(key.size(), 0.0f);
     for (std::size_t j = 1; j < key.size(); ++j) sk[j] = sk[j - 1] + glm::length(key[j] - key[j - 1]);
     const float length = sk.back();
