@@ -141,6 +141,7 @@ void printStyle(const loosehair::BuildReport& b, const std::string& style_file) 
 // --allow-expensive: buildSolver starts whatever the scene costs.
 void liftCostLimits(loosehair::SceneDesc& scene) {
   scene.limits.max_substeps = 1 << 30;
+  scene.limits.max_particles = std::size_t{1} << 40;
   scene.limits.max_air_particles = std::size_t{1} << 40;
   scene.limits.max_sdf_cells = 1e18;
   const loosehair::StrandBudget all = loosehair::StrandBudget::unlimited();

@@ -205,6 +205,9 @@ TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
                        "--allow-expensive"});
   expectSceneRejected(std::string(kSphere) + R"("frame_rate": 0.1, "solver": {"collision_rate": 100}})",
                       {"bad.json", "solver.collision_rate = 100", "4000 steps", "lower solver.collision_rate"});
+  // twenty million particles would need some 70 GB
+  expectSceneRejected(R"({"head": {"type": "sphere", "radius": 0.1}, "hair": {"particles": 20000000}})",
+                      {"bad.json", "hair.particles: 20000000", "limit of 2000000", "--allow-expensive"});
   // steps given by hand are held to the same limit
   expectSceneRejected(std::string(kSphere) + R"("substeps": 100000})",
                       {"bad.json", "substeps: 100000", "limit of 2000", "--allow-expensive"});

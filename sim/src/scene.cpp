@@ -514,6 +514,12 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
 
 Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep) {
   const HairSpec& hair = scene.hair;
+  // about 3.7 kB a particle with its connections, neighbours and scratch
+  // (1 million: 3.6 GB and 100 s to start, on the sphere)
+  if (static_cast<std::size_t>(hair.particles) > scene.limits.max_particles)
+    throw SceneError(scene.source + ": hair.particles: " + std::to_string(hair.particles) +
+                     " is above the limit of " + std::to_string(scene.limits.max_particles) +
+                     " (about 3.7 kB of memory a particle): use fewer (or --allow-expensive)");
 
   // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells, &rep);

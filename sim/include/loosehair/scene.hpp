@@ -116,6 +116,7 @@ struct SceneDesc : HeadDesc {
   /// program's --allow-expensive lifts them).
   struct CostLimits {
     int max_substeps = 2000;                    // solver steps a frame
+    std::size_t max_particles = 2'000'000;      // hair.particles
     std::size_t max_air_particles = 4'000'000;  // wind
     double max_sdf_cells = 256.0e6;             // a body's signed-distance grid (4 bytes a cell)
     std::size_t max_style_strands = 5'000'000;  // a style's member strands
