@@ -144,6 +144,7 @@ void liftCostLimits(loosehair::SceneDesc& scene) {
   scene.limits.max_particles = std::size_t{1} << 40;
   scene.limits.max_air_particles = std::size_t{1} << 40;
   scene.limits.max_sdf_cells = 1e18;
+  scene.limits.max_mesh_triangles = std::size_t{1} << 40;
   const loosehair::StrandBudget all = loosehair::StrandBudget::unlimited();
   scene.limits.max_style_strands = all.max_strands;
   scene.limits.max_style_points = all.max_points;

@@ -25,7 +25,8 @@ const char* const kStyleUsage =
     "                     elements) or OUT.hair (cyHair binary), by extension\n"
     "    --spacing MM     distance between the points of a strand (default 4 mm)\n"
     "    --allow-expensive  build styles of more than 5 million strands or 50\n"
-    "                     million points (refused by default, naming the wisp)\n"
+    "                     million points, or on meshes of more than 10 million\n"
+    "                     triangles (refused by default, saying what to change)\n"
     "\n"
     "  --import reads a groom made elsewhere (.hair, or OBJ/PLY polylines) and\n"
     "  writes a style with one wisp a strand, rooted on the head of FILE.json\n"
@@ -104,9 +105,10 @@ int styleCommand(const std::vector<std::string>& args) {
   using Clock = std::chrono::steady_clock;
   const float spacing = static_cast<float>(o.spacing_mm * 1e-3);
   const StrandBudget budget = o.allow_expensive ? StrandBudget::unlimited() : StrandBudget{};
+  const MeshLimits mesh_limits = o.allow_expensive ? MeshLimits{1e18, std::size_t{1} << 40} : MeshLimits{};
   if (o.groom.empty()) {
     const Style style = loadStyle(o.style);
-    const HeadModel head = HeadModel::build(style.head, style.source);
+    const HeadModel head = HeadModel::build(style.head, style.source, mesh_limits);
     checkStyle(style, head);
     const auto t0 = Clock::now();
     const StrandSet strands = buildMemberStrands(style, head, spacing, budget);
@@ -115,7 +117,7 @@ int styleCommand(const std::vector<std::string>& args) {
     return 0;
   }
   const HeadDesc desc = headOf(o.head);
-  const HeadModel head = HeadModel::build(desc, o.head);
+  const HeadModel head = HeadModel::build(desc, o.head, mesh_limits);
   const Polylines groom = readPolylines(o.groom);
   GroomImportOptions opt;
   opt.scale = static_cast<float>(o.scale);

@@ -4,6 +4,7 @@
 #include "test_support.hpp"
 
 #include "init/length_map.hpp"
+#include "loosehair/head_model.hpp"
 
 #include <gtest/gtest.h>
 
@@ -139,6 +140,18 @@ TEST(HostileMeshes, AbsurdCountsAreRefusedBeforeAllocating) {
                          {"neg.ply", "-5"});
   expectError<MeshError>([&] { (void)loadMesh(write("big.off", "OFF\n100000000 1 0\n0 0 0\n")); },
                          {"big.off", "100000000 vertices"});
+}
+
+TEST(HostileMeshes, MeshesOfTooManyTrianglesAreRefusedUnlessAllowed) {
+  // the bundled head (81920 triangles) against a lowered limit: what a
+  // mesh of tens of millions of triangles meets at the default one
+  SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
+  scene.limits.max_mesh_triangles = 50000;
+  expectError<SceneError>([&] { (void)HeadModel::build(scene, scene.source, scene.limits.mesh()); },
+                          {"hang.json", "head.mesh", "head.ply", "81920 triangles", "limit of 50000",
+                           "--allow-expensive"});
+  scene.limits.max_mesh_triangles = 81920;
+  EXPECT_NO_THROW((void)HeadModel::build(scene, scene.source, scene.limits.mesh()));
 }
 
 TEST(HostileMeshes, NonFiniteVerticesAndBadIndicesAreErrors) {

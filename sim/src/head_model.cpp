@@ -51,8 +51,9 @@ HeadModel::HeadModel(HeadModel&&) noexcept = default;
 HeadModel& HeadModel::operator=(HeadModel&&) noexcept = default;
 HeadModel::~HeadModel() = default;
 
-HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, double max_sdf_cells,
+HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, const MeshLimits& limits,
                            BuildReport* report) {
+  const double max_sdf_cells = limits.max_sdf_cells;
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   BuildReport local;
@@ -69,6 +70,13 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, doub
       throw SceneError(source + ": " + field + ".mesh: " + e.what());
     }
     rep.seconds_meshes += since(t0);
+    // what the collision structures built on it take (about 360 bytes a
+    // triangle: 5 million took 1.8 GB and half a minute)
+    if (mesh.triangles.size() > limits.max_triangles)
+      throw SceneError(source + ": " + field + ".mesh: " + spec.path + " has " +
+                       std::to_string(mesh.triangles.size()) + " triangles, above the limit of " +
+                       std::to_string(limits.max_triangles) +
+                       " (about 360 bytes of memory each): decimate it (or --allow-expensive)");
     if (mesh_report.parts_dropped > 0)
       rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
                              " open part(s) besides the largest (" +

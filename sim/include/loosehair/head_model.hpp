@@ -38,7 +38,7 @@ class HeadModel {
   /// scalp. Throws SceneError naming `source` and the field. `report`
   /// receives the mesh figures, timings and warnings.
   static HeadModel build(const HeadDesc& desc, const std::string& source,
-                         double max_sdf_cells = 256.0e6, BuildReport* report = nullptr);
+                         const MeshLimits& limits = {}, BuildReport* report = nullptr);
   HeadModel(HeadModel&&) noexcept;
   HeadModel& operator=(HeadModel&&) noexcept;
   ~HeadModel();

@@ -95,6 +95,13 @@ struct HeadDesc {
   bool sameAs(const HeadDesc& o) const;
 };
 
+/// What HeadModel::build refuses to load or bake (a scene's cost limits,
+/// which the program's --allow-expensive lifts).
+struct MeshLimits {
+  double max_sdf_cells = 256.0e6;          // a body's signed-distance grid (4 bytes a cell)
+  std::size_t max_triangles = 10'000'000;  // a mesh's triangles
+};
+
 struct SceneDesc : HeadDesc {
   std::string source;  // file the scene came from (for messages)
   std::string name;
@@ -119,6 +126,8 @@ struct SceneDesc : HeadDesc {
     std::size_t max_particles = 2'000'000;      // hair.particles
     std::size_t max_air_particles = 4'000'000;  // wind
     double max_sdf_cells = 256.0e6;             // a body's signed-distance grid (4 bytes a cell)
+    std::size_t max_mesh_triangles = 10'000'000;  // a head or torso mesh (about 360 bytes each, built)
+    MeshLimits mesh() const { return {max_sdf_cells, max_mesh_triangles}; }
     std::size_t max_style_strands = 5'000'000;  // a style's member strands
     std::size_t max_style_points = 50'000'000;  // and their points
     std::size_t max_strand_points = 20'000'000;  // render strands' points (about 120 bytes each, bound)

@@ -135,7 +135,7 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, cons
 
 StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, const BuildReport& build,
                              RenderStrandOptions options, int threads) {
-  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.max_sdf_cells);
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh());
   StrandFieldOptions field;
   field.support = 2.0f * std::max(build.mean_neighbor_distance, 1e-4f);
   if (options.poisson_radius <= 0.0f) options.poisson_radius = build.poisson_radius;
