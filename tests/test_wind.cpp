@@ -4,6 +4,7 @@
 #include "air.hpp"
 #include "random.hpp"
 #include "test_support.hpp"
+#include "loosehair/scene.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -186,4 +187,30 @@ TEST(Wind, BadWindParametersAreNamed) {
   EXPECT_TRUE(direction);
   EXPECT_TRUE(rounds);
   EXPECT_THROW(AirSystem{w}, std::invalid_argument);
+}
+
+TEST(Wind, ABoxThatCannotReachTheHairIsWarnedOf) {
+  // the sphere scene's hair hangs around the origin (a 10 cm head)
+  auto build = [](glm::vec3 centre, glm::vec3 size, AirModel model) {
+    SceneDesc scene = lhtest::sphereScene(400);
+    scene.has_wind = true;
+    scene.wind.model = model;
+    scene.wind.box_center = centre;
+    scene.wind.box_size = size;
+    BuildReport report;
+    (void)buildSolver(scene, &report);
+    std::string all;
+    for (const std::string& w : report.warnings) all += w + "\n";
+    return all;
+  };
+  for (AirModel model : {AirModel::Grid, AirModel::Particles}) {
+    const std::string around = build({0.0f, -0.1f, 0.0f}, {0.6f, 0.6f, 0.6f}, model);
+    EXPECT_EQ(around.find("wind.box"), std::string::npos) << around;
+    const std::string far = build({5.0f, 5.0f, 5.0f}, {0.6f, 0.6f, 0.6f}, model);
+    EXPECT_NE(far.find("holds none of the hair"), std::string::npos) << far;
+    EXPECT_NE(far.find("wind.box_center [5, 5, 5]"), std::string::npos) << far;
+    // a box inside the head holds no air at all
+    const std::string inside = build({0.0f, 0.0f, 0.0f}, {0.05f, 0.05f, 0.05f}, model);
+    EXPECT_NE(inside.find("holds no air"), std::string::npos) << inside;
+  }
 }

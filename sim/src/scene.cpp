@@ -675,6 +675,32 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     } catch (const std::invalid_argument& e) {
       throw SceneError(scene.source + ": " + e.what());
     }
+    // A wind that cannot reach the hair runs (hair may swing into the box)
+    // but is rarely what was meant: say so.
+    auto text = [](glm::vec3 v) {
+      std::string t = "[";
+      for (int a = 0; a < 3; ++a) (t += num(v[a])) += a < 2 ? ", " : "]";
+      return t;
+    };
+    const std::string where =
+        "wind.box_center " + text(scene.wind.box_center) + ", wind.box_size " + text(scene.wind.box_size);
+    if (solver.airCount() == 0)
+      rep.warnings.push_back(where + ": the air box holds no air (it is smaller than wind.spacing " +
+                             num(scene.wind.spacing) + " m, or inside the bodies): the wind does nothing");
+    else {
+      std::vector<glm::vec3> world;
+      solver.worldPositions(world);
+      const WindAxes axes = windAxes(scene.wind);
+      const glm::vec3 half = 0.5f * scene.wind.box_size;
+      const bool reaches = std::any_of(world.begin(), world.end(), [&](const glm::vec3& x) {
+        const glm::vec3 d = x - scene.wind.box_center;
+        return std::abs(glm::dot(d, axes.wind)) <= half.x && std::abs(glm::dot(d, axes.up)) <= half.y &&
+               std::abs(glm::dot(d, axes.side)) <= half.z;
+      });
+      if (!reaches)
+        rep.warnings.push_back(where + ": the air box holds none of the hair at the start: the wind touches it "
+                               "only where it swings into the box");
+    }
   }
   // The longest step each bound allows, and what to change to relax it: the
   // auto step takes the shortest; a scene that would need more steps a
