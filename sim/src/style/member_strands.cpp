@@ -58,20 +58,21 @@ int pointsASegment(const Wisp& w, float spacing) {
   return std::clamp(static_cast<int>(std::ceil(longest / spacing)), 2, 256);
 }
 
-// The most strands memberRoots gives a wisp.
-double mostMembers(const Wisp& w, const HeadModel& head) {
+
+// The most strands memberRoots gives a wisp of scalp area `area`.
+double mostMembers(const Wisp& w, double area) {
   if (w.params.strands > 0) return static_cast<double>(w.params.strands);
-  return std::max(1.0, std::round(static_cast<double>(w.params.density) * 1e4 * regionArea(w.region, head)));
+  return std::max(1.0, std::round(static_cast<double>(w.params.density) * 1e4 * area));
 }
 
 // Roots of a wisp's members in (u, v), the region's root first.
-std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, Random& rng) {
+// `area`: regionArea of the wisp's region.
+std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, double area, Random& rng) {
   const ScalpTriangles& s = head.scalpTriangles();
   const std::vector<std::uint32_t> tris = regionTriangles(w.region, head);
   std::vector<glm::vec2> roots{regionRoot(w.region, head)};
   if (tris.empty()) return roots;
-  const double area = regionArea(w.region, head);
-  const double wanted = mostMembers(w, head);
+  const double wanted = mostMembers(w, area);
   const auto target = static_cast<std::size_t>(wanted);
   if (target <= 1 || !(area > 0.0)) return roots;
   const float radius = static_cast<float>(0.6 / std::sqrt(wanted / area));
@@ -110,13 +111,13 @@ std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, Random&
 }
 
 // Refuses a style that could grow more than the budget, before any work.
-void checkBudget(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget) {
+void checkBudget(const Style& style, const std::vector<double>& area, float spacing, const StrandBudget& budget) {
   double strands = 0, points = 0, worst_points = -1;
   std::size_t worst = 0;
   for (std::size_t wi = 0; wi < style.wisps.size(); ++wi) {
     const Wisp& w = style.wisps[wi];
     if (w.key_strand.size() < 2) continue;
-    const double members = mostMembers(w, head);
+    const double members = mostMembers(w, area[wi]);
     const double each = static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0;
     strands += members;
     points += members * each;
@@ -130,7 +131,7 @@ void checkBudget(const Style& style, const HeadModel& head, float spacing, const
   auto count = [](double v) { return std::to_string(static_cast<long long>(std::min(v, 9.0e18))); };
   const std::string most =
       2.0 * worst_points >= points
-          ? "most of them from wisps[" + std::to_string(worst) + "] (" + count(mostMembers(w, head)) +
+          ? "most of them from wisps[" + std::to_string(worst) + "] (" + count(mostMembers(w, area[worst])) +
                 " strands of " +
                 count(static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0) +
                 " points): lower its density or strands"
@@ -150,7 +151,11 @@ StrandBudget StrandBudget::unlimited() {
 
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget) {
   spacing = std::max(spacing, 1e-4f);
-  checkBudget(style, head, spacing, budget);
+  // each region's scalp area, once (a pass over the scalp each)
+  std::vector<double> area(style.wisps.size(), 0.0);
+  for (std::size_t wi = 0; wi < style.wisps.size(); ++wi)
+    if (style.wisps[wi].key_strand.size() >= 2) area[wi] = regionArea(style.wisps[wi].region, head);
+  checkBudget(style, area, spacing, budget);
   StrandSet out;
   out.first.push_back(0);
   const float clearance = 1e-3f;
@@ -174,7 +179,7 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
         tie_ring = &t;
       }
     Random rng(par.seed);
-    const std::vector<glm::vec2> roots = memberRoots(w, head, rng);
+    const std::vector<glm::vec2> roots = memberRoots(w, head, area[wi], rng);
     Random shape(par.seed ^ 0x6a09e667f3bcc909ULL);
     std::vector<glm::vec3> pts(key.size());
     for (const glm::vec2 uv : roots) {
