@@ -145,12 +145,9 @@ void liftCostLimits(loosehair::SceneDesc& scene) {
   scene.limits.max_substeps = 1 << 30;
   scene.limits.max_particles = std::size_t{1} << 40;
   scene.limits.max_air_particles = std::size_t{1} << 40;
-  scene.limits.max_sdf_cells = 1e18;
-  scene.limits.max_mesh_triangles = std::size_t{1} << 40;
-  const loosehair::StrandBudget all = loosehair::StrandBudget::unlimited();
-  scene.limits.max_style_strands = all.max_strands;
-  scene.limits.max_style_points = all.max_points;
-  scene.limits.max_strand_points = all.max_points;
+  scene.limits.mesh = loosehair::MeshLimits::unlimited();
+  scene.limits.style = loosehair::StrandBudget::unlimited();
+  scene.limits.max_strand_points = loosehair::StrandBudget::unlimited().max_points;
 }
 
 // Makes `dir` ready for a run's frames: created if missing. A directory that

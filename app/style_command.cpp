@@ -105,7 +105,7 @@ int styleCommand(const std::vector<std::string>& args) {
   using Clock = std::chrono::steady_clock;
   const float spacing = static_cast<float>(o.spacing_mm * 1e-3);
   const StrandBudget budget = o.allow_expensive ? StrandBudget::unlimited() : StrandBudget{};
-  const MeshLimits mesh_limits = o.allow_expensive ? MeshLimits{1e18, std::size_t{1} << 40} : MeshLimits{};
+  const MeshLimits mesh_limits = o.allow_expensive ? MeshLimits::unlimited() : MeshLimits{};
   if (o.groom.empty()) {
     const Style style = loadStyle(o.style);
     const HeadModel head = HeadModel::build(style.head, style.source, mesh_limits);

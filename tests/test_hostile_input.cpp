@@ -146,12 +146,12 @@ TEST(HostileMeshes, MeshesOfTooManyTrianglesAreRefusedUnlessAllowed) {
   // the bundled head (81920 triangles) against a lowered limit: what a
   // mesh of tens of millions of triangles meets at the default one
   SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
-  scene.limits.max_mesh_triangles = 50000;
-  expectError<SceneError>([&] { (void)HeadModel::build(scene, scene.source, scene.limits.mesh()); },
+  scene.limits.mesh.max_triangles = 50000;
+  expectError<SceneError>([&] { (void)HeadModel::build(scene, scene.source, scene.limits.mesh); },
                           {"hang.json", "head.mesh", "head.ply", "81920 triangles", "limit of 50000",
                            "--allow-expensive"});
-  scene.limits.max_mesh_triangles = 81920;
-  EXPECT_NO_THROW((void)HeadModel::build(scene, scene.source, scene.limits.mesh()));
+  scene.limits.mesh.max_triangles = 81920;
+  EXPECT_NO_THROW((void)HeadModel::build(scene, scene.source, scene.limits.mesh));
 }
 
 TEST(HostileMeshes, NonFiniteVerticesAndBadIndicesAreErrors) {

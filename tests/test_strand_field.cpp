@@ -115,7 +115,7 @@ TEST(StrandField, SameBitsForAnyThreadCount) {
 
 TEST(StrandField, RenderStrandsAboveThePointLimitAreRefusedBeforeTheyAreMade) {
   SceneDesc scene = lhtest::sphereScene(1500, "{}", R"({"type": "still"})");
-  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh());
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh);
   RenderStrandOptions opt;
   opt.strands = 800;
   opt.points = 24;

@@ -178,7 +178,8 @@ TEST(StyleStrands, AStyleAboveTheBudgetIsRefusedBeforeItIsBuilt) {
     w.region = square({0.0f, 0.0f}, {1.0f, 1.0f});
   }
   EXPECT_THROW((void)buildMemberStrands(s, h), StyleError);
-  // a budget the style fits is a bound on what it grows
+  // a budget just above what the style grows is not refused (the estimate
+  // is not far above the count), and the count keeps within it
   Style fitting = twoWispStyle();
   fitting.wisps[0].params.strands = 40;
   const StrandSet built = buildMemberStrands(fitting, h, kStrandSpacing, {fits.size() + 40, fits.points.size() * 4});

@@ -53,7 +53,6 @@ HeadModel::~HeadModel() = default;
 
 HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, const MeshLimits& limits,
                            BuildReport* report) {
-  const double max_sdf_cells = limits.max_sdf_cells;
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   BuildReport local;
@@ -112,12 +111,12 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
     if (spec.sdf_voxel > 0.0f) {
       double cells = 1;
       for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
-      if (cells > max_sdf_cells)
+      if (cells > limits.max_sdf_cells)
         throw SceneError(source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
                          " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
                          " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
                          " GB), above the limit of " +
-                         std::to_string(static_cast<long long>(max_sdf_cells / 1e6)) +
+                         std::to_string(static_cast<long long>(limits.max_sdf_cells / 1e6)) +
                          " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
     }
     t0 = Clock::now();

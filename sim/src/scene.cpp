@@ -340,7 +340,7 @@ Style sceneStyle(const SceneDesc& scene, const HeadModel& model, BuildReport* re
   Style style = hair.style_data ? *hair.style_data : loadStyle(hair.style);
   if (!style.head.sameAs(scene)) {
     BuildReport other;
-    const HeadModel from = HeadModel::build(style.head, style.source, scene.limits.mesh(), &other);
+    const HeadModel from = HeadModel::build(style.head, style.source, scene.limits.mesh, &other);
     checkStyle(style, from);
     style = retargetStyle(style, from, model);
     if (report)
@@ -398,7 +398,7 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
   const Style style = sceneStyle(scene, model, &rep);
-  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, styleBudget(scene));
+  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, scene.limits.style);
   if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
   rep.style_wisps = style.wisps.size();
   rep.style_strands = strands.size();
@@ -522,7 +522,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                      " (about 3.7 kB of memory a particle): use fewer (or --allow-expensive)");
 
   // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
-  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh(), &rep);
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh, &rep);
   const std::shared_ptr<const Body> head = model.head();
   const std::shared_ptr<const Body> torso = model.torso();
 

@@ -99,7 +99,18 @@ struct HeadDesc {
 /// which the program's --allow-expensive lifts).
 struct MeshLimits {
   double max_sdf_cells = 256.0e6;          // a body's signed-distance grid (4 bytes a cell)
-  std::size_t max_triangles = 10'000'000;  // a mesh's triangles
+  std::size_t max_triangles = 10'000'000;  // a mesh's triangles (about 360 bytes each, built)
+  static MeshLimits unlimited() { return {1e18, std::size_t{1} << 40}; }
+};
+
+/// The most a style may grow (a style file's densities and counts multiply
+/// into millions of strands quickly): buildMemberStrands refuses a style
+/// whose wisps would grow more, before building anything.
+struct StrandBudget {
+  std::size_t max_strands = 5'000'000;
+  std::size_t max_points = 50'000'000;  // 12 bytes each
+  /// No limit but what the strand set can index (2^32 points).
+  static StrandBudget unlimited() { return {std::size_t{1} << 31, (std::size_t{1} << 32) - 1}; }
 };
 
 struct SceneDesc : HeadDesc {
@@ -125,11 +136,8 @@ struct SceneDesc : HeadDesc {
     int max_substeps = 2000;                    // solver steps a frame
     std::size_t max_particles = 2'000'000;      // hair.particles
     std::size_t max_air_particles = 4'000'000;  // wind
-    double max_sdf_cells = 256.0e6;             // a body's signed-distance grid (4 bytes a cell)
-    std::size_t max_mesh_triangles = 10'000'000;  // a head or torso mesh (about 360 bytes each, built)
-    MeshLimits mesh() const { return {max_sdf_cells, max_mesh_triangles}; }
-    std::size_t max_style_strands = 5'000'000;  // a style's member strands
-    std::size_t max_style_points = 50'000'000;  // and their points
+    MeshLimits mesh;                            // head and torso meshes
+    StrandBudget style;                         // a style's member strands
     std::size_t max_strand_points = 20'000'000;  // render strands' points (about 120 bytes each, bound)
   } limits;
 };

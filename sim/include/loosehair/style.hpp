@@ -168,20 +168,6 @@ struct StrandSet {
   std::size_t pointCount(std::size_t k) const { return first[k + 1] - first[k]; }
 };
 
-/// The most a style may grow (a style file's densities and counts multiply
-/// into millions of strands quickly): buildMemberStrands refuses a style
-/// whose wisps would grow more, before building anything.
-struct StrandBudget {
-  std::size_t max_strands = 5'000'000;
-  std::size_t max_points = 50'000'000;  // 12 bytes each
-  /// No limit but what the strand set can index (2^32 points).
-  static StrandBudget unlimited();
-};
-/// A scene's budget (its cost limits, which --allow-expensive lifts).
-inline StrandBudget styleBudget(const SceneDesc& scene) {
-  return {scene.limits.max_style_strands, scene.limits.max_style_points};
-}
-
 /// The distance between a member strand's points unless told (m).
 inline constexpr float kStrandSpacing = 0.004f;
 
@@ -194,7 +180,7 @@ inline constexpr float kStrandSpacing = 0.004f;
 /// passes through; kept out of the head. `spacing` is the distance between
 /// polyline points (m). Deterministic for the wisps' seeds. Throws
 /// StyleError, naming the style and its largest wisp, when the strands or
-/// their points could exceed `budget`.
+/// their points could exceed `budget` (StrandBudget, scene.hpp).
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing = kStrandSpacing,
                              const StrandBudget& budget = {});
 

@@ -55,7 +55,7 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
   // counted with coarse polylines: the count does not depend on the spacing
   // of the points, and the coarse build costs a fraction of the real one
   constexpr float kCountingSpacing = 0.05f;
-  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing, styleBudget(scene));
+  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing, scene.limits.style);
   std::size_t counted = 0, dense = 0;
   for (std::size_t k = 0; k < counting.size(); ++k) {
     if (style.wisps[counting.wisp[k]].params.strands > 0)
@@ -68,7 +68,7 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
     for (Wisp& w : style.wisps)
       if (w.params.strands == 0) w.params.density *= scale;
   }
-  return buildMemberStrands(style, model, kStrandSpacing, styleBudget(scene));
+  return buildMemberStrands(style, model, kStrandSpacing, scene.limits.style);
 }
 
 // One strand per scalp sample, hung like the particles (SPEC §6.1):
@@ -135,7 +135,7 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, cons
 
 StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, const BuildReport& build,
                              RenderStrandOptions options, int threads) {
-  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh());
+  const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh);
   StrandFieldOptions field;
   field.support = 2.0f * std::max(build.mean_neighbor_distance, 1e-4f);
   if (options.poisson_radius <= 0.0f) options.poisson_radius = build.poisson_radius;

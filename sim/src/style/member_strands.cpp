@@ -144,11 +144,6 @@ void checkBudget(const Style& style, const std::vector<double>& area, float spac
 
 }  // namespace
 
-StrandBudget StrandBudget::unlimited() {
-  // the strand set indexes its points with 32 bits
-  return {std::size_t{1} << 31, (std::size_t{1} << 32) - 1};
-}
-
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget) {
   spacing = std::max(spacing, 1e-4f);
   // each region's scalp area, once (a pass over the scalp each)
