@@ -140,16 +140,6 @@ void printStyle(const loosehair::BuildReport& b, const std::string& style_file) 
               style_file.c_str(), b.style_wisps, b.style_strands, b.style_points, b.tied_particles, keeping);
 }
 
-// --allow-expensive: buildSolver starts whatever the scene costs.
-void liftCostLimits(loosehair::SceneDesc& scene) {
-  scene.limits.max_substeps = 1 << 30;
-  scene.limits.max_particles = std::size_t{1} << 40;
-  scene.limits.max_air_particles = std::size_t{1} << 40;
-  scene.limits.mesh = loosehair::MeshLimits::unlimited();
-  scene.limits.style = loosehair::StrandBudget::unlimited();
-  scene.limits.max_strand_points = loosehair::StrandBudget::unlimited().max_points;
-}
-
 // Makes `dir` ready for a run's frames: created if missing. A directory that
 // already holds files is refused unless `overwrite`, and then the frames of
 // the earlier run (frame_NNNNN.*, air_NNNNN.ply, and temporary files of an
@@ -262,7 +252,7 @@ int simulate(const Options& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
-  if (o.allow_expensive) liftCostLimits(scene);
+  if (o.allow_expensive) scene.limits = loosehair::SceneDesc::CostLimits::unlimited();
   overrideHair(scene, o.style, o.no_shape_keeping);
   if (!o.motion.empty()) scene.motion = loadMotion(o.motion);
 
@@ -512,7 +502,7 @@ int renderScene(const RenderOptions& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
-  if (o.allow_expensive) liftCostLimits(scene);
+  if (o.allow_expensive) scene.limits = loosehair::SceneDesc::CostLimits::unlimited();
   overrideHair(scene, o.style, o.no_shape_keeping);
   const int frames = o.frames.value_or(scene.frames);
   std::string ffmpeg;

@@ -70,6 +70,10 @@ constexpr const char* kUsage =
     "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
     "  --seconds S         play for S seconds of wall time, then print the frames drawn\n"
     "                      per second and the real-time factor, and close (measuring)\n"
+    "  --allow-expensive   open scenes beyond the cost limits (more than 2 million\n"
+    "                      particles, 2000 steps a frame, meshes of 10 million\n"
+    "                      triangles, ...: loosehair simulate --help lists them),\n"
+    "                      this one and any opened from the viewer\n"
     "\n";
 
 struct UsageError {
@@ -88,6 +92,7 @@ struct ViewOptions {
   std::string screenshot;
   std::string script;
   std::optional<double> seconds;
+  bool allow_expensive = false;
 };
 
 long long parseInteger(const std::string& what, const std::string& text, long long lo, long long hi) {
@@ -140,6 +145,8 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.settings.shadows = false;
       } else if (a == "--hair") {
         o.settings.hair = render::parseHairGeometry(value());
+      } else if (a == "--allow-expensive") {
+        o.allow_expensive = true;
       } else if (a == "--paused") {
         o.paused = true;
       } else if (a == "--frames") {
@@ -599,6 +606,7 @@ int run(const ViewOptions& o) {
   SceneDesc scene = loadScene(o.scene);
   if (o.seed) scene.seed = *o.seed;
   if (o.threads) scene.sim.threads = *o.threads;
+  if (o.allow_expensive) scene.limits = SceneDesc::CostLimits::unlimited();
   std::optional<ScriptRun> script;
   if (!o.script.empty()) {
     script.emplace();

@@ -10,6 +10,8 @@
 
 #include <sys/stat.h>
 
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -148,10 +150,45 @@ TEST(HostileMeshes, MeshesOfTooManyTrianglesAreRefusedUnlessAllowed) {
   SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
   scene.limits.mesh.max_triangles = 50000;
   expectError<SceneError>([&] { (void)HeadModel::build(scene, scene.source, scene.limits.mesh); },
-                          {"hang.json", "head.mesh", "head.ply", "81920 triangles", "limit of 50000",
+                          {"hang.json", "head.mesh", "head.ply", "81920 faces", "limit of 50000",
                            "--allow-expensive"});
   scene.limits.mesh.max_triangles = 81920;
   EXPECT_NO_THROW((void)HeadModel::build(scene, scene.source, scene.limits.mesh));
+
+  // Refused from the count before the faces are read: each file below
+  // claims more faces than it holds, which would be a different error if
+  // its faces were read first.
+  MeshLoadOptions limited;
+  limited.max_faces = 2;
+  const std::string ply = std::string("ply\nformat ascii 1.0\nelement vertex 3\n") +
+                          "property float x\nproperty float y\nproperty float z\nelement face 3\n"
+                          "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  expectError<MeshTooLargeError>([&] { (void)loadMesh(write("many.ply", ply), limited); },
+                                 {"many.ply", "3 faces", "limit of 2"});
+  expectError<MeshTooLargeError>(
+      [&] { (void)loadMesh(write("many.off", "OFF\n3 3 0\n0 0 0\n1 0 0\n0 1 0\n"), limited); },
+      {"many.off", "3 faces", "limit of 2"});
+  std::string stl(84, '\0');
+  const std::uint32_t claimed = 3;
+  std::memcpy(stl.data() + 80, &claimed, 4);
+  stl += std::string(3 * 50, '\0');  // three (degenerate) triangles: a binary STL by its size
+  expectError<MeshTooLargeError>([&] { (void)loadMesh(write("many.stl", stl), limited); },
+                                 {"many.stl", "3 faces", "limit of 2"});
+  // OBJ has no count: refused at the face past the limit, before the next
+  // (whose bad index would otherwise be the error)
+  expectError<MeshTooLargeError>(
+      [&] {
+        (void)loadMesh(write("many.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 1 2 99\n"),
+                       limited);
+      },
+      {"many.obj", "more than 2 faces", "limit of 2"});
+  // polygons count as the triangles they become
+  expectError<MeshTooLargeError>(
+      [&] {
+        (void)loadMesh(write("quads.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\n"),
+                       limited);
+      },
+      {"quads.obj", "3 faces", "limit of 2"});
 }
 
 TEST(HostileMeshes, NonFiniteVerticesAndBadIndicesAreErrors) {

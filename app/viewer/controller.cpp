@@ -60,6 +60,7 @@ void Controller::open(const std::string& path) {
     } else {
       next = loadScene(path);
       next.sim.threads = sim_.scene().sim.threads;
+      next.limits = sim_.scene().limits;  // --allow-expensive holds for scenes opened later
     }
     pending_ = next;
     remember(path);

@@ -94,14 +94,14 @@ class QuietOpenMesh {
 
 // OBJ, PLY, OFF and STL: read whole, checked (mesh_file_checks.hpp); PLY and
 // OFF come out of the checks themselves, OBJ and STL go on to OpenMesh.
-TriangleMesh readPolygonFile(const std::string& path, const std::string& ext) {
+TriangleMesh readPolygonFile(const std::string& path, const std::string& ext, std::size_t max_faces) {
   std::string bytes;
   try {
     bytes = readRegularFile(path, kMaxMeshFileBytes);
   } catch (const FileError& e) {
     throw MeshError(e.what());
   }
-  MeshFileCounts counts = checkMeshFile(path, bytes, ext);
+  MeshFileCounts counts = checkMeshFile(path, bytes, ext, max_faces);
   if (counts.has_mesh) return std::move(counts.mesh);  // PLY and OFF: read by the check itself
   OMesh om;
   OpenMesh::IO::Options opt;
@@ -374,13 +374,15 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   const std::string ext = lower(std::filesystem::path(path).extension().string());
   TriangleMesh mesh;
   if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl")
-    mesh = readPolygonFile(path, ext);
+    mesh = readPolygonFile(path, ext, options.max_faces);
   else if (ext == ".gltf" || ext == ".glb")
     mesh = readGltf(path, ext == ".glb");
   else
     throw MeshError(path + ": " + (ext.empty() ? std::string("the file name has no extension")
                                                 : "unknown mesh format \"" + ext + "\"") +
                     " (use .obj, .ply, .off, .stl, .gltf or .glb)");
+  // polygons became fans of triangles; glTF and ASCII STL had no count before
+  checkFaceCount(path, mesh.triangles.size(), options.max_faces);
   weld(mesh);
   // File frame -> simulator frame: up -> +Y, front -> +Z, right = up x front -> +X.
   const glm::vec3 right = glm::cross(up, front);

@@ -85,7 +85,7 @@ int plyTypeBytes(const std::string& path, const std::string& type, bool* is_floa
   fail(path, "the PLY header names an unknown type \"" + shown(type) + "\"");
 }
 
-MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
+MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::size_t max_faces) {
   std::size_t at = 0;
   if (nextLine(bytes, at) != "ply") fail(path, "not a PLY file (it does not start with \"ply\")");
   const std::size_t size = bytes.size();
@@ -153,6 +153,7 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
     }
     if (e.name == "face") {
       c.faces = e.count;
+      checkFaceCount(path, c.faces, max_faces);
       if (!has("vertex_indices", true) && !has("vertex_index", true))
         fail(path, "the PLY face element has no vertex_indices list");
     }
@@ -249,7 +250,7 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes) {
 // line (three finite coordinates first) and one face a line (a corner
 // count and that many indices of defined vertices first). OpenMesh's reader
 // ran for minutes on some malformed faces.
-MeshFileCounts checkOff(const std::string& path, const std::string& bytes) {
+MeshFileCounts checkOff(const std::string& path, const std::string& bytes, std::size_t max_faces) {
   std::size_t at = 0, line_no = 0;
   // the next line that is neither blank nor a comment
   auto content = [&]() -> std::string {
@@ -274,6 +275,7 @@ MeshFileCounts checkOff(const std::string& path, const std::string& bytes) {
   MeshFileCounts c;
   c.vertices = count(path, "vertices", nv, bytes.size() / 6);
   c.faces = count(path, "faces", nf, bytes.size() / 8);
+  checkFaceCount(path, c.faces, max_faces);
   const std::string at_line = "line ";
   for (std::size_t v = 0; v < c.vertices; ++v) {
     const std::string line = content();
@@ -316,7 +318,7 @@ MeshFileCounts checkOff(const std::string& path, const std::string& bytes) {
 
 // OBJ: "v x y z" and "f a b c ..." (a as i, i/t, i//n or i/t/n; negative
 // indices count back from the last vertex).
-MeshFileCounts checkObj(const std::string& path, const std::string& bytes) {
+MeshFileCounts checkObj(const std::string& path, const std::string& bytes, std::size_t max_faces) {
   MeshFileCounts c;
   std::size_t at = 0, line_no = 0;
   while (at < bytes.size()) {
@@ -365,6 +367,7 @@ MeshFileCounts checkObj(const std::string& path, const std::string& bytes) {
         fail(path, where + "face " + std::to_string(c.faces + 1) + " has " + std::to_string(corners) +
                        " corners, fewer than 3");
       ++c.faces;
+      checkFaceCount(path, c.faces, max_faces, true);
     }
   }
   return c;
@@ -379,10 +382,23 @@ bool isBinaryStl(const std::string& bytes) {
   return 84 + 50 * static_cast<std::uint64_t>(n) == bytes.size();
 }
 
-MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext) {
-  if (ext == ".ply") return checkPly(path, bytes);
-  if (ext == ".off") return checkOff(path, bytes);
-  if (ext == ".obj") return checkObj(path, bytes);
+void checkFaceCount(const std::string& path, std::size_t faces, std::size_t max_faces, bool counting) {
+  if (faces > max_faces)
+    throw MeshTooLargeError(path + ": the mesh holds " +
+                            (counting ? "more than " + std::to_string(max_faces) : std::to_string(faces)) +
+                            " faces, above the limit of " + std::to_string(max_faces));
+}
+
+MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext,
+                             std::size_t max_faces) {
+  if (ext == ".ply") return checkPly(path, bytes, max_faces);
+  if (ext == ".off") return checkOff(path, bytes, max_faces);
+  if (ext == ".obj") return checkObj(path, bytes, max_faces);
+  if (ext == ".stl" && isBinaryStl(bytes)) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, bytes.data() + 80, 4);
+    checkFaceCount(path, n, max_faces);
+  }
   if (ext == ".stl" && !isBinaryStl(bytes)) {
     std::size_t at = 0;
     while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;

@@ -10,6 +10,7 @@
 #include "loosehair/mesh.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace loosehair {
@@ -28,7 +29,15 @@ struct MeshFileCounts {
 /// triangle, exactly filling the file.
 bool isBinaryStl(const std::string& bytes);
 
+/// Throws MeshTooLargeError when `faces` is above `max_faces`; `counting`:
+/// the faces are being counted (OBJ), so the message says "more than".
+void checkFaceCount(const std::string& path, std::size_t faces, std::size_t max_faces, bool counting = false);
+
 /// `ext` is the lower-case extension with its dot (".obj", ".ply", ...).
-MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext);
+/// A file of more than `max_faces` faces is refused (MeshTooLargeError) as
+/// soon as the count is known: from the header for PLY, OFF and binary STL,
+/// before the faces are read.
+MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext,
+                             std::size_t max_faces = SIZE_MAX);
 
 }  // namespace loosehair

@@ -20,6 +20,12 @@ class MeshError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A mesh refused for holding more faces than MeshLoadOptions::max_faces.
+class MeshTooLargeError : public MeshError {
+ public:
+  using MeshError::MeshError;
+};
+
 struct TriangleMesh {
   std::vector<glm::vec3> vertices;
   std::vector<glm::u32vec3> triangles;  // counter-clockwise seen from outside
@@ -46,6 +52,12 @@ struct MeshLoadOptions {
   /// teeth or helper geometry, which enclose no volume and whose rims cannot
   /// be closed); closed parts and the largest part are kept.
   bool drop_open_parts = true;
+  /// Refuse a mesh of more faces than this (MeshTooLargeError). PLY, OFF and
+  /// binary STL files are refused from their headers' counts, OBJ files while
+  /// their faces are checked, before any mesh is built; glTF and ASCII STL
+  /// after they are read. The triangles of the loaded mesh (polygons split
+  /// into fans) are held to it too.
+  std::size_t max_faces = SIZE_MAX;
 };
 
 /// What checkMesh found.

@@ -139,6 +139,11 @@ struct SceneDesc : HeadDesc {
     MeshLimits mesh;                            // head and torso meshes
     StrandBudget style;                         // a style's member strands
     std::size_t max_strand_points = 20'000'000;  // render strands' points (about 120 bytes each, bound)
+    /// No limits (--allow-expensive): whatever the scene costs is started.
+    static CostLimits unlimited() {
+      return {1 << 30, std::size_t{1} << 40, std::size_t{1} << 40, MeshLimits::unlimited(),
+              StrandBudget::unlimited(), StrandBudget::unlimited().max_points};
+    }
   } limits;
 };
 
