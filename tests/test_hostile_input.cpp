@@ -255,6 +255,24 @@ TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
                        "--allow-expensive"});
   expectSceneRejected(std::string(kSphere) + R"("frame_rate": 0.1, "solver": {"collision_rate": 100}})",
                       {"bad.json", "solver.collision_rate = 100", "4000 steps", "lower solver.collision_rate"});
+  {  // a high damping rate with "auto" takes the steps it needs (it was
+     // refused by a check against a 1 ms step)
+    BuildReport report;
+    (void)buildSolver(parseScene(std::string(kSphere) + R"("solver": {"collision_rate": 400}})", "rate.json"),
+                      &report);
+    EXPECT_EQ(report.substeps, 54);  // ceil(1/30 s / (0.25 / 400 1/s))
+    EXPECT_LE(400.0 * report.time_step, 0.25 + 1e-6);
+  }
+  {  // so does a strong hold (100 Hz, the field's top) on a styled scene
+    SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
+    scene.hair.style = lhtest::sourceDir() + "/data/styles/bob.json";
+    scene.sim.shape_keeping = 100.0f;
+    scene.shape_keeping_auto = false;
+    BuildReport report;
+    (void)buildSolver(scene, &report);
+    EXPECT_GE(report.substeps, 42);  // 2 pi 100 Hz dt <= 0.5
+    EXPECT_LE(2.0 * 3.14159265 * 100.0 * report.time_step, kMaxHoldPhasePerStep + 1e-6);
+  }
   // twenty million particles would need some 70 GB
   expectSceneRejected(R"({"head": {"type": "sphere", "radius": 0.1}, "hair": {"particles": 20000000}})",
                       {"bad.json", "hair.particles: 20000000", "limit of 2000000", "--allow-expensive"});

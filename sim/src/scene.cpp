@@ -25,6 +25,7 @@
 #include <chrono>
 #include <optional>
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -590,7 +591,17 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   const double frame_time = 1.0 / scene.frame_rate;
   int substeps = scene.substeps > 0 ? scene.substeps : 1;
   params.time_step = frame_time / substeps;
-  if (scene.substeps == 0) params.time_step = std::min(params.time_step, 1.0e-3);
+  if (scene.substeps == 0) {
+    // a provisional step for the checks below; "auto" sets the real one
+    // from every bound (below). It is short enough for the damping rates
+    // and the holds, whose own bounds then decide how many steps they need.
+    double dt = std::min(static_cast<double>(params.time_step), 1.0e-3);
+    for (const float rate : {params.collision_rate, params.friction_rate, params.air_drag})
+      if (std::isfinite(rate) && rate > 0.0f) dt = std::min(dt, 0.2 / rate);
+    if (std::isfinite(params.shape_keeping) && params.shape_keeping > 0.0f)
+      dt = std::min(dt, 0.8 * kMaxHoldPhasePerStep / (2.0 * std::numbers::pi * params.shape_keeping));
+    params.time_step = static_cast<float>(dt);
+  }
   auto problems = validate(params);
   if (!problems.empty()) {
     std::string msg = scene.source + ": invalid solver parameters:";
