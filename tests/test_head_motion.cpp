@@ -1,5 +1,6 @@
 // SPEC §5: head trajectories and the kinematics behind the inertial forces.
 #include "loosehair/head_motion.hpp"
+#include "loosehair/loosehair.hpp"
 
 #include <glm/trigonometric.hpp>
 
@@ -58,4 +59,25 @@ TEST(HeadMotion, KeyframesPassThroughTheirKeysAndHoldAtTheEnds) {
   std::vector<HeadKeyframe> bad = keys;
   bad[2].time = 0.5;
   EXPECT_THROW(HeadTrajectory::keyframes(bad), std::invalid_argument);
+}
+
+TEST(HeadMotion, AHeadFarFromItsPivotIsWarnedOf) {
+  // the head turns about its frame's origin: a head placed a metre away
+  // swings on a long arm (a mesh whose origin is at the feet, say)
+  auto warnings = [](const std::string& center, const std::string& motion) {
+    const std::string json = R"({"head": {"type": "sphere", "radius": 0.1, "center": )" + center +
+                             R"(}, "hair": {"particles": 300}, "motion": )" + motion + "}";
+    loosehair::BuildReport report;
+    (void)loosehair::buildSolver(loosehair::parseScene(json, "pivot.json"), &report);
+    std::string all;
+    for (const std::string& w : report.warnings) all += w + "\n";
+    return all;
+  };
+  const std::string shake = R"({"type": "shake", "amplitude_deg": 30, "frequency_hz": 1, "cycles": 1})";
+  const std::string far = warnings("[0, 1, 0]", shake);
+  EXPECT_NE(far.find("motion: the head turns about its frame's origin, 0.90 m"), std::string::npos) << far;
+  EXPECT_NE(far.find("head.center"), std::string::npos) << far;
+  // near the pivot, or far but still: nothing to say
+  EXPECT_EQ(warnings("[0, 0.02, 0]", shake).find("motion:"), std::string::npos);
+  EXPECT_EQ(warnings("[0, 1, 0]", R"({"type": "still"})").find("motion:"), std::string::npos);
 }

@@ -526,6 +526,26 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh, &rep);
   const std::shared_ptr<const Body> head = model.head();
   const std::shared_ptr<const Body> torso = model.torso();
+  // The head turns about its frame's origin (data/scenes/README.md, Meshes):
+  // a mesh placed far from it swings on a long arm, at accelerations no
+  // neck gives (an origin at the feet of a whole-body model, say).
+  if (scene.motion.kind() != HeadTrajectory::Kind::Still && !model.headMesh().vertices.empty()) {
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& v : model.headMesh().vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+    const float size = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    const float arm = glm::length(glm::max(glm::max(lo, -hi), glm::vec3(0.0f)));  // origin to the box
+    if (arm > 0.5f * size) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%.2f m from the head's bounding box (the head is %.2f m across)", arm,
+                    size);
+      rep.warnings.push_back(std::string("motion: the head turns about its frame's origin, ") + text +
+                             ", so it swings on a long arm; place the origin on the neck axis at about ear "
+                             "height (head.offset or head.center)");
+    }
+  }
 
   // 1-2. The particles: from a style's strands (SPEC §6.2) or hung by
   //      cantilever strands (SPEC §6.1).
