@@ -6,10 +6,14 @@
 #include "loosehair/head_model.hpp"
 #include "loosehair/render_strands.hpp"
 #include "loosehair/strand_field.hpp"
+#include "strands/particle_rotation.hpp"
 
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -103,6 +107,48 @@ TEST(StrandField, HeadShakeKeepsLengthsSmoothnessAndTheHeadOut) {
   EXPECT_LT(p999, 60.0f);
 }
 
+TEST(StrandField, StrandsEndingInsideAThinPartStayOnTheSideTheyCameFrom) {
+  // A plate 3 cm thick where the hanging hair ends (as an ear is to the
+  // hair beside it): tips past its middle are nearest to its far side, but
+  // pushed there a strand would reach through the plate.
+  Bound b = bindSphere(1500, 800);
+  for (int k = 0; k < 30; ++k) b.solver.step();
+  const Particles& p = b.solver.particles();
+  std::vector<glm::vec3> free;
+  b.field.deform(p.position, p.direction, nullptr, free, 2);
+  const StrandSet& r = b.field.rest();
+  // the plate's middle at the 20th percentile of the tips' heights
+  std::vector<float> tips;
+  for (std::size_t s = 0; s < r.size(); ++s) tips.push_back(free[r.first[s + 1] - 1].y);
+  std::sort(tips.begin(), tips.end());
+  const float mid = tips[tips.size() / 5], half = 0.015f;
+  const BodyContacts plate = [&](std::span<const glm::vec3> pts, float, bool, std::span<float> phi,
+                                 std::span<glm::vec3> normal) {
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const float dy = pts[k].y - mid;
+      phi[k] = std::abs(dy) - half;
+      normal[k] = glm::vec3(0.0f, dy >= 0.0f ? 1.0f : -1.0f, 0.0f);
+    }
+  };
+  std::vector<glm::vec3> out;
+  b.field.deform(p.position, p.direction, &plate, out, 2);
+  float deepest = INFINITY, lowest = INFINITY;
+  std::size_t ending_inside = 0;
+  for (std::size_t s = 0; s < r.size(); ++s) {
+    // strands that come from above and end in the plate's lower half
+    const float tip = free[r.first[s + 1] - 1].y;
+    if (!(tip < mid && tip > mid - half)) continue;
+    ++ending_inside;
+    for (std::uint32_t q = r.first[s]; q < r.first[s + 1]; ++q) {
+      deepest = std::min(deepest, std::abs(out[q].y - mid) - half);
+      lowest = std::min(lowest, out[q].y - (mid + half));
+    }
+  }
+  EXPECT_GT(ending_inside, 20u) << "the plate must hold tips in its lower half";
+  EXPECT_GE(deepest, 0.0f) << "a point was left inside the plate";
+  EXPECT_GE(lowest, 0.0f) << "a strand from above was pushed through to the plate's far side";
+}
+
 TEST(StrandField, SameBitsForAnyThreadCount) {
   Bound b = bindSphere(1500, 700, R"({"type": "shake", "amplitude_deg": 30, "frequency_hz": 1})");
   for (int k = 0; k < 40; ++k) b.solver.step();
@@ -137,4 +183,34 @@ TEST(StrandField, RenderStrandsAboveThePointLimitAreRefusedBeforeTheyAreMade) {
   opt.strands = 800;
   opt.points = 24;
   EXPECT_THROW((void)growRenderStrands(scene, model, opt), SceneError);
+}
+
+TEST(ParticleRotation, AnIllConditionedNeighbourhoodGetsTheNearestRotation) {
+  // A neighbourhood's A from the bundled hang (its hair turned from up to
+  // down and forward), where the iteration from the hair direction was
+  // still turning by 3e-3 rad a step at its cap. The answer must be the
+  // rotation nearest A (its polar rotation, here by Eigen's SVD in double)
+  // and turn with the neighbourhood.
+  const glm::mat3 a(glm::vec3(0.00174607604f, 0.00113652635f, -0.000357867655f),
+                    glm::vec3(-0.00114054303f, -0.00250005443f, 0.000190997554f),
+                    glm::vec3(0.000626210414f, 0.00605706358f, 0.00208747969f));
+  const glm::vec3 rest_dir = glm::normalize(glm::vec3(-3.17955141e-06f, 1.0f, -1.27182057e-05f));
+  const glm::vec3 dir = glm::normalize(glm::vec3(-0.339125752f, -0.544433653f, 0.767193437f));
+  Eigen::Matrix3d m;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m(r, c) = a[c][r];
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) *= -1.0;
+  const Eigen::Matrix3d polar = u * svd.matrixV().transpose();
+  const glm::mat3 r = rotationPart(a, rest_dir, dir);
+  double err = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) err = std::max(err, std::abs(static_cast<double>(r[c][k]) - polar(k, c)));
+  EXPECT_LT(err, 1e-4);
+  const glm::mat3 g(glm::rotate(glm::mat4(1.0f), glm::radians(130.0f), glm::normalize(glm::vec3(0.3f, 1.0f, -0.6f))));
+  const glm::mat3 turned = rotationPart(g * a, rest_dir, g * dir);
+  float diff = 0.0f;
+  for (int c = 0; c < 3; ++c) diff = std::max(diff, glm::length(turned[c] - (g * r)[c]));
+  EXPECT_LT(diff, 1e-4f);
 }

@@ -104,6 +104,11 @@ void checkFinite(const std::vector<glm::vec3>& v, const char* what) {
 // exact pushes of what is left inside, at most kFinalPushes times; rounds
 // of (mend the length at the tip, exact pushes).
 constexpr int kRoughRounds = 3, kFinalPushes = 4, kTrimRounds = 2;
+// A push that would leave a segment longer than this many rest lengths
+// went through a thin part (pushOut); the entry point is then found to
+// 2^-kEntryBisections of the segment (nearSidePush).
+constexpr float kThroughStretch = 2.0f;
+constexpr int kEntryBisections = 12;
 
 // The smoothing along a strand: a binomial window of 2 kSmoothHalf + 1
 // points, cut at the strand's ends and renormalised (the weights always sum
@@ -348,6 +353,39 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
         if (bound < threshold) which.push_back(q);
       }
   };
+  // A point deep in a thin part (an ear), pushed to the part's far side:
+  // the segment from the point before it (`outside`, pushed already) enters
+  // the body at c (bisection on the exact distance), and the point goes to
+  // the clearance over the tangent plane there, so the strand lies along
+  // the side it came from; where that is not outside either, to c itself.
+  // `pushed` (the push to the nearest side) stands where the point before
+  // is not outside (a root a rounding inside the scalp).
+  auto nearSidePush = [&](const glm::vec3& outside, const glm::vec3& inside, const glm::vec3& pushed) {
+    glm::vec3 lo = outside, hi = inside, at = outside;
+    float f = 0.0f;
+    glm::vec3 n(0.0f);
+    auto ask = [&](const glm::vec3& point) {
+      at = point;
+      (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, false, std::span<float>(&f, 1),
+                std::span<glm::vec3>(&n, 1));
+    };
+    ask(lo);
+    if (!(f >= 0.0f)) return pushed;
+    glm::vec3 n_lo = n;
+    for (int it = 0; it < kEntryBisections; ++it) {
+      ask(0.5f * (lo + hi));
+      if (f >= 0.0f) {
+        lo = at;
+        n_lo = n;
+      } else {
+        hi = at;
+      }
+    }
+    const float height = glm::dot(inside - lo, n_lo);
+    const glm::vec3 over = inside + (clearance - height) * n_lo;
+    ask(over);
+    return f >= 0.0f ? over : lo + clearance * n_lo;
+  };
   // Queries the points `which` (`rough`: by the fast approximation) and
   // pushes those nearer than `trigger` out to the clearance; `which` keeps
   // the points it moved.
@@ -362,8 +400,15 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     std::size_t kept = 0;
     for (std::size_t m = 0; m < which.size(); ++m) {
       if (!(phi[m] < trigger)) continue;
-      out[which[m]] += (clearance - phi[m]) * nrm[m];
-      which[kept++] = which[m];
+      const std::uint32_t q = which[m];
+      glm::vec3 pushed = out[q] + (clearance - phi[m]) * nrm[m];
+      // A point deep in a thin part (an ear) is nearest to its far side:
+      // pushed there, its segment would reach through the part, so it goes
+      // over the side the strand came from instead.
+      if (glm::length(pushed - out[q - 1]) > kThroughStretch * rest_length_[q - 1])
+        pushed = nearSidePush(out[q - 1], out[q], pushed);
+      out[q] = pushed;
+      which[kept++] = q;
     }
     which.resize(kept);
   };
