@@ -394,12 +394,12 @@ MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, 
   if (ext == ".ply") return checkPly(path, bytes, max_faces);
   if (ext == ".off") return checkOff(path, bytes, max_faces);
   if (ext == ".obj") return checkObj(path, bytes, max_faces);
-  if (ext == ".stl" && isBinaryStl(bytes)) {
+  if (ext != ".stl") return {};
+  if (isBinaryStl(bytes)) {
     std::uint32_t n = 0;
     std::memcpy(&n, bytes.data() + 80, 4);
     checkFaceCount(path, n, max_faces);
-  }
-  if (ext == ".stl" && !isBinaryStl(bytes)) {
+  } else {
     std::size_t at = 0;
     while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
     if (bytes.compare(at, 5, "solid") != 0)

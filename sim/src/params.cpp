@@ -71,16 +71,10 @@ std::vector<std::string> validate(const SimParams& p) {
   c.nonNegative("friction_rate", p.friction_rate, "1/s");
   c.nonNegative("air_drag", p.air_drag, "1/s");
   // Explicit velocity-decay terms overshoot once rate * dt approaches 1.
-  const struct {
-    const char* name;
-    float rate;
-  } rates[] = {{"collision_rate", p.collision_rate},
-               {"friction_rate", p.friction_rate},
-               {"air_drag", p.air_drag}};
-  for (const auto& r : rates)
-    if (std::isfinite(r.rate) && std::isfinite(p.time_step) && r.rate * p.time_step > 0.25)
+  for (const DecayRate& r : decayRates(p))
+    if (std::isfinite(r.rate) && std::isfinite(p.time_step) && r.rate * p.time_step > kMaxDecayPerStep)
       c.fail(std::string(r.name) + " = " + num(r.rate) + " 1/s is too large for time_step = " +
-             num(p.time_step) + " s (rate * time_step must stay below 0.25)");
+             num(p.time_step) + " s (rate * time_step must stay below " + num(kMaxDecayPerStep) + ")");
   c.finite("gravity.x", p.gravity.x);
   c.finite("gravity.y", p.gravity.y);
   c.finite("gravity.z", p.gravity.z);

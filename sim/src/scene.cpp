@@ -616,8 +616,8 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     // from every bound (below). It is short enough for the damping rates
     // and the holds, whose own bounds then decide how many steps they need.
     double dt = std::min(static_cast<double>(params.time_step), 1.0e-3);
-    for (const float rate : {params.collision_rate, params.friction_rate, params.air_drag})
-      if (std::isfinite(rate) && rate > 0.0f) dt = std::min(dt, 0.2 / rate);
+    for (const DecayRate& r : decayRates(params))
+      if (std::isfinite(r.rate) && r.rate > 0.0f) dt = std::min(dt, 0.8 * kMaxDecayPerStep / r.rate);
     if (std::isfinite(params.shape_keeping) && params.shape_keeping > 0.0f)
       dt = std::min(dt, 0.8 * kMaxHoldPhasePerStep / (2.0 * std::numbers::pi * params.shape_keeping));
     params.time_step = static_cast<float>(dt);
@@ -749,13 +749,11 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                       "the explicit springs' stability (solver.youngs_modulus = " + num(params.youngs_modulus) + ")",
                       "lower solver.youngs_modulus, raise the particle spacing (fewer hair.particles) or set "
                       "solver.implicit_springs to true"});
-  // no velocity-decay rate above 0.25 per step (validate() rejects more)
-  for (const auto& [name, rate] : {std::pair{"collision_rate", params.collision_rate},
-                                   std::pair{"friction_rate", params.friction_rate},
-                                   std::pair{"air_drag", params.air_drag}})
-    if (rate > 0.0f)
-      bounds.push_back({0.25 / rate, std::string("solver.") + name + " = " + num(rate) + " 1/s",
-                        std::string("lower solver.") + name});
+  // no velocity-decay rate above kMaxDecayPerStep a step (validate() rejects more)
+  for (const DecayRate& r : decayRates(params))
+    if (r.rate > 0.0f)
+      bounds.push_back({kMaxDecayPerStep / r.rate, std::string("solver.") + r.name + " = " + num(r.rate) + " 1/s",
+                        std::string("lower solver.") + r.name});
   bounds.push_back({solver.airStableTimeStep(), "the wind's air particles (wind.speed, wind.spacing)",
                     "use the grid air (wind.model \"grid\"), a larger wind.spacing or a lower wind.speed"});
   bounds.push_back({solver.holdTimeStep(), "the style's holds (solver.shape_keeping and the ties' stiffness)",

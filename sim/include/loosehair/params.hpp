@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,20 @@ struct SimParams {
 /// The largest 2 pi f dt a shape-keeping hold may have (symplectic Euler is
 /// stable below 2; this keeps it accurate).
 inline constexpr double kMaxHoldPhasePerStep = 0.5;
+
+/// The largest rate * dt an explicit velocity-decay term may have (it
+/// overshoots once the product approaches 1).
+inline constexpr double kMaxDecayPerStep = 0.25;
+
+/// The explicit velocity-decay rates (1/s), by field name: each is held to
+/// kMaxDecayPerStep by validate() and by the automatic step.
+struct DecayRate {
+  const char* name;
+  float rate;
+};
+inline std::array<DecayRate, 3> decayRates(const SimParams& p) {
+  return {{{"collision_rate", p.collision_rate}, {"friction_rate", p.friction_rate}, {"air_drag", p.air_drag}}};
+}
 
 /// Every problem with `p`, one sentence each naming the parameter and its
 /// value; empty when the parameters are usable.

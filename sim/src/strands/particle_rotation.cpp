@@ -46,13 +46,17 @@ glm::mat3 rotationPart(const glm::mat3& a, glm::vec3 rest_dir, glm::vec3 dir) {
   // (for a rigid neighbourhood, A = R S, this is R itself), then refine.
   const glm::quat arc = shortestArc(rest_dir, dir);
   glm::quat q = glm::normalize(arc * bestTwist(glm::transpose(glm::mat3_cast(arc)) * a, rest_dir));
+  // trace(R^T A): how well R lines up with A's columns
+  auto alignment = [&](const glm::mat3& r) {
+    return glm::dot(r[0], a[0]) + glm::dot(r[1], a[1]) + glm::dot(r[2], a[2]);
+  };
   constexpr int kMaxIterations = 24;
   float angle = 0.0f;
   for (int it = 0; it < kMaxIterations; ++it) {
     const glm::mat3 r = glm::mat3_cast(q);
     // the torque that turns R towards A's columns, over their alignment
     const glm::vec3 torque = glm::cross(r[0], a[0]) + glm::cross(r[1], a[1]) + glm::cross(r[2], a[2]);
-    const float align = std::abs(glm::dot(r[0], a[0]) + glm::dot(r[1], a[1]) + glm::dot(r[2], a[2]));
+    const float align = std::abs(alignment(r));
     const glm::vec3 omega = torque / (align + 1e-20f);
     angle = glm::length(omega);
     if (!(angle > 1e-7f)) break;
@@ -76,9 +80,6 @@ glm::mat3 rotationPart(const glm::mat3& a, glm::vec3 rest_dir, glm::vec3 dir) {
   glm::mat3 nearest;
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) nearest[c][r] = polar(r, c);
-  auto alignment = [&](const glm::mat3& r) {
-    return glm::dot(r[0], a[0]) + glm::dot(r[1], a[1]) + glm::dot(r[2], a[2]);
-  };
   return alignment(nearest) > alignment(iterated) ? nearest : iterated;
 }
 

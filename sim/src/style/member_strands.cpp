@@ -58,6 +58,10 @@ int pointsASegment(const Wisp& w, float spacing) {
   return std::clamp(static_cast<int>(std::ceil(longest / spacing)), 2, 256);
 }
 
+// The points of each of a wisp's member strands.
+double pointsAStrand(const Wisp& w, float spacing) {
+  return static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0;
+}
 
 // The most strands memberRoots gives a wisp of scalp area `area`.
 double mostMembers(const Wisp& w, double area) {
@@ -118,7 +122,7 @@ void checkBudget(const Style& style, const std::vector<double>& area, float spac
     const Wisp& w = style.wisps[wi];
     if (w.key_strand.size() < 2) continue;
     const double members = mostMembers(w, area[wi]);
-    const double each = static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0;
+    const double each = pointsAStrand(w, spacing);
     strands += members;
     points += members * each;
     if (members * each > worst_points) {
@@ -133,7 +137,7 @@ void checkBudget(const Style& style, const std::vector<double>& area, float spac
       2.0 * worst_points >= points
           ? "most of them from wisps[" + std::to_string(worst) + "] (" + count(mostMembers(w, area[worst])) +
                 " strands of " +
-                count(static_cast<double>(w.key_strand.size() - 1) * pointsASegment(w, spacing) + 1.0) +
+                count(pointsAStrand(w, spacing)) +
                 " points): lower its density or strands"
           : "spread over " + std::to_string(style.wisps.size()) + " wisps: use fewer wisps or lower their densities";
   throw StyleError(style.source + ": the wisps would grow up to " + count(strands) + " strands of " + count(points) +
