@@ -7,6 +7,19 @@
 
 namespace loosehair {
 
+namespace {
+// Height a strand may gain off the surface per unit of arc length while it
+// reaches its clearance (SPEC §6.1 leaves the first pieces' path open). The
+// scene's pieces are at most half a Poisson radius and, with at least 8 of
+// them, more than 0.44 of it; its clearance is a quarter of that radius
+// unless the contact thickness is more. So with 0.6 the first piece still
+// reaches the clearance wherever the radius sets it (the usual particle
+// counts keep their initial state), and the rule bites only where the
+// pieces are shorter than the clearance (50k-100k particles on the bundled
+// head, where the first pieces stood the crown's strands straight up).
+constexpr float kRise = 0.6f;
+}  // namespace
+
 CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, float length,
                                    float stiffness, const Body* body, float clearance,
                                    float layering, int segments)
@@ -33,7 +46,12 @@ CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, f
     }
     glm::vec3 next = p + ds_ * tau;
     if (body) {
-      const float keep_out = clearance + layering * (s + 0.5f * ds_);
+      // The clearance is reached over an arc length of its own (at most
+      // kRise of height per unit of arc), not at the first piece: pieces
+      // shorter than the clearance (high particle counts) would otherwise be
+      // pushed out along the normal and, at the crown, stand straight up.
+      const float end = s + 0.5f * ds_;
+      const float keep_out = std::min(clearance, kRise * end) + layering * end;
       for (int pass = 0; pass < 3; ++pass) {
         float phi;
         glm::vec3 n;
