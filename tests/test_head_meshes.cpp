@@ -121,6 +121,26 @@ TEST(HeadMeshes, AHeadInCentimetresWithoutScaleIsNamed) {
   EXPECT_TRUE(mentions(tiny, "head.scale")) << tiny.error;
 }
 
+// Single-precision positions are coarse far from the origin: a head 50 m
+// out is warned of, one 5 km out (positions 0.5 mm apart) refused, both
+// with the offset that brings it back, which then builds clean and keeps
+// the hair out of it. (At 17 km the scalp's map had been "singular".)
+TEST(HeadMeshes, AHeadFarFromTheOriginIsNamedWithTheOffsetThatBringsItBack) {
+  const Built far = buildHead(turned([](glm::vec3 p) { return p + glm::vec3(50, 0, 0); }), "far");
+  EXPECT_TRUE(far.error.empty()) << far.error;
+  EXPECT_TRUE(mentions(far, "head.mesh: head.obj: the mesh lies 50")) << (far.warnings.empty() ? "" : far.warnings[0]);
+  const Built away = buildHead(turned([](glm::vec3 p) { return p + glm::vec3(0, 5000, 0); }), "away");
+  EXPECT_NE(away.error.find("head.mesh: head.obj: the mesh lies 5e+03 m from the origin"), std::string::npos)
+      << away.error;
+  const std::size_t at = away.error.find("head.offset [");
+  ASSERT_NE(at, std::string::npos) << away.error;
+  const std::string offset = away.error.substr(at + 12, away.error.find(']', at) - at - 11);
+  const Built back = buildHead(turned([](glm::vec3 p) { return p + glm::vec3(0, 5000, 0); }), "away-back",
+                               R"(, "offset": )" + offset, 20);
+  EXPECT_TRUE(back.error.empty()) << offset << ": " << back.error;
+  EXPECT_TRUE(back.warnings.empty()) << back.warnings[0];
+}
+
 namespace {
 
 // An open shell: the front half (z > 0) of a sphere of latitude/longitude

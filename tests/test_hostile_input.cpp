@@ -235,6 +235,14 @@ TEST(HostileScenes, TinyValuesNameTheirField) {
                       {"solver.material_density"});
 }
 
+// Too few substeps for a damping rate: the error names the rate, the step
+// and where the step comes from (the scene's substeps, not a solver field).
+TEST(HostileScenes, TooFewSubstepsNameTheSubsteps) {
+  expectSceneRejected(std::string(kSphere) + R"("substeps": 1})",
+                      {"bad.json", "solver.collision_rate", "time_step = 0.0333333",
+                       "1 / (30 x 1)", "\"substeps\": \"auto\""});
+}
+
 TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
   // explicit springs: a stiffness that needs millions of steps a frame
   expectSceneRejected(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": false}})",

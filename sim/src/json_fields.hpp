@@ -135,7 +135,7 @@ class Fields {
     glm::dvec3 out(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
     for (int a = 0; a < 3; ++a)
       if (!std::isfinite(out[a]) || std::abs(out[a]) > bound)
-        fail(key, "must hold finite numbers of magnitude at most " + std::to_string(bound) +
+        fail(key, "must hold finite numbers of magnitude at most " + num(bound) +
                       ", got " + show(v));
     return out;
   }
@@ -195,7 +195,8 @@ inline void readMeshSpec(Fields& f, MeshSpec& m) {
   }
   if (std::abs(glm::dot(axisVector(m.load.up), axisVector(m.load.front))) > 0.5f)
     f.fail("front", "must be a different axis from up");
-  m.load.offset = glm::vec3(f.vec3("offset", glm::dvec3(0.0), 100.0));
+  // as far as the mesh may lie (a scan or a scene export kilometres out)
+  m.load.offset = glm::vec3(f.vec3("offset", glm::dvec3(0.0), 1e6));
   bool voxel_auto = true;
   m.sdf_voxel = static_cast<float>(f.numberOrAuto("sdf_voxel", 0.0, voxel_auto, 0.0, 1.0));
   if (voxel_auto) m.sdf_voxel = 0.0f;

@@ -601,10 +601,10 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   // case below h1: hair that hangs loosely is not denser than its sampling.
   if (scene.h2_auto) params.h2 = std::min(hair.h2_scale * mean_nn, 0.8f * params.h1);
   if (!(params.h2 < params.h1))
-    throw SceneError(scene.source + ": solver.h2 = " + std::to_string(params.h2) +
+    throw SceneError(scene.source + ": solver.h2 = " + num(params.h2) +
                      " must be smaller than solver.h1 = " + num(params.h1) +
-                     " (Poisson radius " + std::to_string(rp) +
-                     " m, mean nearest-neighbour distance " + std::to_string(mean_nn) + " m)");
+                     " (Poisson radius " + num(rp) +
+                     " m, mean nearest-neighbour distance " + num(mean_nn) + " m)");
 
   // 5. Time step: the given substeps, or the fewest that keep the step at
   //    60% of the stable limit and the damping rates stable.
@@ -626,6 +626,9 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   if (!problems.empty()) {
     std::string msg = scene.source + ": invalid solver parameters:";
     for (const auto& pr : problems) msg += "\n  solver." + pr;
+    if (scene.substeps > 0)
+      msg += "\n  (time_step = 1 / (frame_rate x substeps) = 1 / (" + num(scene.frame_rate) + " x " +
+             std::to_string(scene.substeps) + "): more substeps, or \"substeps\": \"auto\", shorten it)";
     throw SceneError(msg);
   }
   // 4b. Stragglers (SPEC §3.1 connectivity): a particle with no particle
