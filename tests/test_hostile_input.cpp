@@ -174,6 +174,14 @@ TEST(HostileMeshes, MeshesOfTooManyTrianglesAreRefusedUnlessAllowed) {
   stl += std::string(3 * 50, '\0');  // three (degenerate) triangles: a binary STL by its size
   expectError<MeshTooLargeError>([&] { (void)loadMesh(write("many.stl", stl), limited); },
                                  {"many.stl", "3 faces", "limit of 2"});
+  // ASCII STL has no count: its facets are counted before OpenMesh reads
+  // them (these three, all of one point, would be refused as degenerate)
+  std::string ascii = "solid x\n";
+  for (int k = 0; k < 3; ++k)
+    ascii += "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0 0 0\nvertex 0 0 0\nendloop\nendfacet\n";
+  ascii += "endsolid x\n";
+  expectError<MeshTooLargeError>([&] { (void)loadMesh(write("many-ascii.stl", ascii), limited); },
+                                 {"many-ascii.stl", "3 faces", "limit of 2"});
   // OBJ has no count: refused at the face past the limit, before the next
   // (whose bad index would otherwise be the error)
   expectError<MeshTooLargeError>(
@@ -189,6 +197,32 @@ TEST(HostileMeshes, MeshesOfTooManyTrianglesAreRefusedUnlessAllowed) {
                        limited);
       },
       {"quads.obj", "3 faces", "limit of 2"});
+  // glTF: from the JSON's accessor counts, before any buffer is read (the
+  // buffers below are missing, which the reader would name instead); a
+  // strip of n corners is n - 2 triangles, a node's children count
+  const std::string gltf =
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+          "nodes": [{"mesh": 0, "children": [1]}, {"mesh": 1}],
+          "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]},
+                     {"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 5}]}],
+          "accessors": [{"bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3"},
+                        {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}],
+          "bufferViews": [{"buffer": 0, "byteLength": 72}, {"buffer": 0, "byteOffset": 72, "byteLength": 12}],
+          "buffers": [{"byteLength": 84, "uri": "missing.bin"}]})";
+  expectError<MeshTooLargeError>([&] { (void)loadMesh(write("many.gltf", gltf), limited); },
+                                 {"many.gltf", "3 faces", "limit of 2"});
+  std::string json = gltf;
+  while (json.size() % 4 != 0) json += ' ';
+  std::string glb = "glTF";
+  auto u32 = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2);
+  u32(static_cast<std::uint32_t>(20 + json.size()));
+  u32(static_cast<std::uint32_t>(json.size()));
+  glb += "JSON" + json;
+  expectError<MeshTooLargeError>([&] { (void)loadMesh(write("many.glb", glb), limited); },
+                                 {"many.glb", "3 faces", "limit of 2"});
+  limited.max_faces = 3;  // within the limit: the reader's own error
+  expectError<MeshError>([&] { (void)loadMesh(write("fits.gltf", gltf), limited); }, {"fits.gltf", "missing.bin"});
 }
 
 TEST(HostileMeshes, NonFiniteVerticesAndBadIndicesAreErrors) {

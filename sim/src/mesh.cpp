@@ -375,13 +375,15 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   TriangleMesh mesh;
   if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl")
     mesh = readPolygonFile(path, ext, options.max_faces);
-  else if (ext == ".gltf" || ext == ".glb")
+  else if (ext == ".gltf" || ext == ".glb") {
+    checkGltfFaceCount(path, ext == ".glb", options.max_faces);
     mesh = readGltf(path, ext == ".glb");
+  }
   else
     throw MeshError(path + ": " + (ext.empty() ? std::string("the file name has no extension")
                                                 : "unknown mesh format \"" + ext + "\"") +
                     " (use .obj, .ply, .off, .stl, .gltf or .glb)");
-  // polygons became fans of triangles; glTF and ASCII STL had no count before
+  // polygons became fans of triangles, and the files' counts were claims
   checkFaceCount(path, mesh.triangles.size(), options.max_faces);
   weld(mesh);
   // File frame -> simulator frame: up -> +Y, front -> +Z, right = up x front -> +X.

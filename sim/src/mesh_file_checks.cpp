@@ -1,6 +1,9 @@
 #include "mesh_file_checks.hpp"
 
+#include "loosehair/file_io.hpp"
 #include "loosehair/mesh.hpp"
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -10,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 #include <string_view>
 #include <vector>
@@ -389,6 +393,91 @@ void checkFaceCount(const std::string& path, std::size_t faces, std::size_t max_
                             " faces, above the limit of " + std::to_string(max_faces));
 }
 
+void checkGltfFaceCount(const std::string& path, bool binary, std::size_t max_faces) {
+  if (max_faces == SIZE_MAX) return;
+  std::string text;
+  if (binary) {
+    // 12 bytes of header, then the JSON chunk: its length, "JSON", the text
+    std::ifstream in(path, std::ios::binary);
+    unsigned char head[20];
+    if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return;
+    auto u32 = [&](int at) {
+      return static_cast<std::uint32_t>(head[at]) | static_cast<std::uint32_t>(head[at + 1]) << 8 |
+             static_cast<std::uint32_t>(head[at + 2]) << 16 | static_cast<std::uint32_t>(head[at + 3]) << 24;
+    };
+    if (std::memcmp(head, "glTF", 4) != 0 || std::memcmp(head + 16, "JSON", 4) != 0) return;
+    const std::uint32_t length = u32(12);
+    if (length > kMaxMeshFileBytes) return;
+    text.resize(length);
+    if (!in.read(text.data(), length)) return;
+  } else {
+    text = readRegularFile(path, kMaxMeshFileBytes);
+  }
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return;
+  auto array = [](const nlohmann::json& j, const char* key) -> const nlohmann::json* {
+    const auto it = j.find(key);
+    return it != j.end() && it->is_array() ? &*it : nullptr;
+  };
+  auto index = [](const nlohmann::json& j, const char* key, std::size_t size) -> std::size_t {
+    const auto it = j.find(key);
+    if (it == j.end() || !it->is_number_integer()) return SIZE_MAX;
+    const auto v = it->get<long long>();
+    return v >= 0 && static_cast<unsigned long long>(v) < size ? static_cast<std::size_t>(v) : SIZE_MAX;
+  };
+  const nlohmann::json* nodes = array(doc, "nodes");
+  const nlohmann::json* meshes = array(doc, "meshes");
+  const nlohmann::json* accessors = array(doc, "accessors");
+  if (!nodes || !meshes || !accessors) return;
+  auto count = [&](std::size_t a) -> std::size_t {
+    if (a == SIZE_MAX || !(*accessors)[a].is_object()) return 0;
+    const auto it = (*accessors)[a].find("count");
+    return it != (*accessors)[a].end() && it->is_number_unsigned() ? it->get<std::size_t>() : 0;
+  };
+  // the nodes the reader walks: the default scene's roots (or every node)
+  std::vector<std::size_t> stack;
+  const nlohmann::json* scenes = array(doc, "scenes");
+  if (scenes && !scenes->empty()) {
+    std::size_t si = index(doc, "scene", scenes->size());
+    if (si == SIZE_MAX) si = 0;
+    if ((*scenes)[si].is_object())
+      if (const nlohmann::json* roots = array((*scenes)[si], "nodes"))
+        for (const auto& n : *roots)
+          if (n.is_number_unsigned() && n.get<std::size_t>() < nodes->size()) stack.push_back(n.get<std::size_t>());
+  } else {
+    for (std::size_t n = 0; n < nodes->size(); ++n) stack.push_back(n);
+  }
+  std::vector<char> seen(nodes->size(), 0);
+  std::size_t triangles = 0;
+  while (!stack.empty()) {
+    const std::size_t n = stack.back();
+    stack.pop_back();
+    if (seen[n]++ || !(*nodes)[n].is_object()) continue;
+    const nlohmann::json& node = (*nodes)[n];
+    if (const nlohmann::json* children = array(node, "children"))
+      for (const auto& c : *children)
+        if (c.is_number_unsigned() && c.get<std::size_t>() < nodes->size()) stack.push_back(c.get<std::size_t>());
+    const std::size_t m = index(node, "mesh", meshes->size());
+    if (m == SIZE_MAX || !(*meshes)[m].is_object()) continue;
+    const nlohmann::json* prims = array((*meshes)[m], "primitives");
+    if (!prims) continue;
+    for (const auto& prim : *prims) {
+      if (!prim.is_object()) continue;
+      const auto mode_it = prim.find("mode");
+      const long long mode = mode_it != prim.end() && mode_it->is_number_integer() ? mode_it->get<long long>() : 4;
+      std::size_t corners = count(index(prim, "indices", accessors->size()));
+      if (!prim.contains("indices")) {
+        const auto attributes = prim.find("attributes");
+        if (attributes != prim.end() && attributes->is_object())
+          corners = count(index(*attributes, "POSITION", accessors->size()));
+      }
+      const std::size_t t = mode == 4 ? corners / 3 : (mode == 5 || mode == 6) && corners > 2 ? corners - 2 : 0;
+      triangles = t > SIZE_MAX - triangles ? SIZE_MAX : triangles + t;
+    }
+  }
+  checkFaceCount(path, triangles, max_faces);
+}
+
 MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext,
                              std::size_t max_faces) {
   if (ext == ".ply") return checkPly(path, bytes, max_faces);
@@ -405,6 +494,11 @@ MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, 
     if (bytes.compare(at, 5, "solid") != 0)
       fail(path, "not a valid STL file: neither ASCII (\"solid ...\") nor binary (its triangle count does "
                  "not match its size of " + std::to_string(bytes.size()) + " bytes)");
+    // no count in the file: its facets, each closed by "endfacet"
+    std::size_t facets = 0;
+    for (std::size_t k = bytes.find("endfacet", at); k != std::string::npos; k = bytes.find("endfacet", k + 8))
+      ++facets;
+    checkFaceCount(path, facets, max_faces);
   }
   return {};
 }

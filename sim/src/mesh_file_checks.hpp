@@ -33,10 +33,17 @@ bool isBinaryStl(const std::string& bytes);
 /// the faces are being counted (OBJ), so the message says "more than".
 void checkFaceCount(const std::string& path, std::size_t faces, std::size_t max_faces, bool counting = false);
 
+/// The triangles a glTF file's default scene holds, from its JSON alone
+/// (accessor counts of the triangle primitives of the meshes its nodes
+/// reach), before any buffer is read: MeshTooLargeError above `max_faces`.
+/// Whatever is malformed is left to the reader to name; so are nodes
+/// reached twice, counted once here.
+void checkGltfFaceCount(const std::string& path, bool binary, std::size_t max_faces);
+
 /// `ext` is the lower-case extension with its dot (".obj", ".ply", ...).
 /// A file of more than `max_faces` faces is refused (MeshTooLargeError) as
 /// soon as the count is known: from the header for PLY, OFF and binary STL,
-/// before the faces are read.
+/// from its "endfacet"s for ASCII STL, before the faces are read.
 MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, const std::string& ext,
                              std::size_t max_faces = SIZE_MAX);
 
