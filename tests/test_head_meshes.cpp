@@ -141,6 +141,30 @@ TEST(HeadMeshes, AHeadFarFromTheOriginIsNamedWithTheOffsetThatBringsItBack) {
   EXPECT_TRUE(back.warnings.empty()) << back.warnings[0];
 }
 
+// A ring-shaped head has no sphere-like scalp to map to the square: the
+// scalp's error says why, counting the handles (Euler's formula).
+TEST(HeadMeshes, ARingShapedHeadIsNamed) {
+  TriangleMesh ring;
+  constexpr int kAround = 48, kTube = 24;
+  for (int i = 0; i < kAround; ++i)
+    for (int j = 0; j < kTube; ++j) {
+      const float u = 6.2831853f * static_cast<float>(i) / kAround, w = 6.2831853f * static_cast<float>(j) / kTube;
+      const float r = 0.08f + 0.04f * std::cos(w);
+      ring.vertices.emplace_back(r * std::cos(u), 0.04f * std::sin(w), r * std::sin(u));
+    }
+  auto at = [](int i, int j) { return static_cast<std::uint32_t>((i % kAround) * kTube + (j % kTube)); };
+  for (int i = 0; i < kAround; ++i)
+    for (int j = 0; j < kTube; ++j) {
+      ring.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      ring.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  const Built b = buildHead(ring, "ring");
+  EXPECT_TRUE(mentions(b, "scalp")) << b.error;
+  EXPECT_TRUE(mentions(b, "the mesh has 1 handle")) << b.error;
+  // a ball-shaped head is not said to have one
+  EXPECT_FALSE(mentions(buildHead(bundledHead(), "ball"), "handle"));
+}
+
 namespace {
 
 // An open shell: the front half (z > 0) of a sphere of latitude/longitude

@@ -6,6 +6,7 @@
 #include "json_checks.hpp"
 #include "nearest_triangle.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
@@ -31,6 +32,27 @@ std::string num(double v) {
   char buf[48];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// Handles (the genus summed over the closed parts), from Euler's formula
+// V - E + F = 2 (parts - handles): a torus has one.
+std::size_t handles(const TriangleMesh& mesh) {
+  std::vector<char> used(mesh.vertices.size(), 0);
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  for (const glm::u32vec3& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      used[a] = 1;
+      edges.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  const auto e = static_cast<long long>(std::unique(edges.begin(), edges.end()) - edges.begin());
+  const auto v = static_cast<long long>(std::count(used.begin(), used.end(), 1));
+  const auto f = static_cast<long long>(mesh.triangles.size());
+  const auto parts = static_cast<long long>(meshParts(mesh).triangles.size());
+  const long long twice = 2 * parts - (v - e + f);
+  return twice > 0 ? static_cast<std::size_t>(twice / 2) : 0;
 }
 
 TriangleMesh sphereMesh(glm::vec3 c, float r) {
@@ -111,15 +133,16 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
                        "); a " + field + " is tenths of a metre: set " + field +
                        ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
     // Positions are single precision: far from the origin they are coarse
-    // against the mesh
-    const float reach = std::max(glm::length(lo), glm::length(hi));
+    // against the mesh (at its bounding box's farthest corner)
+    const float reach = glm::length(glm::max(glm::abs(lo), glm::abs(hi)));
     const float spacing = reach * std::numeric_limits<float>::epsilon();
-    if (spacing > kMaxPositionSpacing * size || spacing > kWarnPositionSpacing * size) {
+    if (spacing > kWarnPositionSpacing * size) {
       const glm::vec3 mid = 0.5f * (lo + hi);
-      const std::string text = std::filesystem::path(spec.path).filename().string() + ": the mesh lies " + metres(reach) + " from the origin, where positions are " +
-                               metres(spacing) + " apart (" + num(spacing / size) + " of its " + metres(size) +
-                               " size): move it near the origin with " + field + ".offset [" +
-                               num(-mid.x) + ", " + num(-mid.y) + ", " + num(-mid.z) + "]";
+      const std::string text =
+          std::filesystem::path(spec.path).filename().string() + ": the mesh lies " + metres(reach) +
+          " from the origin, where positions are " + metres(spacing) + " apart (" + num(spacing / size) +
+          " of its " + metres(size) + " size): move it near the origin with " + field + ".offset [" +
+          num(-mid.x) + ", " + num(-mid.y) + ", " + num(-mid.z) + "]";
       if (spacing > kMaxPositionSpacing * size) throw SceneError(source + ": " + field + ".mesh: " + text);
       rep.warnings.push_back(field + ".mesh: " + text);
     }
@@ -199,6 +222,10 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
       // what the mesh looked like may explain it
       std::string notes;
       for (const std::string& w : rep.warnings) notes += "\n  (" + w + ")";
+      if (const std::size_t h = handles(mesh); h > 0)
+        notes += "\n  (head.mesh: the mesh has " + std::to_string(h) + (h == 1 ? " handle" : " handles") +
+                 ", a hole right through it as in a ring: the scalp is mapped to a square, which needs a "
+                 "head shaped like a ball)";
       throw SceneError(source + ": scalp: " + e.what() + notes);
     }
     rep.seconds_scalp = since(t0);

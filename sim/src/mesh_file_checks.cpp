@@ -411,7 +411,11 @@ void checkGltfFaceCount(const std::string& path, bool binary, std::size_t max_fa
     text.resize(length);
     if (!in.read(text.data(), length)) return;
   } else {
-    text = readRegularFile(path, kMaxMeshFileBytes);
+    try {
+      text = readRegularFile(path, kMaxMeshFileBytes);
+    } catch (const FileError&) {
+      return;  // the reader names it
+    }
   }
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return;
