@@ -13,10 +13,11 @@ namespace {
 // scene's pieces are at most half a Poisson radius and, with at least 8 of
 // them, more than 0.44 of it; its clearance is a quarter of that radius
 // unless the contact thickness is more. So with 0.6 the first piece still
-// reaches the clearance wherever the radius sets it (the usual particle
-// counts keep their initial state), and the rule bites only where the
-// pieces are shorter than the clearance (50k-100k particles on the bundled
-// head, where the first pieces stood the crown's strands straight up).
+// reaches the clearance wherever the radius sets it (the bundled scenes at
+// their counts keep their initial state), and the rule bites only where
+// the contact thickness sets it: from 10k-15k particles on the bundled
+// head, and at 50k-100k, where the pieces are shorter than the clearance,
+// it keeps the first pieces from standing the crown's strands straight up.
 constexpr float kRise = 0.6f;
 }  // namespace
 
