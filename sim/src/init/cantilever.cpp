@@ -10,14 +10,16 @@ namespace loosehair {
 namespace {
 // Height a strand may gain off the surface per unit of arc length while it
 // reaches its clearance (SPEC §6.1 leaves the first pieces' path open). The
-// scene's pieces are at most half a Poisson radius and, with at least 8 of
-// them, more than 0.44 of it; its clearance is a quarter of that radius
-// unless the contact thickness is more. So with 0.6 the first piece still
-// reaches the clearance wherever the radius sets it (the bundled scenes at
-// their counts keep their initial state), and the rule bites only where
-// the contact thickness sets it: from 10k-15k particles on the bundled
-// head, and at 50k-100k, where the pieces are shorter than the clearance,
-// it keeps the first pieces from standing the crown's strands straight up.
+// scene's pieces are at most half a Poisson radius and, where that radius
+// sets their number (hair longer than 4 radii; shorter hair gets 8 pieces),
+// more than 0.44 of it; its clearance is a quarter of that radius unless
+// the contact thickness is more. So with 0.6 the first piece still
+// reaches the clearance wherever the radius sets both (the bundled scenes
+// at their counts keep their initial state). The rule bites on hair
+// shorter than about 3 radii, and where the contact thickness sets the
+// clearance: from 10k-15k particles on the bundled head, and at 50k-100k,
+// where the pieces are shorter than the clearance, it keeps the first
+// pieces from standing the crown's strands straight up.
 constexpr float kRise = 0.6f;
 }  // namespace
 
