@@ -300,6 +300,35 @@ TEST(Cantilever, TheShapeDoesNotDependOnThePieces) {
   }
 }
 
+// A particle's strand is grown only as far as the particle (the scene's
+// initial state; growCantilever): the pieces before s do not depend on the
+// ones after, so the point and tangent there are the whole strand's, bit
+// for bit, wherever s falls among the pieces, and fewer pieces are grown.
+TEST(Cantilever, AStrandGrownToAParticleAgreesWithTheWholeStrand) {
+  const SphereBody head(glm::vec3(0), 0.1f);
+  const glm::vec3 root(0, 0.1f, 0), dir = glm::normalize(glm::vec3(0.18f, 0.6f, 0.78f)), down(0, -1, 0);
+  const float length = 0.17f;
+  const int pieces = 97;
+  const CantileverStrand whole(root, dir, down, length, 5e-4f, &head, 0.002f, 0.2f, pieces);
+  ASSERT_EQ(whole.points().size(), static_cast<std::size_t>(pieces) + 1);
+  const float ds = length / pieces;
+  for (float s : {0.0f, 0.5f * ds, ds, 1.5f * ds, 0.0423f, 40 * ds, 0.1f, length - 2.5f * ds, length - ds,
+                  length - 0.1f * ds, length}) {
+    const CantileverStrand part(root, dir, down, length, 5e-4f, &head, 0.002f, 0.2f, pieces, s);
+    EXPECT_LE(part.points().size(), whole.points().size());
+    if (s < length - 4 * ds) {
+      EXPECT_LT(part.points().size(), whole.points().size()) << s;
+    }
+    const glm::vec3 a = part.position(s), b = whole.position(s), ta = part.tangent(s), tb = whole.tangent(s);
+    EXPECT_EQ(a.x, b.x) << s;
+    EXPECT_EQ(a.y, b.y) << s;
+    EXPECT_EQ(a.z, b.z) << s;
+    EXPECT_EQ(ta.x, tb.x) << s;
+    EXPECT_EQ(ta.y, tb.y) << s;
+    EXPECT_EQ(ta.z, tb.z) << s;
+  }
+}
+
 TEST(LengthMap, PngAndPgmGiveTheSameLengths) {
   const fs::path dir = fs::temp_directory_path() / ("loosehair-map-" + std::to_string(::getpid()));
   fs::create_directories(dir);

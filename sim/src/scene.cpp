@@ -9,6 +9,7 @@
 #include "head_orientation.hpp"
 #include "json_checks.hpp"
 #include "neighbor_grid.hpp"
+#include "parallel.hpp"
 #include "loosehair/file_io.hpp"
 #include "loosehair/head_model.hpp"
 #include "json_fields.hpp"
@@ -462,6 +463,9 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   return style.shape_keeping;
 }
 
+// Particles a thread takes at a time while growing their strands.
+constexpr std::size_t kStrandBatch = 64;
+
 // The particles of a scene without a style (SPEC §6.1): Poisson-disc
 // samples of the hair pillar in (u, v, s), hung by cantilever strands from
 // root directions given by the whorl.
@@ -488,27 +492,34 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
   auto t_strands = Clock::now();
 
   p.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const PillarSample& smp = pillar.samples[k];
-    p.uv[k] = smp.uv;
-    p.arc_length[k] = smp.s;
-    p.root_point[k] = smp.point;
-    p.mass[k] = hair.mass / static_cast<float>(n);
-    p.velocity[k] = glm::vec3(0.0f);
-    if (smp.s < 0.0f) {
-      const glm::vec3 root_dir = hanging.rootDirection(smp.uv);
-      p.is_root[k] = 1;
-      p.position[k] = smp.point + smp.s * root_dir;
-      p.direction[k] = root_dir;
-    } else {
-      p.is_root[k] = 0;
-      const float length = length_at(smp.uv);
-      const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
-      const CantileverStrand strand = hanging.strand(smp.uv, segments, clearance);
-      p.position[k] = strand.position(smp.s);
-      p.direction[k] = strand.tangent(smp.s);
+  // Each particle's own strand, grown only as far as the particle (the
+  // pieces beyond do not change the ones before): the particles are
+  // independent, so they are shared among the threads (the same bits on
+  // any count). The bodies' queries and the scalp's are read-only.
+  const int threads = scene.sim.threads > 0 ? scene.sim.threads : parallel::availableThreads();
+  parallel::forEachDynamic(threads, (n + kStrandBatch - 1) / kStrandBatch, [&](std::size_t batch) {
+    for (std::size_t k = batch * kStrandBatch, e = std::min(n, k + kStrandBatch); k < e; ++k) {
+      const PillarSample& smp = pillar.samples[k];
+      p.uv[k] = smp.uv;
+      p.arc_length[k] = smp.s;
+      p.root_point[k] = smp.point;
+      p.mass[k] = hair.mass / static_cast<float>(n);
+      p.velocity[k] = glm::vec3(0.0f);
+      if (smp.s < 0.0f) {
+        const glm::vec3 root_dir = hanging.rootDirection(smp.uv);
+        p.is_root[k] = 1;
+        p.position[k] = smp.point + smp.s * root_dir;
+        p.direction[k] = root_dir;
+      } else {
+        p.is_root[k] = 0;
+        const float length = length_at(smp.uv);
+        const int segments = std::max(8, static_cast<int>(std::ceil(length / (0.5f * rp))));
+        const CantileverStrand strand = hanging.strand(smp.uv, segments, clearance, smp.s);
+        p.position[k] = strand.position(smp.s);
+        p.direction[k] = strand.tangent(smp.s);
+      }
     }
-  }
+  });
 
   rep.seconds_strands = since(t_strands);
 }

@@ -25,16 +25,20 @@ constexpr float kRise = 0.6f;
 
 CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, float length,
                                    float stiffness, const Body* body, float clearance,
-                                   float layering, int segments)
+                                   float layering, int segments, float needed)
     : length_(length) {
   segments = std::max(1, segments);
   ds_ = length / static_cast<float>(segments);
+  // position(s) and tangent(s) read points up to floor(s / ds) + 2
+  int grown = segments;
+  if (needed >= 0.0f && needed / ds_ < static_cast<float>(segments))
+    grown = std::min(segments, static_cast<int>(needed / ds_) + 3);
   g = glm::normalize(g);
   dir = glm::normalize(dir);
-  points_.reserve(static_cast<std::size_t>(segments) + 1);
+  points_.reserve(static_cast<std::size_t>(grown) + 1);
   points_.push_back(root);
   glm::vec3 p = root, tau = dir;
-  for (int k = 0; k < segments; ++k) {
+  for (int k = 0; k < grown; ++k) {
     const float s = (static_cast<float>(k) + 0.5f) * ds_;
     const float cos_psi = std::clamp(glm::dot(tau, g), -1.0f, 1.0f);
     const float psi = std::acos(cos_psi);

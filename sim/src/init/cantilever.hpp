@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <limits>
 #include <vector>
 
 namespace loosehair {
@@ -20,9 +21,14 @@ class CantileverStrand {
  public:
   /// `stiffness` S in m^3; `body` may be null; the strand keeps at least
   /// clearance + layering * s outside the body at arc length s (m).
+  /// A piece depends only on the pieces before it, so with `needed` < length
+  /// only the pieces that position(s) and tangent(s) read for s <= needed
+  /// are grown (a few more for rounding): their answers there are the same
+  /// bits as the whole strand's, and points() is shorter.
   CantileverStrand(glm::vec3 root, glm::vec3 root_direction, glm::vec3 gravity_direction,
                    float length, float stiffness, const Body* body, float clearance,
-                   float layering, int segments);
+                   float layering, int segments,
+                   float needed = std::numeric_limits<float>::infinity());
 
   /// Point and unit tangent at arc length s in [0, length] (clamped).
   glm::vec3 position(float s) const;

@@ -71,11 +71,11 @@ glm::vec3 HangingHair::rootDirection(glm::vec2 uv) const {
   return glm::length(root_dir) > 1e-6f ? glm::normalize(root_dir) : nrm;
 }
 
-CantileverStrand HangingHair::strand(glm::vec2 uv, int segments, float clearance) const {
+CantileverStrand HangingHair::strand(glm::vec2 uv, int segments, float clearance, float needed) const {
   const glm::vec3 root_dir = rootDirection(uv);
   return CantileverStrand(model_.scalp().point(uv), root_dir, has_gravity_ ? gravity_dir_ : root_dir,
                           length(uv), scene_.hair.bending_stiffness, &start_bodies_, clearance,
-                          scene_.hair.layering, segments);
+                          scene_.hair.layering, segments, needed);
 }
 
 }  // namespace loosehair

@@ -5,6 +5,8 @@
 // (strands/render_strands.cpp), so both hang the same hair.
 #pragma once
 
+#include <limits>
+
 #include "init/cantilever.hpp"
 #include "init/length_map.hpp"
 #include "loosehair/body.hpp"
@@ -29,8 +31,10 @@ class HangingHair {
   glm::vec3 rootDirection(glm::vec2 uv) const;
   /// The cantilever strand from the scalp point at uv, `segments` pieces,
   /// kept `clearance` (+ layering s) out of the head and the torso as
-  /// placed at the start.
-  CantileverStrand strand(glm::vec2 uv, int segments, float clearance) const;
+  /// placed at the start; grown only as far as s = `needed` is read
+  /// (CantileverStrand). Safe to call from several threads at once.
+  CantileverStrand strand(glm::vec2 uv, int segments, float clearance,
+                          float needed = std::numeric_limits<float>::infinity()) const;
 
  private:
   const SceneDesc& scene_;
