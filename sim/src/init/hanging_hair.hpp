@@ -5,14 +5,14 @@
 // (strands/render_strands.cpp), so both hang the same hair.
 #pragma once
 
-#include <limits>
-
 #include "init/cantilever.hpp"
 #include "init/length_map.hpp"
 #include "loosehair/body.hpp"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include <limits>
 
 namespace loosehair {
 
