@@ -50,7 +50,7 @@ std::size_t handles(const TriangleMesh& mesh) {
   const auto e = static_cast<long long>(std::unique(edges.begin(), edges.end()) - edges.begin());
   const auto v = static_cast<long long>(std::count(used.begin(), used.end(), 1));
   const auto f = static_cast<long long>(mesh.triangles.size());
-  const auto parts = static_cast<long long>(meshParts(mesh).triangles.size());
+  const auto parts = static_cast<long long>(meshParts(mesh).count());
   const long long twice = 2 * parts - (v - e + f);
   return twice > 0 ? static_cast<std::size_t>(twice / 2) : 0;
 }
