@@ -167,3 +167,23 @@ TEST(Determinism, TheSolversOwnThreadCountGivesTheSameBits) {
   EXPECT_EQ(one.stateHash(), automatic.stateHash());
   EXPECT_EQ(automatic.threadCount(), parallel::availableThreads());
 }
+
+// A thread count out of range from the library (the command line allows
+// 1-1024) is refused with the other solver parameters, naming the field;
+// the set-up, whose strands are grown on several threads, must not try to
+// start that many first.
+TEST(Parallel, ASceneAskingForTooManyThreadsIsRefusedByName) {
+  SceneDesc scene = loadScene(lhtest::sourceDir() + "/tests/data/tiny.json");
+  for (int threads : {parallel::kMaxThreads + 1, 1000000, -3}) {
+    scene.sim.threads = threads;
+    try {
+      (void)buildSolver(scene);
+      ADD_FAILURE() << threads << " threads were accepted";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("solver.threads"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::to_string(threads)), std::string::npos) << e.what();
+      // and no advice about the time step, which is not what is wrong
+      EXPECT_EQ(std::string(e.what()).find("time_step"), std::string::npos) << e.what();
+    }
+  }
+}

@@ -87,6 +87,9 @@ void forEachDynamic(int threads, std::size_t n, F&& f) {
 /// The number of hardware threads this process may use (its CPU affinity).
 int availableThreads();
 
+/// The most worker threads a scene or the solver may ask for.
+inline constexpr int kMaxThreads = 1024;
+
 /// How long a waiting thread spins before it sleeps, in nanoseconds
 /// (default 50 us: longer than the solver's usual waits at a barrier on an
 /// idle machine, far shorter than the time slice a descheduled thread is

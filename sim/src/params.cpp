@@ -1,5 +1,7 @@
 #include "loosehair/params.hpp"
 
+#include "parallel.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <cstdio>
@@ -8,9 +10,13 @@
 namespace loosehair {
 namespace {
 
+// whole numbers in full (a thread count of 1000000, not 1e+06)
 std::string num(double v) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
+  if (std::isfinite(v) && v == std::trunc(v) && std::fabs(v) < 1e15)
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+  else
+    std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 
@@ -87,7 +93,7 @@ std::vector<std::string> validate(const SimParams& p) {
       2.0 * std::numbers::pi * p.shape_keeping * p.time_step > kMaxHoldPhasePerStep)
     c.fail("shape_keeping = " + num(p.shape_keeping) + " Hz is too strong for time_step = " + num(p.time_step) +
            " s (2 pi shape_keeping time_step must stay below " + num(kMaxHoldPhasePerStep) + ")");
-  c.range("threads", p.threads, 0, 1024);
+  c.range("threads", p.threads, 0, parallel::kMaxThreads);
   return problems;
 }
 

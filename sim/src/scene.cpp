@@ -496,7 +496,10 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
   // pieces beyond do not change the ones before): the particles are
   // independent, so they are shared among the threads (the same bits on
   // any count). The bodies' queries and the scalp's are read-only.
-  const int threads = scene.sim.threads > 0 ? scene.sim.threads : parallel::availableThreads();
+  // (a count out of range is refused with the other solver parameters
+  // after the particles are made: until then, the default)
+  const int asked = scene.sim.threads;
+  const int threads = asked > 0 && asked <= parallel::kMaxThreads ? asked : parallel::availableThreads();
   parallel::forEachDynamic(threads, (n + kStrandBatch - 1) / kStrandBatch, [&](std::size_t batch) {
     for (std::size_t k = batch * kStrandBatch, e = std::min(n, k + kStrandBatch); k < e; ++k) {
       const PillarSample& smp = pillar.samples[k];
@@ -637,7 +640,10 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   if (!problems.empty()) {
     std::string msg = scene.source + ": invalid solver parameters:";
     for (const auto& pr : problems) msg += "\n  solver." + pr;
-    if (scene.substeps > 0)
+    const bool about_step = std::any_of(problems.begin(), problems.end(), [](const std::string& pr) {
+      return pr.find("time_step") != std::string::npos;
+    });
+    if (scene.substeps > 0 && about_step)
       msg += "\n  (time_step = 1 / (frame_rate x substeps) = 1 / (" + num(scene.frame_rate) + " x " +
              std::to_string(scene.substeps) + "): more substeps, or \"substeps\": \"auto\", shorten it)";
     throw SceneError(msg);

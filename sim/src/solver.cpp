@@ -476,8 +476,9 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
 }
 
 void Solver::setThreadCount(int threads) {
-  if (threads < 0 || threads > 1024)
-    throw std::invalid_argument("thread count " + std::to_string(threads) + " is not in [0, 1024]");
+  if (threads < 0 || threads > parallel::kMaxThreads)
+    throw std::invalid_argument("thread count " + std::to_string(threads) + " is not in [0, " +
+                                std::to_string(parallel::kMaxThreads) + "]");
   max_threads_ = threads > 0 ? threads : parallel::availableThreads();
   thread_choice_ = threads > 0 ? nullptr : std::make_unique<ThreadChoice>(max_threads_);
   threads_ = max_threads_;
