@@ -114,6 +114,9 @@ constexpr const char* kUsage =
     "       loosehair --version\n";
 
 using loosehair::app::UsageError;
+
+// The most frames a run may have (--frames, and a resumed run's frames).
+constexpr std::uint64_t kMaxFrames = 10000000;
 using loosehair::app::parseInteger;
 using loosehair::app::parseReal;
 
@@ -255,6 +258,8 @@ int simulate(const Options& o) {
   if (o.allow_expensive) scene.limits = loosehair::SceneDesc::CostLimits::unlimited();
   overrideHair(scene, o.style, o.no_shape_keeping);
   if (!o.motion.empty()) scene.motion = loadMotion(o.motion);
+  // an output that cannot be written is refused before the run, not after it
+  if (!o.save_state.empty()) (void)checkOutputTarget(o.save_state);
 
   const auto t_init = std::chrono::steady_clock::now();
   BuildReport build;
@@ -311,7 +316,12 @@ int simulate(const Options& o) {
   int done = 0;
   if (!o.resume.empty()) {
     loadSnapshot(solver, o.resume);
-    done = static_cast<int>(solver.stepCount() / static_cast<std::uint64_t>(build.substeps));
+    const std::uint64_t frames_done = solver.stepCount() / static_cast<std::uint64_t>(build.substeps);
+    if (frames_done > kMaxFrames)
+      throw std::runtime_error(o.resume + ": the snapshot is " + std::to_string(frames_done) +
+                               " frames into its run, more than the " + std::to_string(kMaxFrames) +
+                               " frames a run may have");
+    done = static_cast<int>(frames_done);
     std::printf("resumed from %s: t = %.4f s, %d frames done\n", o.resume.c_str(), solver.time(), done);
   }
   const int to_run = o.frames ? *o.frames : std::max(0, scene.frames - done);
@@ -507,6 +517,7 @@ int renderScene(const RenderOptions& o) {
   const int frames = o.frames.value_or(scene.frames);
   std::string ffmpeg;
   if (!o.video.empty()) {
+    (void)loosehair::app::checkVideoName(o.video, "--video");
     const std::filesystem::path parent = std::filesystem::absolute(o.video).parent_path();
     std::error_code ec;
     std::filesystem::create_directories(parent, ec);
@@ -606,6 +617,7 @@ int main(int argc, char** argv) {
       std::printf("loosehair %s\n", LOOSEHAIR_VERSION);
       return 0;
     }
+    loosehair::removeTemporariesOnSignal();
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     const bool help = std::find(rest.begin(), rest.end(), std::string("--help")) != rest.end() ||
                       std::find(rest.begin(), rest.end(), std::string("-h")) != rest.end();

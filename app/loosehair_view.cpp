@@ -22,6 +22,7 @@
 #include "viewer/panel.hpp"
 #include "viewer/script.hpp"
 #include "viewer/simulation_thread.hpp"
+#include "viewer/viewer_values.hpp"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -431,31 +432,36 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
   } else if (what == "set") {
     const std::string name = text("name");
     if (!a["value"].is_number() && !a["value"].is_boolean()) throw std::runtime_error(e.where + ": value must be a number");
-    const double value = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
-    if (name == "speed")
-      c.sim().setSpeed(value);
-    else if (name == "particles")
-      c.pending().hair.particles = static_cast<int>(value);
-    else if (name == "seed")
-      c.pending().seed = static_cast<std::uint64_t>(value);
-    else if (name == "wind.speed")
-      c.pending().wind.speed = static_cast<float>(value);
-    else if (name == "shake.amplitude_deg")
-      panel.shake_amplitude_deg = static_cast<float>(value);
-    else if (name == "shake.frequency_hz")
-      panel.shake_frequency_hz = static_cast<float>(value);
-    else if (name == "styling.brush_radius" && c.styling())
-      c.styling()->brush_radius = static_cast<float>(value);
-    else if (name == "styling.density")
-      c.new_wisp.density = static_cast<float>(value);
-    else if (name == "styling.offset_radius")
-      c.new_wisp.offset_radius = static_cast<float>(value);
-    else if (name == "styling.length_variation")
-      c.new_wisp.length_variation = static_cast<float>(value);
-    else if (name == "styling.step_mm")
-      panel.move_step_mm = static_cast<float>(value);
-    else
-      c.setParam(name, value);
+    const double raw = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
+    if (!viewer::isViewerValue(name)) {
+      c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
+    } else if (name == "styling.brush_radius" && !c.styling()) {
+      throw std::runtime_error(e.where + ": styling.brush_radius is set in styling mode");
+    } else {
+      const double value = viewer::checkViewerValue(name, raw, e.where);
+      if (name == "speed")
+        c.sim().setSpeed(value);
+      else if (name == "particles")
+        c.pending().hair.particles = static_cast<int>(value);
+      else if (name == "seed")
+        c.pending().seed = static_cast<std::uint64_t>(value);
+      else if (name == "wind.speed")
+        c.pending().wind.speed = static_cast<float>(value);
+      else if (name == "shake.amplitude_deg")
+        panel.shake_amplitude_deg = static_cast<float>(value);
+      else if (name == "shake.frequency_hz")
+        panel.shake_frequency_hz = static_cast<float>(value);
+      else if (name == "styling.brush_radius")
+        c.styling()->brush_radius = static_cast<float>(value);
+      else if (name == "styling.density")
+        c.new_wisp.density = static_cast<float>(value);
+      else if (name == "styling.offset_radius")
+        c.new_wisp.offset_radius = static_cast<float>(value);
+      else if (name == "styling.length_variation")
+        c.new_wisp.length_variation = static_cast<float>(value);
+      else if (name == "styling.step_mm")
+        panel.move_step_mm = static_cast<float>(value);
+    }
   } else if (what == "view") {
     const std::string name = text("name");
     const nlohmann::json& val = a["value"];
@@ -822,6 +828,11 @@ int main(int argc, char** argv) {
     std::fputs(loosehair::viewer::kShortcuts, stdout);
     return 0;
   }
+  if (!args.empty() && (args[0] == "--version" || args[0] == "version")) {
+    std::printf("loosehair-view %s\n", LOOSEHAIR_VERSION);
+    return 0;
+  }
+  loosehair::removeTemporariesOnSignal();
   try {
     return run(parseOptions(args));
   } catch (const UsageError& e) {

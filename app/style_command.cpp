@@ -10,6 +10,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <utility>
 
 namespace loosehair::app {
 
@@ -93,6 +96,33 @@ void report(const Style& style, const StrandSet& strands, double seconds) {
               strands.size(), strands.points.size(), seconds);
 }
 
+// Whether `a` and `b` name the same file (the same inode where both exist,
+// else the same normalised absolute path).
+bool sameFile(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) {
+    const bool same = fs::equivalent(a, b, ec);
+    if (!ec) return same;
+  }
+  return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
+}
+
+// Refuses an output that is one of the inputs, or both outputs the same file.
+void checkOutputsAreNotInputs(const StyleOptions& o) {
+  std::vector<std::pair<std::string, std::string>> inputs = {{"--import", o.groom}, {"--head", o.head}};
+  std::vector<std::pair<std::string, std::string>> outputs = {{"--out", o.out}};
+  if (!o.strands.empty()) outputs.push_back({"--strands", o.strands});
+  for (const auto& [oflag, out] : outputs)
+    for (const auto& [iflag, in] : inputs)
+      if (sameFile(out, in))
+        throw UsageError{oflag + " " + out + " is the file given to " + iflag + "; it would be overwritten. "
+                         "Choose another name for the output",
+                         kStyleUsage};
+  if (outputs.size() == 2 && sameFile(o.out, o.strands))
+    throw UsageError{"--out and --strands name the same file (" + o.out + ")", kStyleUsage};
+}
+
 void writeOut(const StrandSet& strands, const std::string& path) {
   writeStrands(strands, path);
   std::printf("strands written: %s\n", path.c_str());
@@ -116,6 +146,9 @@ int styleCommand(const std::vector<std::string>& args) {
     if (!o.strands.empty()) writeOut(strands, o.strands);
     return 0;
   }
+  checkOutputsAreNotInputs(o);
+  (void)checkOutputTarget(o.out);
+  if (!o.strands.empty()) (void)checkOutputTarget(o.strands);
   const HeadDesc desc = headOf(o.head);
   const HeadModel head = HeadModel::build(desc, o.head, mesh_limits);
   const Polylines groom = readPolylines(o.groom);
@@ -128,16 +161,46 @@ int styleCommand(const std::vector<std::string>& args) {
               rep.strands_read, rep.strands_kept, rep.largest_root_distance * 1e3);
   if (rep.skipped_far) std::printf(", %zu left out (root too far from the scalp)", rep.skipped_far);
   if (rep.skipped_short) std::printf(", %zu left out (fewer than two points)", rep.skipped_short);
+  if (rep.skipped_beyond)
+    std::printf(", %zu left out (reaching beyond %.0f m)", rep.skipped_beyond, double(kMaxStyleCoordinate));
   if (rep.reversed) std::printf(", %zu stored tip first", rep.reversed);
   std::printf("\n");
   checkStyle(style, head);
-  saveStyle(style, o.out);
+  // What is written must load: the text is read back as the style reader
+  // reads a file, within the size a style file may have.
+  const std::string text = styleText(style, o.out);
+  if (text.size() > kMaxTextFileBytes)
+    throw StyleError(o.out + ": the imported style would be " + std::to_string(text.size() >> 20) +
+                     " MiB, more than the " + std::to_string(kMaxTextFileBytes >> 20) +
+                     " MiB a style file may be; nothing was written (import fewer strands: " +
+                     std::to_string(style.wisps.size()) + " were kept)");
+  Style check = parseStyle(text, o.out);
+  checkStyle(check, head);
   style.source = o.out;
   const auto t0 = Clock::now();
   const StrandSet strands = buildMemberStrands(style, head, spacing, budget);
   report(style, strands, std::chrono::duration<double>(Clock::now() - t0).count());
+  // Both files or neither: everything is written to temporaries first and
+  // renamed only when both are complete.
+  AtomicFile style_file(o.out);
+  style_file.write(text);
+  std::optional<AtomicFile> strand_file;
+  if (!o.strands.empty()) {
+    Polylines lines;
+    lines.points = strands.points;
+    lines.first = strands.first;
+    const std::string bytes = polylineFileBytes(lines, o.strands);
+    strand_file.emplace(o.strands);
+    strand_file->write(bytes);
+    strand_file->finish();
+  }
+  style_file.finish();
+  style_file.commit();
   std::printf("style written: %s\n", o.out.c_str());
-  if (!o.strands.empty()) writeOut(strands, o.strands);
+  if (strand_file) {
+    strand_file->commit();
+    std::printf("strands written: %s\n", o.strands.c_str());
+  }
   return 0;
 }
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -79,10 +80,30 @@ void Controller::restart() {
   sim_.restart(pending_);
 }
 
-bool Controller::setParam(const std::string& name, double value) {
+bool Controller::setParam(const std::string& name, double value_in, const std::string& source) {
   const ParamInfo* info = findParam(name.c_str());
   if (!info) {
-    fail("no solver parameter called \"" + name + "\"");
+    fail(source + ": no solver parameter called \"" + name + "\"");
+    return false;
+  }
+  double value = value_in;
+  try {
+    // as a scene file's "solver" object checks it; the few that no file
+    // holds (the step, the threads, a component of gravity) by their own rules
+    if (name != "time_step" && name != "threads" && name.find('.') == std::string::npos) {
+      value = checkSceneValue("solver." + name, value_in, source);
+    } else {
+      const bool whole = info->kind != ParamInfo::Kind::Real;
+      const double bound = name == "threads" ? 1e4 : 1e3;  // then validate() below
+      if (!std::isfinite(value) || std::abs(value) > bound || (whole && value != std::floor(value))) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, ": solver.%s: must be a %s of magnitude at most %g, got %g", name.c_str(),
+                      whole ? "whole number" : "number", bound, value);
+        throw std::invalid_argument(source + buf);
+      }
+    }
+  } catch (const std::exception& e) {
+    fail(e.what());
     return false;
   }
   SimParams p = pending_.sim;
@@ -172,6 +193,7 @@ void Controller::loadSnapshot(const std::string& path) {
 void Controller::startRecording(const std::string& dir, const std::string& video) {
   attempt([&] {
     namespace fs = std::filesystem;
+    if (!video.empty()) (void)app::checkVideoName(video, "the recording's video");
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw std::runtime_error(dir + ": cannot create the directory: " + ec.message());

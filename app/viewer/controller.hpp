@@ -57,7 +57,9 @@ class Controller {
   // ---- parameters -------------------------------------------------------
   /// Sets solver parameter `name` (ParamInfo) in pending(); a live one goes
   /// to the running solver at once. Returns false if it waits for a restart.
-  bool setParam(const std::string& name, double value);
+  /// The value is checked as a scene file's "solver" field is (`source`
+  /// names where it came from in the message); a refused one changes nothing.
+  bool setParam(const std::string& name, double value, const std::string& source = "the panel");
   /// Wind on (or changed) from now, or off (off applies on restart).
   void setWind(bool on);
 

@@ -1,4 +1,5 @@
 #include "viewer/panel.hpp"
+#include "viewer/viewer_values.hpp"
 
 #include "loosehair/param_table.hpp"
 
@@ -15,6 +16,10 @@
 #include <vector>
 
 namespace loosehair::viewer {
+
+// A value typed into a slider (Ctrl+click) stays within the slider's range,
+// which lies within what the scene and style files allow.
+constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
 
 const char* const kShortcuts =
     "left drag: orbit the camera (styling: on the scalp, brush), scroll: zoom\n"
@@ -126,9 +131,14 @@ void Panel::files() {
   ImGui::InputInt("seed", &seed_);
   tooltip("random seed of the hair sampling (applies on restart)");
   if (ImGui::Button("Re-initialise")) {
-    p.hair.particles = std::max(50, particles_);
-    p.seed = static_cast<std::uint64_t>(std::max(0, seed_));
-    c_.restart();
+    c_.attempt([&] {
+      // as a scene file's hair.particles and seed are checked
+      const double n = checkViewerValue("particles", particles_, "the panel");
+      const double seed = checkViewerValue("seed", seed_, "the panel");
+      p.hair.particles = static_cast<int>(n);
+      p.seed = static_cast<std::uint64_t>(seed);
+      c_.restart();
+    });
   }
 }
 
@@ -145,7 +155,7 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   if (!fastest_) speed_ = static_cast<float>(sim.speed());
   bool changed = ImGui::Checkbox("as fast as possible", &fastest_);
   if (!fastest_) {
-    changed |= ImGui::SliderFloat("speed", &speed_, 0.1f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic);
+    changed |= ImGui::SliderFloat("speed", &speed_, 0.1f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic | kClamp);
     tooltip("simulated seconds per second of wall time (at most)");
   }
   if (changed) sim.setSpeed(fastest_ ? 0.0 : static_cast<double>(speed_));
@@ -203,12 +213,12 @@ void Panel::parameters() {
       v = b ? 1 : 0;
     } else if (info.kind == ParamInfo::Kind::Integer) {
       int i = static_cast<int>(v);
-      changed = ImGui::SliderInt(label, &i, static_cast<int>(info.lo), static_cast<int>(info.hi));
+      changed = ImGui::SliderInt(label, &i, static_cast<int>(info.lo), static_cast<int>(info.hi), "%d", kClamp);
       v = i;
     } else {
       float f = static_cast<float>(v);
       changed = ImGui::SliderFloat(label, &f, static_cast<float>(info.lo), static_cast<float>(info.hi), "%.4g",
-                                   info.logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+                                   (info.logarithmic ? ImGuiSliderFlags_Logarithmic : 0) | kClamp);
       v = f;
     }
     char help[320];
@@ -230,8 +240,8 @@ void Panel::headControls() {
   const glm::dvec3 e = c_.head().eulerDeg();
   ImGui::Text("turned: yaw %.0f, pitch %.0f degrees", e.x, e.y);
   if (ImGui::Button("Centre the head")) c_.centreHead();
-  ImGui::SliderFloat("amplitude", &shake_amplitude_deg, 5.0f, 80.0f, "%.0f deg");
-  ImGui::SliderFloat("frequency", &shake_frequency_hz, 0.2f, 3.0f, "%.1f Hz");
+  ImGui::SliderFloat("amplitude", &shake_amplitude_deg, 5.0f, 80.0f, "%.0f deg", kClamp);
+  ImGui::SliderFloat("frequency", &shake_frequency_hz, 0.2f, 3.0f, "%.1f Hz", kClamp);
   if (ImGui::Button("Shake")) c_.shake(shake_amplitude_deg, shake_frequency_hz, false);
   ImGui::SameLine();
   if (ImGui::Button("Nod")) c_.shake(shake_amplitude_deg, shake_frequency_hz, true);
@@ -249,12 +259,12 @@ void Panel::wind() {
   tooltip("air blown through the hair (a grid, or SPH particles with wind.model \"particles\"); off applies on restart");
   glm::vec3 d = glm::normalize(p.wind.direction);
   float yaw = glm::degrees(std::atan2(d.x, d.z)), pitch = glm::degrees(std::asin(std::clamp(d.y, -1.0f, 1.0f)));
-  changed |= ImGui::SliderFloat("towards, yaw", &yaw, -180.0f, 180.0f, "%.0f deg");
-  changed |= ImGui::SliderFloat("towards, pitch", &pitch, -60.0f, 60.0f, "%.0f deg");
-  changed |= ImGui::SliderFloat("speed##wind", &p.wind.speed, 0.0f, 10.0f, "%.1f m/s");
-  changed |= ImGui::SliderFloat("gusts", &gust_, 0.0f, 1.0f, "%.2f");
+  changed |= ImGui::SliderFloat("towards, yaw", &yaw, -180.0f, 180.0f, "%.0f deg", kClamp);
+  changed |= ImGui::SliderFloat("towards, pitch", &pitch, -60.0f, 60.0f, "%.0f deg", kClamp);
+  changed |= ImGui::SliderFloat("speed##wind", &p.wind.speed, 0.0f, 10.0f, "%.1f m/s", kClamp);
+  changed |= ImGui::SliderFloat("gusts", &gust_, 0.0f, 1.0f, "%.2f", kClamp);
   tooltip("the wind speed varies by this fraction up and down");
-  changed |= ImGui::SliderFloat("gust period", &gust_period_, 0.5f, 10.0f, "%.1f s");
+  changed |= ImGui::SliderFloat("gust period", &gust_period_, 0.5f, 10.0f, "%.1f s", kClamp);
   ImGui::Checkbox("wind arrow", &v.show_wind_arrow);
   if (changed) {
     p.wind.direction = directionFromAngles(yaw, pitch);
@@ -288,8 +298,8 @@ void Panel::rendering() {
   if (ImGui::Checkbox("air particles", &view.show_air)) c_.sim().setPublishAir(view.show_air);
   ImGui::Checkbox("light from the camera", &view.light_from_camera);
   if (!view.light_from_camera) {
-    ImGui::SliderFloat("light yaw", &view.light_yaw_deg, -180.0f, 180.0f, "%.0f deg");
-    ImGui::SliderFloat("light pitch", &view.light_pitch_deg, -10.0f, 90.0f, "%.0f deg");
+    ImGui::SliderFloat("light yaw", &view.light_yaw_deg, -180.0f, 180.0f, "%.0f deg", kClamp);
+    ImGui::SliderFloat("light pitch", &view.light_pitch_deg, -10.0f, 90.0f, "%.0f deg", kClamp);
     ImGui::Checkbox("light arrow", &view.show_light_arrow);
   }
   static const char* hairs[] = {"billboards", "strands"};
@@ -299,17 +309,17 @@ void Panel::rendering() {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("billboards: one a particle (the LCP paper); strands: thin strands the particles carry");
   if (view.settings.hair == render::HairGeometry::Strands) {
-    ImGui::SliderInt("strands", &view.strands, 1000, 100000, "%d");
+    ImGui::SliderInt("strands", &view.strands, 1000, 100000, "%d", kClamp);
     if (ImGui::IsItemDeactivatedAfterEdit()) c_.setHair(render::HairGeometry::Strands);
     static const char* shadings[] = {"Kajiya-Kay", "Marschner"};
     int sh = view.settings.shading == render::HairShading::Marschner ? 1 : 0;
     if (ImGui::Combo("shading", &sh, shadings, 2))
       view.settings.shading = sh == 1 ? render::HairShading::Marschner : render::HairShading::KajiyaKay;
-    ImGui::SliderInt("supersampling", &view.settings.supersample, 1, 3, "%dx");
+    ImGui::SliderInt("supersampling", &view.settings.supersample, 1, 3, "%dx", kClamp);
   }
-  ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing");
-  ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing");
-  ImGui::SliderFloat("opacity", &view.settings.hair_opacity, 0.05f, 1.0f, "%.2f");
+  ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing", kClamp);
+  ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing", kClamp);
+  ImGui::SliderFloat("opacity", &view.settings.hair_opacity, 0.05f, 1.0f, "%.2f", kClamp);
 }
 
 void Panel::capture() {
@@ -348,14 +358,14 @@ void Panel::styling() {
   ImGui::Text("%zu wisps, %zu ties, preview %zu strands", st.wisps.size(), st.ties.size(), s->previewStrands());
   if (!s->preview_error.empty()) ImGui::TextWrapped("preview: %s", s->preview_error.c_str());
   ImGui::TextWrapped("Left drag on the scalp brushes a region; click a control point to select it.");
-  ImGui::SliderFloat("brush radius", &s->brush_radius, 0.004f, 0.05f, "%.3f m");
+  ImGui::SliderFloat("brush radius", &s->brush_radius, 0.004f, 0.05f, "%.3f m", kClamp);
   ImGui::Text("brushed: %zu triangles", s->brushed().size());
   ImGui::SameLine();
   if (ImGui::SmallButton("clear")) s->clearBrush();
-  ImGui::SliderFloat("density", &c_.new_wisp.density, 1.0f, 100.0f, "%.0f strands/cm^2");
-  ImGui::SliderFloat("offset radius", &c_.new_wisp.offset_radius, 0.0f, 0.05f, "%.3f m");
+  ImGui::SliderFloat("density", &c_.new_wisp.density, 1.0f, 100.0f, "%.0f strands/cm^2", kClamp);
+  ImGui::SliderFloat("offset radius", &c_.new_wisp.offset_radius, 0.0f, 0.05f, "%.3f m", kClamp);
   tooltip("smooth (small) to fuzzy (large) wisps");
-  ImGui::SliderFloat("length variation", &c_.new_wisp.length_variation, 0.0f, 0.9f, "%.2f");
+  ImGui::SliderFloat("length variation", &c_.new_wisp.length_variation, 0.0f, 0.9f, "%.2f", kClamp);
   if (ImGui::Button("Create wisp")) c_.attempt([&] { s->createWispFromBrush(c_.new_wisp); });
   ImGui::SameLine();
   if (ImGui::Button("Set region")) c_.attempt([&] { s->setRegionFromBrush(); });
@@ -368,7 +378,7 @@ void Panel::styling() {
     static const char* axes[] = {"tangent", "normal", "binormal"};
     int a = static_cast<int>(s->axis);
     if (ImGui::Combo("direction", &a, axes, 3)) s->axis = static_cast<StylingAxis>(a);
-    ImGui::SliderFloat("step", &move_step_mm, 1.0f, 50.0f, "%.0f mm");
+    ImGui::SliderFloat("step", &move_step_mm, 1.0f, 50.0f, "%.0f mm", kClamp);
     if (ImGui::Button("Move -")) c_.attempt([&] { s->moveSelected(-1e-3f * move_step_mm); });
     ImGui::SameLine();
     if (ImGui::Button("Move +")) c_.attempt([&] { s->moveSelected(1e-3f * move_step_mm); });

@@ -1,6 +1,7 @@
 #include "viewer/script.hpp"
 
 #include "loosehair/file_io.hpp"
+#include "loosehair/json_checks.hpp"
 
 #include <algorithm>
 #include <set>
@@ -40,6 +41,12 @@ const Kind kKinds[] = {
   throw std::runtime_error(where + ": " + what);
 }
 
+[[noreturn]] void tooMany(const std::string& where) {
+  bad(where, "the script expands to more than " + std::to_string(kMaxScriptEvents) +
+                 " input events here (drags become one event a step, strokes one a point); "
+                 "use fewer or shorter drags");
+}
+
 double number(const json& e, const char* field, const std::string& where, double lo, double hi) {
   const json& v = e.at(field);
   if (!v.is_number()) bad(where, std::string(field) + " must be a number, got " + v.dump());
@@ -57,6 +64,13 @@ std::pair<double, double> point(const json& v, const std::string& where, const s
   return {x, y};
 }
 
+bool flag(const json& e, const char* field, const std::string& where) {
+  if (!e.contains(field)) return false;
+  const json& v = e.at(field);
+  if (!v.is_boolean()) bad(where, std::string(field) + " must be true or false, got " + clipped(v.dump()));
+  return v.get<bool>();
+}
+
 json mouse(const char* button, std::pair<double, double> p, bool shift) {
   return json{{"button", button}, {"x", p.first}, {"y", p.second}, {"shift", shift}};
 }
@@ -65,6 +79,9 @@ json mouse(const char* button, std::pair<double, double> p, bool shift) {
 
 std::deque<ScriptEvent> loadScript(const std::string& path) {
   const std::string text = readRegularFile(path, kMaxTextFileBytes);
+  // nesting, repeated keys and syntax first: a tree 100,000 levels deep
+  // overflowed the stack when it was copied or printed
+  checkJson(text, path, [](const std::string& m) -> void { throw std::runtime_error(m); });
   json root = json::parse(text, nullptr, false);
   if (root.is_discarded()) bad(path, "not valid JSON");
   if (!root.is_object() || !root.contains("events") || !root["events"].is_array())
@@ -94,14 +111,16 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
     last = frame;
     for (const char* f : {"path", "dir", "video", "name", "key", "label", "button"})  // a brush's path is points
       if (e.contains(f) && !(what == "brush" && f == std::string("path")) && !e[f].is_string())
-        bad(where, std::string(f) + " must be a string");
+        bad(where, std::string(f) + " must be a string, got " + clipped(e[f].dump()));
+    for (const char* f : {"shift", "ctrl"}) (void)flag(e, f, where);
     if (what == "drag") {
       const auto a = point(e["from"], where, "from"), b = point(e["to"], where, "to");
       const std::string button = e.value("button", "right");
       if (button != "left" && button != "right") bad(where, "button must be \"left\" or \"right\"");
       const int frames = e.contains("frames") ? static_cast<int>(number(e, "frames", where, 0, 1e5)) : 0;
       const int steps = e.contains("steps") ? static_cast<int>(number(e, "steps", where, 1, 1e4)) : std::max(frames, 1);
-      const bool shift = e.value("shift", false);
+      const bool shift = flag(e, "shift", where);
+      if (out.size() + static_cast<std::size_t>(steps) + 2 > kMaxScriptEvents) tooMany(where);
       out.push_back({frame, "mouse_down", mouse(button.c_str(), a, shift), where});
       for (int k = 1; k <= steps; ++k) {
         const double t = static_cast<double>(k) / steps;
@@ -117,6 +136,7 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
         pts.push_back(point(e["at"], where, "at"));
       } else {
         if (!e["path"].is_array() || e["path"].empty()) bad(where, "path must be a list of [x, y]");
+        if (out.size() + e["path"].size() + 2 > kMaxScriptEvents) tooMany(where);
         for (const json& p : e["path"]) pts.push_back(point(p, where, "path"));
       }
       const std::string button = what == "click" ? e.value("button", "left") : "left";
@@ -124,6 +144,7 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       for (std::size_t k = 1; k < pts.size(); ++k) out.push_back({frame, "mouse_move", mouse(button.c_str(), pts[k], false), where});
       out.push_back({frame, "mouse_up", mouse(button.c_str(), pts.back(), false), where});
     } else {
+      if (out.size() + 1 > kMaxScriptEvents) tooMany(where);
       out.push_back({frame, what, e, where});
     }
   }

@@ -21,6 +21,10 @@ struct ScriptEvent {
   std::string where;       // "FILE: events[k]" for messages
 };
 
+/// The most input events a script may expand to (its drags' steps and its
+/// strokes' points each become one), about two hours of one event a frame.
+inline constexpr std::size_t kMaxScriptEvents = 200000;
+
 /// Reads and checks a script; mouse drags and brush strokes become
 /// mouse_down, mouse_move ... mouse_up events. Throws std::runtime_error
 /// naming the file, the event and the field.

@@ -526,6 +526,14 @@ void AirSystem::report(StepStats& stats) const {
   stats.air_iterations = 0;
 }
 
+std::size_t AirSystem::nonFinite() const {
+  std::size_t n = 0;
+  for (std::size_t a = 0; a < x_.size(); ++a)
+    n += !std::isfinite(x_[a].x + x_[a].y + x_[a].z + v_[a].x + v_[a].y + v_[a].z);
+  for (float d : density_) n += !std::isfinite(d);
+  return n;
+}
+
 void AirSystem::hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const {
   const std::size_t na = x_.size();
   mix(&na, sizeof na);

@@ -74,6 +74,7 @@ class AirSystem final : public WindAir {
   std::size_t count() const override { return x_.size(); }
   void worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const override;
   void report(StepStats& stats) const override;
+  std::size_t nonFinite() const override;
   void hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const override;
 
   std::vector<glm::vec3>& positions() { return x_; }

@@ -721,6 +721,14 @@ void AirGrid::report(StepStats& stats) const {
   stats.air_iterations = last_iterations_;
 }
 
+std::size_t AirGrid::nonFinite() const {
+  std::size_t n = 0;
+  for (const auto& u : u_)
+    for (float f : u) n += !std::isfinite(f);
+  for (float f : pressure_) n += !std::isfinite(f);
+  return n;
+}
+
 void AirGrid::hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const {
   for (const auto& u : u_) mix(u.data(), u.size() * sizeof(float));
 }

@@ -99,6 +99,7 @@ class AirGrid final : public WindAir {
   double stableTimeStep() const override { return INFINITY; }
   void report(StepStats& stats) const override;
   /// The face velocities.
+  std::size_t nonFinite() const override;
   void hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const override;
 
   glm::ivec3 cells() const { return {n_[0], n_[1], n_[2]}; }

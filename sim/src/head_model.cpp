@@ -3,7 +3,7 @@
 #include "head_orientation.hpp"
 #include "init/mesh_scalp.hpp"
 #include "init/scalp_surface.hpp"
-#include "json_checks.hpp"
+#include "loosehair/json_checks.hpp"
 #include "nearest_triangle.hpp"
 
 #include <glm/common.hpp>

@@ -1,4 +1,4 @@
-#include "json_checks.hpp"
+#include "loosehair/json_checks.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -3,13 +3,14 @@
 // names the file, the path of the field and the value.
 #pragma once
 
-#include "json_checks.hpp"
+#include "loosehair/json_checks.hpp"
 #include "loosehair/scene.hpp"
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -85,7 +86,13 @@ class Fields {
     return d;
   }
   float real(const std::string& key, float fallback, double lo, double hi, bool lo_open = false) {
-    return static_cast<float>(number(key, fallback, lo, hi, lo_open));
+    const double d = number(key, fallback, lo, hi, lo_open);
+    // a value a float cannot hold (1e-300 rounds to 0) would pass here and
+    // fail far from its field
+    if (d != 0.0 && std::abs(d) < static_cast<double>(std::numeric_limits<float>::min()))
+      fail(key, "must be 0 or at least " + num(std::numeric_limits<float>::min()) + " in magnitude, got " +
+                    show(obj_.at(key)));
+    return static_cast<float>(d);
   }
   std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t lo,
                        std::int64_t hi) {
@@ -202,7 +209,8 @@ inline void readMeshSpec(Fields& f, MeshSpec& m) {
   if (voxel_auto) m.sdf_voxel = 0.0f;
 }
 
-inline std::vector<glm::vec3> readPoints(Fields& f, const std::string& key, std::size_t at_least) {
+inline std::vector<glm::vec3> readPoints(Fields& f, const std::string& key, std::size_t at_least,
+                                         double max_distance = 100.0) {
   const json& v = f.at(key);
   if (!v.is_array() || v.size() < at_least)
     f.fail(key, "must be an array of at least " + std::to_string(at_least) + " points [x, y, z]");
@@ -212,8 +220,9 @@ inline std::vector<glm::vec3> readPoints(Fields& f, const std::string& key, std:
     if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number())
       f.fail(key + "[" + std::to_string(k) + "]", "must be a point [x, y, z], got " + show(q));
     const glm::dvec3 d(q[0].get<double>(), q[1].get<double>(), q[2].get<double>());
-    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || glm::length(d) > 100.0)
-      f.fail(key + "[" + std::to_string(k) + "]", "must hold finite coordinates within 100 m, got " + show(q));
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || glm::length(d) > max_distance)
+      f.fail(key + "[" + std::to_string(k) + "]",
+             "must hold finite coordinates within " + show(max_distance) + " m, got " + show(q));
     out.emplace_back(d);
   }
   return out;

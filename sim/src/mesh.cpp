@@ -699,29 +699,27 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
 }
 
 void writeObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw MeshError(path + ": cannot write");
-    if (!comment.empty()) {
-      std::istringstream lines(comment);
-      std::string line;
-      while (std::getline(lines, line)) out << "# " << line << '\n';
-    }
-    char buf[96];
-    for (const auto& p : mesh.vertices) {
-      std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", static_cast<double>(p.x),
-                    static_cast<double>(p.y), static_cast<double>(p.z));
-      out << buf;
-    }
-    for (const auto& t : mesh.triangles) out << "f " << t.x + 1 << ' ' << t.y + 1 << ' ' << t.z + 1 << '\n';
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw MeshError(path + ": writing failed");
-    }
+  std::string text;
+  if (!comment.empty()) {
+    std::istringstream lines(comment);
+    std::string line;
+    while (std::getline(lines, line)) text += "# " + line + '\n';
   }
-  std::filesystem::rename(tmp, path);
+  char buf[96];
+  for (const auto& p : mesh.vertices) {
+    std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", static_cast<double>(p.x), static_cast<double>(p.y),
+                  static_cast<double>(p.z));
+    text += buf;
+  }
+  for (const auto& t : mesh.triangles) {
+    std::snprintf(buf, sizeof buf, "f %u %u %u\n", t.x + 1, t.y + 1, t.z + 1);
+    text += buf;
+  }
+  try {
+    writeFileAtomically(path, {text});
+  } catch (const FileError& e) {
+    throw MeshError(e.what());
+  }
 }
 
 TriangleMesh decimate(const TriangleMesh& mesh, std::size_t target_triangles) {
@@ -744,12 +742,17 @@ TriangleMesh decimate(const TriangleMesh& mesh, std::size_t target_triangles) {
 void writeBinaryPly(const TriangleMesh& mesh, const std::string& path) {
   OMesh om;
   toOpenMesh(mesh, om);
-  const std::string tmp = path + ".tmp.ply";
-  if (!OpenMesh::IO::write_mesh(om, tmp, OpenMesh::IO::Options::Binary)) {
-    std::filesystem::remove(tmp);
-    throw MeshError(path + ": cannot write");
+  try {
+    // OpenMesh writes the temporary (".ply" so that it picks the format);
+    // the rename over `path` is checked.
+    AtomicFile file(path, ".ply");
+    file.finish();
+    if (!OpenMesh::IO::write_mesh(om, file.temporary(), OpenMesh::IO::Options::Binary))
+      throw MeshError(path + ": cannot write");
+    file.commit();
+  } catch (const FileError& e) {
+    throw MeshError(e.what());
   }
-  std::filesystem::rename(tmp, path);
 }
 
 std::vector<glm::vec3> vertexNormals(const TriangleMesh& mesh) {

@@ -7,7 +7,7 @@
 #include "init/mesh_scalp.hpp"
 #include "init/scalp_surface.hpp"
 #include "head_orientation.hpp"
-#include "json_checks.hpp"
+#include "loosehair/json_checks.hpp"
 #include "neighbor_grid.hpp"
 #include "parallel.hpp"
 #include "loosehair/file_io.hpp"
@@ -242,7 +242,9 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
         if (hair.object().contains(unused))
           hair.fail(unused, "is not used with a style (the style's key strands shape the hair); remove it or the style");
     }
-    h.length = hair.real("length", h.length, 0.0, 10.0, true);
+    // a centimetre at least: shorter hair is thinner than the particles that
+    // sample it, and fails later naming the solver's smoothing lengths
+    h.length = hair.real("length", h.length, 0.01, 10.0);
     // at least a milligram: lighter "hair" rounds to zero-mass particles
     h.mass = hair.real("mass", h.mass, 1e-6, 100.0);
     const glm::dvec3 whorl = hair.vec3("whorl", glm::dvec3(h.whorl), 1e6);

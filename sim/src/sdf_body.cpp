@@ -1,5 +1,6 @@
 // Signed-distance grid of a mesh (SPEC §5 body collisions). The bake uses
 // OpenVDB (tools::meshToSignedDistanceField); the solver samples a dense copy.
+#include "loosehair/file_io.hpp"
 #include "loosehair/body.hpp"
 
 #include "exact_distance.hpp"
@@ -195,8 +196,6 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
   if (!cache_file.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(cache_file.parent_path(), ec);
-    const auto tmp = cache_file.string() + ".tmp" + std::to_string(key & 0xffff);
-    std::ofstream out(tmp, std::ios::binary);
     CacheHeader h;
     h.key = key;
     for (int a = 0; a < 3; ++a) {
@@ -204,15 +203,16 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
       h.dims[a] = dims[a];
     }
     h.voxel = voxel;
-    if (out && out.write(reinterpret_cast<const char*>(&h), sizeof h) &&
-        out.write(reinterpret_cast<const char*>(body->values_.data()),
-                  static_cast<std::streamsize>(body->values_.size() * sizeof(float))) &&
-        out.write(reinterpret_cast<const char*>(body->nearest_.data()),
-                  static_cast<std::streamsize>(body->nearest_.size() * sizeof(std::int32_t)))) {
-      out.close();
-      std::filesystem::rename(tmp, cache_file, ec);
+    try {
+      AtomicFile out(cache_file.string());
+      out.write({reinterpret_cast<const char*>(&h), sizeof h});
+      out.write({reinterpret_cast<const char*>(body->values_.data()), body->values_.size() * sizeof(float)});
+      out.write({reinterpret_cast<const char*>(body->nearest_.data()),
+                 body->nearest_.size() * sizeof(std::int32_t)});
+      out.commit();
+    } catch (const FileError&) {
+      // a cache is optional: without it the next run bakes again
     }
-    if (ec || !out) std::filesystem::remove(tmp, ec);  // a cache is optional
   }
   return body;
 }

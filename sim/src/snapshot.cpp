@@ -7,10 +7,16 @@
 #include "air_grid.hpp"
 #include "solver_scratch.hpp"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <type_traits>
+#include <unordered_map>
 #include <vector>
 
 namespace loosehair {
@@ -98,6 +104,35 @@ bool finite(const std::vector<glm::vec3>& v) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
   return true;
 }
+// The largest speed a snapshot's hair or air may have (m/s): ten times the
+// fastest wind a scene may blow; the hair never comes near it.
+constexpr float kMaxSnapshotSpeed = 1000.0f;
+// The longest run a snapshot may be from (s) and its most steps: beyond
+// these the frame counts of a resumed run overflow.
+constexpr double kMaxSnapshotTime = 1e7;
+// Air particles one cell of the air spacing may hold (about one at rest).
+constexpr std::uint32_t kMaxAirPerCell = 64;
+constexpr std::uint64_t kMaxSnapshotSteps = std::uint64_t{1} << 40;
+// How far the head may have carried the hair from where it grows (m): a
+// motion file's keyframes translate it by 10 m at most; a hand drag less.
+constexpr float kHeadTravel = 100.0f;
+
+float largest(const std::vector<glm::vec3>& v) {
+  float m = 0.0f;
+  for (const glm::vec3& x : v) m = std::max(m, glm::length(x));
+  return m;
+}
+float largest(const std::vector<float>& v) {
+  float m = 0.0f;
+  for (float x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 bool finite(const std::vector<float>& v) {
   for (float f : v)
     if (!std::isfinite(f)) return false;
@@ -271,7 +306,11 @@ struct SnapshotAccess {
       air.removed = r.get<std::uint64_t>("the removed air count");
     }
     r.end();
-    if (!std::isfinite(time) || time < -1e9 || time > 1e9) r.fail("the time is " + std::to_string(time));
+    if (!std::isfinite(time) || time < 0.0 || time > kMaxSnapshotTime)
+      r.fail("the time is " + num(time) + " s, outside [0, " + num(kMaxSnapshotTime) + "]");
+    if (steps > kMaxSnapshotSteps)
+      r.fail("the step count is " + std::to_string(steps) + ", more than the " + std::to_string(kMaxSnapshotSteps) +
+             " a run may have");
     if (!finite(position) || !finite(velocity) || !finite(direction) || !finite(sum_root) ||
         !finite(sum_tip) || !finite(spring_dv) || !finite(air.x) || !finite(air.v) || !finite(air.density) ||
         !std::isfinite(air.advance) || !finite(grid.u[0]) || !finite(grid.u[1]) || !finite(grid.u[2]) ||
@@ -279,6 +318,48 @@ struct SnapshotAccess {
       r.fail("it holds non-finite numbers");
     for (const glm::vec3& t : direction)
       if (std::abs(glm::dot(t, t) - 1.0f) > 1e-3f) r.fail("a hair direction is not a unit vector");
+    // what the scene allows: hair within its length of the scalp as far as
+    // a head may travel, speeds and air within bounds no run reaches
+    {
+      const Particles& p = s.particles_;
+      float reach = 0.0f;
+      for (std::size_t i = 0; i < n; ++i)
+        reach = std::max(reach, glm::length(p.root_point[i]) + 2.0f * std::abs(p.arc_length[i]));
+      const float far = largest(position);
+      if (far > reach + kHeadTravel)
+        r.fail("a hair particle lies " + num(far) + " m from the head's origin; this scene's hair reaches " +
+               num(reach) + " m and a head travels " + num(kHeadTravel) + " m at most");
+      const float fast = std::max({largest(velocity), largest(spring_dv), largest(air.v), largest(grid.u[0]),
+                                   largest(grid.u[1]), largest(grid.u[2])});
+      if (fast > kMaxSnapshotSpeed)
+        r.fail("it holds a speed of " + num(fast) + " m/s, above the " + num(kMaxSnapshotSpeed) +
+               " m/s a hair or air state may have");
+    }
+    if (air_kind == kParticleAir) {
+      const WindParams& w = scene_air->params();
+      const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size.z;
+      const double capacity = 4.0 * box / (static_cast<double>(w.spacing) * w.spacing * w.spacing) + 1000.0;
+      if (static_cast<double>(air.x.size()) > capacity)
+        r.fail("it holds " + std::to_string(air.x.size()) + " air particles where this scene's air box holds about " +
+               num(capacity / 4.0));
+      if (!(air.advance >= 0.0 && air.advance <= w.spacing))
+        r.fail("the wind run is " + num(air.advance) + " m, outside [0, " + num(w.spacing) + "] (the air spacing)");
+      if (air.removed > air.emitted) r.fail("more air particles removed than emitted");
+      const float box_reach = glm::length(w.box_size) + glm::length(w.box_center) + kHeadTravel;
+      if (largest(air.x) > box_reach)
+        r.fail("an air particle lies " + num(largest(air.x)) + " m away, beyond the air box");
+      // air crowded into one place would make every pair of it neighbours
+      std::unordered_map<std::uint64_t, std::uint32_t> cells;
+      cells.reserve(air.x.size());
+      for (const glm::vec3& x : air.x) {
+        const glm::ivec3 c = glm::ivec3(glm::floor(x / w.spacing)) + glm::ivec3(1 << 20);
+        const std::uint64_t key = (static_cast<std::uint64_t>(c.x) << 42) ^ (static_cast<std::uint64_t>(c.y) << 21) ^
+                                  static_cast<std::uint64_t>(c.z);
+        if (++cells[key] > kMaxAirPerCell)
+          r.fail("more than " + std::to_string(kMaxAirPerCell) + " air particles crowd into one cell of the air "
+                 "spacing, near (" + num(x.x) + ", " + num(x.y) + ", " + num(x.z) + ")");
+      }
+    }
     if (dt != s.params_.time_step) {
       SimParams next = s.params_;
       next.time_step = dt;

@@ -1930,6 +1930,10 @@ void Solver::step() {
     bodies.end = head_end;
     bodies.moved = airBodiesMoved(frames, head_end);
     air_->move(time_, t_end, dt, bodies, threads_);
+    if (const std::size_t bad = air_->nonFinite(); bad > 0)
+      throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) + " s: " +
+                            std::to_string(bad) + " numbers of the wind's air are not finite; lower wind.speed "
+                            "or reduce the time step");
     lap(st.air);
   }
 

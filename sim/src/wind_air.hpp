@@ -76,6 +76,9 @@ class WindAir {
   virtual double stableTimeStep() const = 0;
   /// Sets the air's counts of the last step in `stats`.
   virtual void report(StepStats& stats) const = 0;
+  /// How many of the air's numbers (velocities, positions, pressures) are
+  /// not finite: the solver's instability check covers the air too.
+  virtual std::size_t nonFinite() const = 0;
   /// Feeds the state a step carries to the next to `mix` (the state hash).
   virtual void hashState(const std::function<void(const void* data, std::size_t bytes)>& mix) const = 0;
 };

@@ -36,6 +36,66 @@ std::size_t checkRegularFile(const std::string& path, std::size_t limit);
 /// is removed, `path` is left as it was and FileError is thrown.
 void writeFileAtomically(const std::string& path, const std::vector<std::string_view>& parts);
 
+/// The file an output to `path` goes to: `path` itself, or where a symbolic
+/// link at `path` leads. Refuses (FileError, naming `path` and what it is)
+/// a target that exists and is not a regular file (a device such as
+/// /dev/null, a FIFO, a socket, a directory) and a link that leads nowhere,
+/// before anything is written: renaming a finished file over a device node
+/// would replace the node.
+std::string checkOutputTarget(const std::string& path);
+
+/// One output file written atomically: the bytes go to a temporary file
+/// beside the target (registered for removal on SIGINT/SIGTERM/SIGHUP, see
+/// removeTemporariesOnSignal), and commit() renames it over the target.
+/// Destroyed uncommitted, the temporary is removed and the target is left as
+/// it was. Several AtomicFiles finished first and committed together make a
+/// change of several files all or nothing up to the renames.
+class AtomicFile {
+ public:
+  /// Checks the target (checkOutputTarget) and creates the temporary file.
+  /// `suffix` ends the temporary's name (".mp4", say, for a program that
+  /// reads the format from the name).
+  explicit AtomicFile(const std::string& path, const std::string& suffix = "");
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  /// Appends `bytes`; FileError (the temporary removed) on failure.
+  void write(std::string_view bytes);
+  /// Closes the temporary, checked; after this another program may write it.
+  void finish();
+  /// Renames the finished temporary over the target.
+  void commit();
+
+  const std::string& target() const { return target_; }
+  const std::string& temporary() const { return tmp_; }
+
+ private:
+  void fail(const std::string& what, int err);
+  std::string path_, target_, tmp_;
+  int fd_ = -1;
+  int slot_ = -1;
+  bool committed_ = false;
+};
+
+/// Installs handlers of SIGINT, SIGTERM and SIGHUP that remove the
+/// temporary files of unfinished writes, then end the process as the signal
+/// would have. For programs (the command line, the viewer); idempotent.
+void removeTemporariesOnSignal();
+
+/// Registers a temporary file that something else writes (a child program's
+/// output) for removal on those signals, for the guard's lifetime.
+class TemporaryFileGuard {
+ public:
+  explicit TemporaryFileGuard(const std::string& path);
+  ~TemporaryFileGuard();
+  TemporaryFileGuard(const TemporaryFileGuard&) = delete;
+  TemporaryFileGuard& operator=(const TemporaryFileGuard&) = delete;
+
+ private:
+  int slot_ = -1;
+};
+
 /// The default size limits of inputs (scene and style files, meshes, images,
 /// snapshots).
 inline constexpr std::size_t kMaxTextFileBytes = std::size_t{64} << 20;     // 64 MiB

@@ -29,6 +29,7 @@ struct GroomImportReport {
   std::size_t strands_kept = 0;
   std::size_t skipped_far = 0;     // root too far from the scalp
   std::size_t skipped_short = 0;   // fewer than two distinct points
+  std::size_t skipped_beyond = 0;  // a point beyond kMaxStyleCoordinate
   std::size_t reversed = 0;        // stored tip first: turned round
   float largest_root_distance = 0; // of the kept strands (m)
 };

@@ -152,6 +152,15 @@ SceneDesc loadScene(const std::string& path);
 /// The same from text; `source` names it in messages.
 SceneDesc parseScene(const std::string& text, const std::string& source);
 
+/// One value typed into the viewer or set by a script, checked exactly as
+/// the scene reader checks that field in a scene file. `field` is its path
+/// in a scene file: "seed", "frames", "hair.particles", "hair.length",
+/// "solver.youngs_modulus" (any scalar of "solver"), "wind.speed", or
+/// "motion.amplitude_deg" / "motion.frequency_hz" (of a shake or nod).
+/// Returns the value as the scene holds it (a float's rounding, say).
+/// Throws SceneError naming `source`, the field and the value.
+double checkSceneValue(const std::string& field, double value, const std::string& source);
+
 /// A head motion file: {"motion": {...}}, the object a scene's "motion"
 /// holds (data/scenes/README.md). Throws SceneError naming the file and field.
 HeadTrajectory loadMotion(const std::string& path);

@@ -26,6 +26,8 @@ struct Polylines {
 /// strand of more than 65536 points for .hair, a failed write).
 void writeStrands(const StrandSet& strands, const std::string& path);
 void writePolylines(const Polylines& lines, const std::string& path);
+/// The bytes writePolylines writes to `path` (its format by extension).
+std::string polylineFileBytes(const Polylines& lines, const std::string& path);
 
 /// Reads polylines from a .obj (its `l` elements), .ply (vertex x y z and
 /// edge vertex1 vertex2, ASCII or binary little-endian) or .hair file.

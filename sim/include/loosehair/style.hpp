@@ -31,6 +31,11 @@ class StyleError : public SceneError {
   using SceneError::SceneError;
 };
 
+/// What a style file's control points may be: within this distance of the
+/// head frame's origin (m), and each this far at least from the one before.
+inline constexpr float kMaxStyleCoordinate = 100.0f;
+inline constexpr float kMinControlPointGap = 1e-5f;
+
 /// Where a wisp's strands grow. A point of the scalp square is in the region
 /// if it lies in one of the listed scalp triangles or inside one of the
 /// polygons in (u, v) (even-odd rule per polygon). Both may be given; a
@@ -119,6 +124,12 @@ Style parseStyle(const std::string& text, const std::string& source);
 /// when `path` is given). Numbers are written so that they read back
 /// bit-exactly; equal styles give equal text.
 std::string styleText(const Style& style, const std::string& path = "");
+/// A wisp parameter typed into the viewer or set by a script ("density",
+/// "strands", "offset_radius", "length_variation", "curl_radius",
+/// "curl_period", "seed"), checked exactly as a style file's wisp is.
+/// Returns the value as a wisp holds it; throws StyleError naming `source`,
+/// the field and the value.
+double checkWispValue(const std::string& field, double value, const std::string& source);
 /// Writes styleText to `path` (the whole file or nothing). Throws StyleError.
 void saveStyle(const Style& style, const std::string& path);
 

@@ -58,7 +58,15 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
       if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
         throw StyleError(source + ": strand " + std::to_string(k) + " point " +
                          std::to_string(j - groom.first[k]) + " is not a finite number");
-      if (line.empty() || glm::length(p - line.back()) > 1e-7f) line.push_back(p);
+      if (line.empty() || glm::length(p - line.back()) >= kMinControlPointGap) line.push_back(p);
+    }
+    // what a style file may hold: a strand reaching beyond it is left out
+    // (a groom in another unit, say), not written to a style that cannot load
+    bool beyond = false;
+    for (const glm::vec3& p : line) beyond = beyond || glm::length(p) > kMaxStyleCoordinate;
+    if (beyond) {
+      ++rep.skipped_beyond;
+      continue;
     }
     if (line.size() < 2) {
       ++rep.skipped_short;
@@ -107,6 +115,16 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
         p += (kClear - phi) * nrm;
       }
     }
+    // the root's move and the push may bring control points together: keep
+    // them kMinControlPointGap apart, as style files require
+    std::vector<glm::vec3> kept{w.key_strand.front()};
+    for (std::size_t j = 1; j < w.key_strand.size(); ++j)
+      if (glm::length(w.key_strand[j] - kept.back()) >= kMinControlPointGap) kept.push_back(w.key_strand[j]);
+    if (kept.size() < 2) {
+      ++rep.skipped_short;
+      continue;
+    }
+    w.key_strand = std::move(kept);
     w.params.strands = 1;
     w.params.offset_radius = 0.0f;
     w.params.length_variation = 0.0f;
@@ -116,12 +134,15 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
   rep.strands_kept = style.wisps.size();
   if (report) *report = rep;
   if (style.wisps.empty()) {
-    char buf[160];
+    char buf[256];
     if (rep.skipped_far > 0)
       std::snprintf(buf, sizeof buf,
                     ": none of its %zu strands has a root within %.1f mm of the scalp (the nearest is %.1f mm away; "
                     "is the groom in another unit or frame?)",
                     rep.strands_read, opt.max_root_distance * 1e3, nearest_far * 1e3);
+    else if (rep.skipped_beyond > 0)
+      std::snprintf(buf, sizeof buf, ": every strand reaches farther than %.0f m from the head's origin, beyond what a "
+                    "style may hold (is the groom in another unit? see --scale)", double(kMaxStyleCoordinate));
     else
       std::snprintf(buf, sizeof buf, ": holds no strand of two or more distinct points");
     throw StyleError(source + buf);

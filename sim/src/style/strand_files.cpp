@@ -36,7 +36,7 @@ std::string text3(glm::vec3 p) {
 
 }  // namespace
 
-void writePolylines(const Polylines& s, const std::string& path) {
+std::string polylineFileBytes(const Polylines& s, const std::string& path) {
   const std::string ext = extension(path);
   const std::size_t n = s.size();
   std::string out;
@@ -97,6 +97,11 @@ void writePolylines(const Polylines& s, const std::string& path) {
   } else {
     fail(path, "unknown strand file type '" + ext + "' (use .obj, .ply or .hair)");
   }
+  return out;
+}
+
+void writePolylines(const Polylines& s, const std::string& path) {
+  const std::string out = polylineFileBytes(s, path);
   writeFileAtomically(path, {out});
 }
 
@@ -164,6 +169,12 @@ Polylines readPolylines(const std::string& path) {
     at = 128;
     if (!(flags & 0x2)) fail(path, "the file has no points array");
     if (strands == 0 || strands > 50'000'000u || points > 500'000'000u) fail(path, "implausible strand or point count");
+    // what the header promises must be in the file before anything is made
+    const std::uint64_t promised = 128 + ((flags & 0x1) ? 2ULL * strands : 0) + 12ULL * points;
+    if (promised > b.size())
+      fail(path, "the header promises " + std::to_string(strands) + " strands and " + std::to_string(points) +
+                     " points (" + std::to_string(promised) + " bytes) and the file has " + std::to_string(b.size()) +
+                     " bytes (truncated)");
     std::vector<std::uint32_t> segs(strands, default_segments);
     if (flags & 0x1)
       for (auto& s : segs) s = get<std::uint16_t>(b, at, path);
@@ -218,6 +229,11 @@ Polylines readPolylines(const std::string& path) {
   } else if (ext == ".ply") {
     const std::size_t end = b.find("end_header");
     if (b.compare(0, 3, "ply") != 0 || end == std::string::npos) fail(path, "not a PLY file");
+    // the data start on the line after end_header
+    std::size_t after = end + std::strlen("end_header");
+    if (after < b.size() && b[after] == '\r') ++after;
+    if (end == 0 || b[end - 1] != '\n' || after >= b.size() || b[after] != '\n')
+      fail(path, "the header's last line must be \"end_header\" followed by a newline");
     std::istringstream hdr(b.substr(0, end));
     std::string word, format, element;
     std::size_t nv = 0, ne = 0;
@@ -246,7 +262,15 @@ Polylines readPolylines(const std::string& path) {
         (eprops[1] != "int vertex2" && eprops[1] != "int32 vertex2"))
       fail(path, "edges must have exactly int vertex1, vertex2");
     if (nv > 500'000'000u || ne > 500'000'000u) fail(path, "implausible vertex or edge count");
-    std::size_t at = b.find('\n', end) + 1;
+    std::size_t at = after + 1;
+    // what the header promises must fit in what follows it (binary: 12 bytes
+    // a vertex and 8 an edge; text: at least "0 0 0" and "0 0", each with a
+    // separator) before anything is made
+    const bool binary = format == "binary_little_endian";
+    const std::uint64_t need = binary ? 12ULL * nv + 8ULL * ne : 6ULL * nv + 4ULL * ne;
+    if (need > b.size() - at + (binary ? 0 : 1))  // (text: the last separator may be missing)
+      fail(path, "the header promises " + std::to_string(nv) + " vertices and " + std::to_string(ne) +
+                     " edges, more than the " + std::to_string(b.size() - at) + " bytes after it hold (truncated)");
     std::vector<glm::vec3> v(nv);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges(ne);
     if (format == "binary_little_endian") {

@@ -36,6 +36,11 @@ void StyleEditor::record() {
 void StyleEditor::checkPoint(std::size_t w, std::size_t k, glm::vec3 p) const {
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
     throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: not a finite point");
+  if (glm::length(p) > kMaxStyleCoordinate)
+    throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: would lie " +
+                     std::to_string(static_cast<int>(std::min(glm::length(p), 1e9f))) +
+                     " m from the head's origin, beyond the " + std::to_string(static_cast<int>(kMaxStyleCoordinate)) +
+                     " m a style allows");
   const float phi = head_.headDistance(p);
   if (phi < -1e-3f)
     throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: would lie " +
@@ -59,6 +64,17 @@ WispRegion normalised(WispRegion r) {
   r.triangles.erase(std::unique(r.triangles.begin(), r.triangles.end()), r.triangles.end());
   return r;
 }
+// A wisp's parameters as a style file's wisp must have them (the reader's
+// own checks, checkWispValue), so that nothing a file refuses gets in here.
+void checkParams(const WispParams& p, const std::string& where) {
+  checkWispValue("density", p.density, where);
+  checkWispValue("strands", p.strands, where);
+  checkWispValue("offset_radius", p.offset_radius, where);
+  checkWispValue("length_variation", p.length_variation, where);
+  checkWispValue("curl_radius", p.curl_radius, where);
+  checkWispValue("curl_period", p.curl_period, where);
+}
+
 }  // namespace
 
 std::size_t StyleEditor::createWisp(const WispRegion& region_in, const WispParams& params,
@@ -71,6 +87,7 @@ std::size_t StyleEditor::createWisp(const WispRegion& region_in, const WispParam
   Wisp w;
   w.name = name.empty() ? "wisp " + std::to_string(index) : name;
   w.region = region;
+  checkParams(params, "createWisp");
   w.params = params;
   if (key.empty()) {
     const glm::vec3 n = head_.scalpNormal(uv);
@@ -108,12 +125,7 @@ void StyleEditor::setRegion(std::size_t i, const WispRegion& region_in) {
 void StyleEditor::setParams(std::size_t i, const WispParams& p) {
   wisp(i, "setParams");
   const std::string f = "wisps[" + std::to_string(i) + "]";
-  if (!(p.density > 0 && p.density <= 1e4)) throw StyleError(f + ".density: must be in (0, 1e4] strands per cm^2");
-  if (p.strands < 0) throw StyleError(f + ".strands: must not be negative");
-  if (!(p.offset_radius >= 0 && p.offset_radius <= 1)) throw StyleError(f + ".offset_radius: must be in [0, 1] m");
-  if (!(p.length_variation >= 0 && p.length_variation <= 0.9f)) throw StyleError(f + ".length_variation: must be in [0, 0.9]");
-  if (!(p.curl_radius >= 0 && p.curl_radius <= 0.2f)) throw StyleError(f + ".curl_radius: must be in [0, 0.2] m");
-  if (!(p.curl_period >= 1e-3f && p.curl_period <= 1)) throw StyleError(f + ".curl_period: must be in [0.001, 1] m");
+  checkParams(p, f);
   record();
   style_.wisps[i].params = p;
 }

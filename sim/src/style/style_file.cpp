@@ -70,9 +70,9 @@ Wisp readWisp(Fields f, std::size_t index) {
   if (!f.has("region")) f.fail("region", "is required");
   w.region = readRegion(f.child("region"));
   if (!f.has("key_strand")) f.fail("key_strand", "is required: the key strand's control points, root first");
-  w.key_strand = readPoints(f, "key_strand", 2);
+  w.key_strand = readPoints(f, "key_strand", 2, kMaxStyleCoordinate);
   for (std::size_t k = 1; k < w.key_strand.size(); ++k)
-    if (glm::length(w.key_strand[k] - w.key_strand[k - 1]) < 1e-5f)
+    if (glm::length(w.key_strand[k] - w.key_strand[k - 1]) < kMinControlPointGap)
       f.fail("key_strand[" + std::to_string(k) + "]", "repeats the previous control point");
   WispParams& p = w.params;
   p.density = f.real("density", p.density, 0.0, 1e4, true);
@@ -143,6 +143,24 @@ Style parseStyle(const std::string& text, const std::string& source) {
   }
   top.finish();
   return s;
+}
+
+double checkWispValue(const std::string& field, double value, const std::string& source) {
+  if (!std::isfinite(value))
+    throw StyleError(source + ": " + field + ": must be a finite number, got " + num(value));
+  // the field of a wisp that is otherwise as small as a style file allows
+  json wisp = {{"region", {{"uv_rect", {0.0, 0.0, 1.0, 1.0}}}},
+               {"key_strand", json::array({json::array({0.0, 0.0, 0.0}), json::array({0.0, 0.1, 0.0})})}};
+  wisp[field] = value;
+  const Wisp w = readWisp(Fields(wisp, "", source, raiseStyle), 0);
+  if (field == "density") return w.params.density;
+  if (field == "strands") return w.params.strands;
+  if (field == "offset_radius") return w.params.offset_radius;
+  if (field == "length_variation") return w.params.length_variation;
+  if (field == "curl_radius") return w.params.curl_radius;
+  if (field == "curl_period") return w.params.curl_period;
+  if (field == "seed") return static_cast<double>(w.params.seed);
+  throw StyleError(source + ": " + field + ": not a wisp parameter that takes one number");
 }
 
 Style loadStyle(const std::string& path) {

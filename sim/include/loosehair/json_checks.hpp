@@ -1,6 +1,6 @@
 // Checks of JSON input files before they are parsed into a tree (scenes,
-// styles): at most kMaxJsonDepth levels of nesting (deeper input crashed the
-// printing of error messages), no key twice in one object (the last one
+// styles, motions, viewer scripts): at most kMaxJsonDepth levels of nesting
+// (deeper input crashed the printing of error messages), no key twice in one object (the last one
 // would silently win), and the syntax itself; each problem is reported with
 // the file, the path of the field and, for syntax errors, the position.
 #pragma once
