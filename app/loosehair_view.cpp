@@ -222,6 +222,9 @@ struct GlfwSession {
 struct Window {
   viewer::Controller* c = nullptr;
   bool orbiting = false, turning = false, brushing = false, shift = false;
+  // per mouse button: the 3-D view took its press (the panel sees nothing
+  // of it until the release)
+  bool view_holds[GLFW_MOUSE_BUTTON_LAST + 1] = {};
   double last_x = 0, last_y = 0;
   int width = 1, height = 1;  // of the framebuffer
 };
@@ -273,7 +276,7 @@ void key(Window& w, int key, int mods, bool scripted) {
     case GLFW_KEY_L: v.light_from_camera = !v.light_from_camera; break;
     case GLFW_KEY_P: v.screenshot = true; break;
     case GLFW_KEY_TAB: v.show_panel = !v.show_panel; break;
-    case GLFW_KEY_H: std::fputs(viewer::kShortcuts, stdout); break;
+    case GLFW_KEY_H: v.show_help = !v.show_help; break;
     case GLFW_KEY_F2:
       if (c.mode() == viewer::Mode::Styling)
         c.enterSimulate();
@@ -291,12 +294,8 @@ void key(Window& w, int key, int mods, bool scripted) {
   }
 }
 
-void onKey(GLFWwindow* window, int k, int /*scancode*/, int action, int mods) {
-  if (action == GLFW_PRESS || action == GLFW_REPEAT) key(of(window), k, mods, false);
-}
 
-void mouseButton(Window& w, int button, bool press, bool shift, double x, double y, bool scripted) {
-  if (press && !scripted && ImGui::GetIO().WantCaptureMouse) return;
+void mouseButton(Window& w, int button, bool press, bool shift, double x, double y) {
   w.last_x = x, w.last_y = y;
   w.shift = shift;
   viewer::Controller& c = *w.c;
@@ -335,16 +334,37 @@ void cursor(Window& w, double x, double y) {
   }
 }
 
+// Whether window point (x, y) (window coordinates, as GLFW reports the
+// cursor) is on the panel or another window of the interface, as last drawn,
+// or a popup (an open combo box) waits for a click.
+bool onInterface(const Window& w, double x, double y) {
+  if (ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId)) return true;
+  for (const glm::vec4& r : w.c->view().ui_rects)
+    if (x >= r.x && x < r.z && y >= r.y && y < r.w) return true;
+  return false;
+}
+
+// A press belongs to the panel or to the 3-D view, decided where the cursor
+// is at the press (not by the last drawn frame's hover, which lags by a
+// frame); its drag and release go to the same one. Scrolls likewise.
 void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
   Window& w = of(window);
-  double x = 0, y = 0;
-  glfwGetCursorPos(window, &x, &y);
+  if (button < 0 || button > GLFW_MOUSE_BUTTON_LAST) return;
+  double wx = 0, wy = 0;
+  glfwGetCursorPos(window, &wx, &wy);
+  const bool press = action == GLFW_PRESS;
+  if (press) w.view_holds[button] = !onInterface(w, wx, wy);
+  if (!w.view_holds[button]) {
+    ImGui_ImplGlfw_MouseButtonCallback(window, button, action, mods);
+    return;
+  }
+  if (!press) w.view_holds[button] = false;
   // window coordinates to framebuffer pixels (equal but on high-density screens)
   int ww = 1, wh = 1;
   glfwGetWindowSize(window, &ww, &wh);
-  x *= static_cast<double>(w.width) / std::max(ww, 1);
-  y *= static_cast<double>(w.height) / std::max(wh, 1);
-  mouseButton(w, button, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0, x, y, false);
+  const double x = wx * static_cast<double>(w.width) / std::max(ww, 1);
+  const double y = wy * static_cast<double>(w.height) / std::max(wh, 1);
+  mouseButton(w, button, press, (mods & GLFW_MOD_SHIFT) != 0, x, y);
 }
 
 void onCursor(GLFWwindow* window, double x, double y) {
@@ -355,10 +375,29 @@ void onCursor(GLFWwindow* window, double x, double y) {
   cursor(w, x * w.width / std::max(ww, 1), y * w.height / std::max(wh, 1));
 }
 
-void onScroll(GLFWwindow* window, double /*dx*/, double dy) {
-  if (ImGui::GetIO().WantCaptureMouse) return;
-  render::Camera& cam = of(window).c->view().camera;
+void onScroll(GLFWwindow* window, double dx, double dy) {
+  Window& w = of(window);
+  double x = 0, y = 0;
+  glfwGetCursorPos(window, &x, &y);
+  if (onInterface(w, x, y)) {
+    ImGui_ImplGlfw_ScrollCallback(window, dx, dy);
+    return;
+  }
+  render::Camera& cam = w.c->view().camera;
   cam.distance = std::clamp(cam.distance * static_cast<float>(std::pow(0.9, dy)), 0.1f, 5.0f);
+}
+
+void onKey(GLFWwindow* window, int k, int scancode, int action, int mods) {
+  ImGui_ImplGlfw_KeyCallback(window, k, scancode, action, mods);
+  if (action == GLFW_PRESS || action == GLFW_REPEAT) key(of(window), k, mods, false);
+}
+
+// After the backend has read the mouse for a new frame: a button the 3-D
+// view holds is up as far as the panel knows (the backend polls the buttons).
+void hideViewPressesFromInterface(const Window& w) {
+  ImGuiIO& io = ImGui::GetIO();
+  for (int b = 0; b < IM_ARRAYSIZE(io.MouseDown) && b <= GLFW_MOUSE_BUTTON_LAST; ++b)
+    if (w.view_holds[b]) io.MouseDown[b] = false;
 }
 
 // Dear ImGui on the window, for the lifetime of this object.
@@ -368,7 +407,11 @@ struct ImGuiSession {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working directory
     ImGui::StyleColorsLight();
-    ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains the callbacks set before
+    // the window's callbacks (run()) hand ImGui what is its own
+    ImGui_ImplGlfw_InitForOpenGL(window, false);
+    glfwSetCharCallback(window, ImGui_ImplGlfw_CharCallback);
+    glfwSetWindowFocusCallback(window, ImGui_ImplGlfw_WindowFocusCallback);
+    glfwSetCursorEnterCallback(window, ImGui_ImplGlfw_CursorEnterCallback);
     ImGui_ImplOpenGL3_Init("#version 330 core");
   }
   ~ImGuiSession() {
@@ -424,7 +467,7 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       w.shift = a["shift"].get<bool>();
       cursor(w, x, y);
     } else {
-      mouseButton(w, button, what == "mouse_down", a["shift"].get<bool>(), x, y, true);
+      mouseButton(w, button, what == "mouse_down", a["shift"].get<bool>(), x, y);
     }
   } else if (what == "key") {
     key(w, glfwKeyNamed(text("key"), e.where), (a.value("ctrl", false) ? GLFW_MOD_CONTROL : 0) |
@@ -668,7 +711,7 @@ int run(const ViewOptions& o) {
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),
               sim.latest()->particles, sim.buildReport().substeps, scene.frame_rate,
               reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
-  std::fputs(viewer::kShortcuts, stdout);
+  std::printf("press H in the window for the shortcuts\n");
 
   int shown = 0, shots = 0;
   double fps = 0;
@@ -747,9 +790,15 @@ int run(const ViewOptions& o) {
     w.width = width, w.height = height;
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    hideViewPressesFromInterface(w);
     ImGui::NewFrame();
     panel.draw(*frame, fps);
     ImGui::Render();
+    // the hair in the middle of what the panel leaves free
+    {
+      const float display_w = std::max(1.0f, ImGui::GetIO().DisplaySize.x);
+      v.camera.shift_x = v.show_panel ? std::min(v.panel_width / display_w, 0.8f) : 0.0f;
+    }
     const bool styling = controller.mode() == viewer::Mode::Styling && controller.styling();
     if (styling) {  // the style's head at rest, its preview as lines
       if (styling_bodies_of != controller.styling()) {

@@ -85,8 +85,11 @@ int main(int argc, char** argv) {
     const HeadModel head = HeadModel::build(style.head, style.source);
     StyleEditor editor(style, head);
     // the brush stroke of the script, seen by the front camera
-    const render::Camera camera = render::Camera::preset("front");
-    const double stroke[][2] = {{600, 200}, {615, 200}, {630, 200}, {630, 212}, {615, 212}, {600, 212}};
+    // (the viewer centres the view in what its panel, 450 pixels wide when
+    // it opens, leaves free)
+    render::Camera camera = render::Camera::preset("front");
+    camera.shift_x = 450.0f / static_cast<float>(width);
+    const double stroke[][2] = {{825, 200}, {840, 200}, {855, 200}, {855, 212}, {840, 212}, {825, 212}};
     std::set<std::uint32_t> brushed;
     for (const auto& p : stroke) {
       const render::Ray r = camera.ray(p[0], p[1], width, height);

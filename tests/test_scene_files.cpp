@@ -59,7 +59,7 @@ TEST(SceneFiles, BadScenesNameTheFieldAndTheProblem) {
   expectRejected("{ \"head\": ", "invalid JSON");
   expectRejected("[1, 2]", "must be a JSON object");
   expectRejected(replaced("\"length\": 0.2", "\"lenght\": 0.2"), "hair.lenght: unknown field");
-  expectRejected(replaced("\"length\": 0.2", "\"length\": -0.2"), "hair.length: must be a number in (0, 10], got -0.2");
+  expectRejected(replaced("\"length\": 0.2", "\"length\": -0.2"), "hair.length: must be a number in [0.01, 10], got -0.2");
   expectRejected(replaced("\"particles\": 300", "\"particles\": \"many\""), "hair.particles: must be an integer, got \"many\"");
   expectRejected(replaced("\"particles\": 300", "\"particles\": 3"), "hair.particles: must be an integer in [10,");
   expectRejected(replaced("\"radius\": 0.1", "\"radius\": 0"), "head.radius: must be a number in (0, 10], got 0");

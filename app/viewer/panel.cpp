@@ -52,19 +52,21 @@ void Panel::draw(const PublishedFrame& frame, double fps) {
     stage_ms_.emplace_back(frame.frame_ms, frame.last_step);
     while (stage_ms_.size() > 150) stage_ms_.pop_front();  // five seconds at 30 frames/s
   }
+  view.ui_rects.clear();
+  view.panel_width = 0;
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  statusWindow(view, display);
+  helpWindow(view, display);
   if (!view.show_panel) return;
-  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(450, 0), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSizeConstraints(ImVec2(300, 100), ImVec2(600, ImGui::GetIO().DisplaySize.y - 16));
-  ImGui::Begin("loosehair");
+  // the panel stands at the left, as tall as the window; its width is the
+  // user's (dragging its right edge)
+  ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(450, display.y), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(300, display.y), ImVec2(600, display.y));
+  ImGui::Begin("loosehair", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse);
+  remember(view);
+  view.panel_width = ImGui::GetWindowSize().x;
   ImGui::Text("%s  [%s]", c_.sim().scene().name.c_str(), c_.mode() == Mode::Styling ? "styling" : "simulating");
-  if (!view.message.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, view.message_is_error ? ImVec4(0.75f, 0.1f, 0.1f, 1.0f)
-                                                               : ImVec4(0.1f, 0.4f, 0.15f, 1.0f));
-    ImGui::TextWrapped("%s", view.message.c_str());
-    ImGui::PopStyleColor();
-    if (ImGui::SmallButton("dismiss")) view.message.clear();
-  }
   if (ImGui::Button(c_.mode() == Mode::Styling ? "Simulate this style (F2)" : "Style the hair (F2)")) {
     if (c_.mode() == Mode::Styling)
       c_.enterSimulate();
@@ -88,6 +90,48 @@ void Panel::draw(const PublishedFrame& frame, double fps) {
   if (section("Capture", false)) capture();
   if (section("Shortcuts", false)) ImGui::TextUnformatted(kShortcuts);
   view.open_section.clear();
+  last_panel_width_ = view.panel_width;
+  ImGui::End();
+}
+
+void Panel::remember(ViewState& view) {
+  const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+  view.ui_rects.emplace_back(at.x, at.y, at.x + size.x, at.y + size.y);
+}
+
+// Messages (what was saved, what went wrong) in a window of their own at the
+// foot of the 3-D view: nothing in the panel moves when one appears, and a
+// scrolled panel does not hide it.
+void Panel::statusWindow(ViewState& view, ImVec2 display) {
+  if (view.message.empty()) return;
+  const float left = view.show_panel ? last_panel_width_ : 0.0f;
+  ImGui::SetNextWindowPos(ImVec2(left + 8, display.y - 8), ImGuiCond_Always, ImVec2(0, 1));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(200, 0), ImVec2(std::max(200.0f, display.x - left - 16), display.y / 3));
+  ImGui::Begin("##status", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
+  remember(view);
+  ImGui::PushStyleColor(ImGuiCol_Text, view.message_is_error ? ImVec4(0.75f, 0.1f, 0.1f, 1.0f)
+                                                             : ImVec4(0.1f, 0.4f, 0.15f, 1.0f));
+  ImGui::PushTextWrapPos(std::max(200.0f, std::min(900.0f, display.x - left - 40)));
+  ImGui::TextUnformatted(view.message.c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::PopStyleColor();
+  if (ImGui::SmallButton("dismiss")) view.message.clear();
+  ImGui::End();
+}
+
+// The shortcuts (H), over the middle of the 3-D view.
+void Panel::helpWindow(ViewState& view, ImVec2 display) {
+  if (!view.show_help) return;
+  const float left = view.show_panel ? last_panel_width_ : 0.0f;
+  ImGui::SetNextWindowPos(ImVec2(left + 0.5f * (display.x - left), 0.5f * display.y), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  ImGui::Begin("Shortcuts (H to close)", &view.show_help,
+               ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_NoMove);
+  remember(view);
+  ImGui::TextUnformatted(kShortcuts);
   ImGui::End();
 }
 

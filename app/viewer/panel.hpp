@@ -6,6 +6,8 @@
 
 #include "viewer/controller.hpp"
 
+#include <imgui.h>
+
 #include <deque>
 #include <string>
 
@@ -33,6 +35,9 @@ class Panel {
   void rendering();
   void capture();
   void styling();
+  void statusWindow(ViewState& view, ImVec2 display);
+  void helpWindow(ViewState& view, ImVec2 display);
+  static void remember(ViewState& view);
 
   Controller& c_;
   std::deque<std::pair<double, StageTimes>> stage_ms_;  // recent frames: wall ms, last step's stages
@@ -51,6 +56,7 @@ class Panel {
   bool record_mp4_ = true;
   int particles_ = 0;
   int seed_ = 0;
+  float last_panel_width_ = 450.0f;  // the status and help windows stand right of it
 };
 
 /// The unit direction of the panel's two angles (the light's, towards the

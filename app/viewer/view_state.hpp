@@ -4,8 +4,10 @@
 #include "loosehair/render/renderer.hpp"
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <string>
+#include <vector>
 
 namespace loosehair::viewer {
 
@@ -16,8 +18,14 @@ struct ViewState {
   bool light_from_camera = false;
   float light_yaw_deg = 35.0f, light_pitch_deg = 50.0f;  // the fixed light
   bool show_panel = true;
+  bool show_help = false;  // the shortcuts, in a window of their own (H)
+  /// The panel's and other windows' rectangles as last drawn (x0, y0, x1,
+  /// y1 in window coordinates): a press or a scroll over one belongs to it,
+  /// anywhere else to the 3-D view, decided when it happens.
+  std::vector<glm::vec4> ui_rects;
+  float panel_width = 0;  // the panel's width when shown (window coordinates)
   bool screenshot = false, quit = false;
-  std::string message;  // shown in the panel (errors, what was saved)
+  std::string message;  // shown in the status window (errors, what was saved)
   bool message_is_error = false;
   std::string open_section;  // a panel section to open at the next frame (scripts)
   std::string screenshot_path;  // where the next screenshot goes ("" = a numbered file)

@@ -31,7 +31,10 @@ glm::vec3 Camera::eye() const {
 glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, glm::vec3(0, 1, 0)); }
 
 glm::mat4 Camera::projection(float aspect) const {
-  return glm::perspective(glm::radians(fov_deg), aspect, near_plane, far_plane);
+  glm::mat4 p = glm::perspective(glm::radians(fov_deg), aspect, near_plane, far_plane);
+  // x_ndc += shift_x: clip x gains shift_x * w, and w = -z in eye space
+  p[2][0] -= shift_x;
+  return p;
 }
 
 Ray Camera::ray(double x, double y, int width, int height) const {

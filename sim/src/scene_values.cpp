@@ -19,7 +19,9 @@ double checkSceneValue(const std::string& field, double value, const std::string
   const std::size_t dot = field.find('.');
   const std::string section = dot == std::string::npos ? std::string() : field.substr(0, dot);
   const std::string leaf = dot == std::string::npos ? field : field.substr(dot + 1);
-  json root = json::object();
+  // the smallest scene the reader takes, with the one field
+  json root = {{"head", {{"type", "sphere"}, {"center", {0.0, 0.0, 0.0}}, {"radius", 0.1}}}};
+  if (section == "head") throw SceneError(source + ": " + field + ": the head is not set by value here");
   if (section.empty()) {
     root[leaf] = value;
   } else {

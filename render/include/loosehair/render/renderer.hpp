@@ -38,6 +38,10 @@ struct Camera {
   float distance = 0.75f;
   float fov_deg = 40.0f;
   float near_plane = 0.02f, far_plane = 10.0f;
+  /// Moves the picture's centre right by this fraction of half the view's
+  /// width (a lens shift: the viewer centres the hair in what its panel
+  /// leaves free). 0 centres it.
+  float shift_x = 0.0f;
 
   /// "front", "side" (from the right), "back", "three-quarter"; throws
   /// RenderError on anything else.
