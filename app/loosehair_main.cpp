@@ -53,7 +53,7 @@ constexpr const char* kSimulateUsage =
     "    --dump-strands DIR  write each frame's render strands, carried by the\n"
     "                     particles, to DIR/strands_00001.ply (polylines) and .hair\n"
     "                     (cyHair), world coordinates, for other renderers\n"
-    "    --strands N      about N render strands (default 20000)\n"
+    "    --strands N      about N render strands (default 12000)\n"
     "    --strand-points P  points a strand, 2..256 (default 24)\n"
     "    --overwrite      let --dump (or render's --out) replace the frames of an\n"
     "                     earlier run in DIR (they are removed first)\n"
@@ -80,7 +80,7 @@ constexpr const char* kRenderUsage =
     "                              [--style STYLE.json] [--no-shape-keeping]\n"
     "                              [--hair strands|billboards] [--shading kajiya-kay|marschner]\n"
     "                              [--supersample N] [--strands N] [--strand-points P]\n"
-    "                              [--gl osmesa|egl]\n"
+    "                              [--gl osmesa|egl] [--motion FILE]\n"
     "\n"
     "  Simulates SCENE and draws every frame to DIR/frame_00001.png ... with\n"
     "  software OpenGL (OSMesa: no display, no GPU).\n"
@@ -88,7 +88,8 @@ constexpr const char* kRenderUsage =
     "    --camera PRESET  front, side, back or three-quarter (default)\n"
     "    --out DIR        where the PNGs go (default render-out); must be empty or new\n"
     "                     unless --overwrite is given\n"
-    "    --video FILE     also encode the frames to FILE (H.264 MP4) with ffmpeg\n"
+    "    --video FILE     also encode the frames to FILE with ffmpeg (H.264 in .mp4,\n"
+    "                     .m4v, .mov or .mkv, by the name)\n"
     "    --color C        hair colour: black, brown (default), blonde or red\n"
     "    --no-shadows     no self-shadowing (opacity shadow maps)\n"
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
@@ -103,7 +104,8 @@ constexpr const char* kRenderUsage =
     "    --gl P           osmesa (default: software, llvmpipe) or egl (a GPU where\n"
     "                     there is one, else Mesa's surfaceless platform); no X server\n"
     "    --frames, --threads, --seed, --allow-expensive, --style,\n"
-    "    --no-shape-keeping   as for simulate\n";
+    "    --no-shape-keeping, --motion   as for simulate\n"
+    "  Options may also be written --flag=value.\n";
 
 constexpr const char* kUsage =
     "usage: loosehair simulate SCENE [options]   run a scene headless, print its state hash\n"
@@ -114,6 +116,11 @@ constexpr const char* kUsage =
     "       loosehair --version\n";
 
 using loosehair::app::UsageError;
+
+// Render strands of simulate --dump-strands and render unless --strands says
+// otherwise: 12,000 keep the README's default render under a minute on two
+// cores (43 s with the video; 20,000 took 62 s): docs/performance.md
+constexpr std::size_t kDefaultStrands = 12000;
 
 // The most frames a run may have (--frames, and a resumed run's frames).
 constexpr std::uint64_t kMaxFrames = 10000000;
@@ -185,7 +192,7 @@ struct Options {
   std::optional<std::uint64_t> seed;
   std::string dump_dir, save_state, resume, style, motion, strands_dir;
   int save_every = 0;
-  std::size_t strand_count = 20000;
+  std::size_t strand_count = kDefaultStrands;
   int strand_points = 24;
   bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
 };
@@ -229,7 +236,7 @@ Options parseSimulate(const std::vector<std::string>& args) {
     else if (a == "--motion")
       o.motion = value();
     else if (!a.empty() && a[0] == '-')
-      throw UsageError{"unknown option " + a, kSimulateUsage};
+      throw loosehair::app::unknownOption(a, kSimulateUsage);
     else if (o.scene.empty())
       o.scene = a;
     else
@@ -423,15 +430,13 @@ loosehair::render::RenderSettings defaultRenderSettings() {
 
 struct RenderOptions {
   std::optional<double> yaw, pitch, distance, fov;
-  std::string scene, out_dir = "render-out", video, camera = "three-quarter", style;
+  std::string scene, out_dir = "render-out", video, camera = "three-quarter", style, motion;
   bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
   std::optional<int> frames, threads;
   std::optional<std::uint64_t> seed;
   int width = 640, height = 480;
-  // 12,000 strands keep the README's default render under a minute on two
-  // cores (43 s with the video; 20,000 took 62 s): docs/performance.md
   loosehair::app::GLProvider gl = loosehair::app::GLProvider::OSMesa;
-  std::size_t strand_count = 12000;
+  std::size_t strand_count = kDefaultStrands;
   int strand_points = 24;
   bool supersample_given = false;
   loosehair::render::RenderSettings settings = defaultRenderSettings();
@@ -493,7 +498,8 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
         if (x == std::string::npos) throw UsageError{"--size needs WxH, got '" + v + "'"};
         o.width = static_cast<int>(parseInteger("--size width", v.substr(0, x), 16, 8192));
         o.height = static_cast<int>(parseInteger("--size height", v.substr(x + 1), 16, 8192));
-      } else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a, kRenderUsage};
+      } else if (a == "--motion") o.motion = value();
+      else if (!a.empty() && a[0] == '-') throw loosehair::app::unknownOption(a, kRenderUsage);
       else if (o.scene.empty()) o.scene = a;
       else throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'", kRenderUsage};
     } catch (const loosehair::render::RenderError& e) {
@@ -514,6 +520,7 @@ int renderScene(const RenderOptions& o) {
   if (o.threads) scene.sim.threads = *o.threads;
   if (o.allow_expensive) scene.limits = loosehair::SceneDesc::CostLimits::unlimited();
   overrideHair(scene, o.style, o.no_shape_keeping);
+  if (!o.motion.empty()) scene.motion = loadMotion(o.motion);
   const int frames = o.frames.value_or(scene.frames);
   std::string ffmpeg;
   if (!o.video.empty()) {
@@ -618,7 +625,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     loosehair::removeTemporariesOnSignal();
-    const std::vector<std::string> rest(args.begin() + 1, args.end());
+    const std::vector<std::string> rest =
+        loosehair::app::splitFlagValues(std::vector<std::string>(args.begin() + 1, args.end()));
     const bool help = std::find(rest.begin(), rest.end(), std::string("--help")) != rest.end() ||
                       std::find(rest.begin(), rest.end(), std::string("-h")) != rest.end();
     if (args[0] == "simulate") {
@@ -633,7 +641,8 @@ int main(int argc, char** argv) {
       if (help) return std::fputs(loosehair::app::kStyleUsage, stdout) < 0 ? 1 : 0;
       return loosehair::app::styleCommand(rest);
     }
-    throw UsageError{"unknown command '" + args[0] + "'"};
+    if (args[0].rfind('-', 0) == 0) throw loosehair::app::unknownOption(args[0], kUsage);
+    throw UsageError{"unknown command '" + args[0] + "' (simulate, render or style)"};
   } catch (const UsageError& e) {
     const char* usage = e.usage;
     if (!usage && !args.empty())

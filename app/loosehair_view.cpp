@@ -14,6 +14,7 @@
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/gl_loader.hpp"
 #include "loosehair/render/renderer.hpp"
+#include "cli_args.hpp"
 #include "png.hpp"
 #include "scene_bodies.hpp"
 #include "loosehair/render/overlay.hpp"
@@ -164,7 +165,7 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
           throw UsageError{"--seconds must be a number of seconds in (0, 86400], got '" + v + "'"};
         o.seconds = sec;
       } else if (!a.empty() && a[0] == '-') {
-        throw UsageError{"unknown option " + a};
+        throw UsageError{app::unknownOption(a, kUsage).message};
       } else if (o.scene.empty()) {
         o.scene = a;
       } else {
@@ -883,7 +884,7 @@ int main(int argc, char** argv) {
   }
   loosehair::removeTemporariesOnSignal();
   try {
-    return run(parseOptions(args));
+    return run(parseOptions(app::splitFlagValues(args)));
   } catch (const UsageError& e) {
     std::fprintf(stderr, "loosehair-view: %s\n\n%s", e.message.c_str(), kUsage);
     return 2;

@@ -64,7 +64,7 @@ StyleOptions parse(const std::vector<std::string>& args) {
     else if (a == "--out") o.out = value();
     else if (a == "--scale") o.scale = parseReal(a, value(), 1e-6, 1e6, kStyleUsage);
     else if (a == "--max-root-distance") o.max_root_mm = parseReal(a, value(), 0.01, 1000.0, kStyleUsage);
-    else if (!a.empty() && a[0] == '-') throw UsageError{"unknown option " + a, kStyleUsage};
+    else if (!a.empty() && a[0] == '-') throw unknownOption(a, kStyleUsage);
     else if (o.style.empty()) o.style = a;
     else throw UsageError{"more than one style given: '" + o.style + "' and '" + a + "'", kStyleUsage};
   }
@@ -131,7 +131,7 @@ void writeOut(const StrandSet& strands, const std::string& path) {
 }  // namespace
 
 int styleCommand(const std::vector<std::string>& args) {
-  const StyleOptions o = parse(args);
+  const StyleOptions o = parse(splitFlagValues(args));
   using Clock = std::chrono::steady_clock;
   const float spacing = static_cast<float>(o.spacing_mm * 1e-3);
   const StrandBudget budget = o.allow_expensive ? StrandBudget::unlimited() : StrandBudget{};

@@ -93,7 +93,7 @@ TEST(HostileJson, IntegersWrittenWithAnExponentAreIntegers) {
 }
 
 TEST(HostileJson, TruncatedJsonSaysWhere) {
-  expectError<SceneError>([] { (void)parseScene(R"({"frames": 3)", "t.json"); }, {"t.json", "invalid JSON at byte"});
+  expectError<SceneError>([] { (void)parseScene(R"({"frames": 3)", "t.json"); }, {"t.json", "invalid JSON at line 1, column"});
 }
 
 // ---- files that are not regular files -------------------------------------------

@@ -3,6 +3,8 @@
 
 #include "loosehair/render/renderer.hpp"
 
+#include <algorithm>
+
 namespace loosehair::render {
 
 namespace {
@@ -17,9 +19,18 @@ GLuint texture(GLenum internal, GLenum format, GLenum type, int w, int h) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   return t;
 }
-void check(const char* what) {
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw RenderError(std::string("the ") + what + " framebuffer is incomplete");
+// A framebuffer that could not be made: which, how large, and what to do
+// (the size limit OpenGL states, and that memory may run out below it).
+void check(const char* what, int w, int h) {
+  const GLenum error = glGetError();
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE && error == GL_NO_ERROR) return;
+  GLint max_texture = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+  throw RenderError(std::string("the ") + what + " framebuffer of " + std::to_string(w) + "x" + std::to_string(h) +
+                    " pixels (the size times the supersampling) could not be made" +
+                    (error == GL_OUT_OF_MEMORY ? " (out of memory)" : "") + "; this OpenGL draws at most " +
+                    std::to_string(max_texture) + " pixels a side and may run out of memory before: lower --size " +
+                    "or --supersample (e.g. --size 4096x4096 --supersample 1)");
 }
 }  // namespace
 
@@ -35,8 +46,12 @@ void OffscreenTarget::release() {
 
 void OffscreenTarget::resize(int width, int height, bool transparency) {
   if (width == width_ && height == height_ && transparency == transparency_ && opaque_fbo_) return;
-  GLint max_size = 0;
+  GLint max_size = 0, max_texture = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+  max_size = std::min(max_size, max_texture);
+  while (glGetError() != GL_NO_ERROR) {
+  }  // earlier errors are not this one's
   if (width > max_size || height > max_size)
     throw RenderError("a " + std::to_string(width) + "x" + std::to_string(height) +
                       " picture is larger than this OpenGL draws (" + std::to_string(max_size) +
@@ -55,7 +70,7 @@ void OffscreenTarget::resize(int width, int height, bool transparency) {
   glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
-  check("picture");
+  check("picture", width, height);
   if (transparency) {
     accum_ = texture(GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, width, height);
     reveal_ = texture(GL_R16F, GL_RED, GL_HALF_FLOAT, width, height);
@@ -66,7 +81,7 @@ void OffscreenTarget::resize(int width, int height, bool transparency) {
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, bufs);
-    check("transparency");
+    check("transparency", width, height);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous));
 }

@@ -1,5 +1,7 @@
 #include "loosehair/json_checks.hpp"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include <set>
@@ -34,13 +36,20 @@ class Checker : public nlohmann::json_sax<json> {
     return true;
   }
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
-    problem_ = "invalid JSON at byte " + std::to_string(position) + ": " + clipped(e.what(), 200);
+    // the library's own words, without its "[json.exception...] " tag
+    std::string what = e.what();
+    if (const std::size_t tag = what.find("] "); what.rfind("[json.exception", 0) == 0 && tag != std::string::npos)
+      what = what.substr(tag + 2);
+    position_ = position;
+    problem_ = clipped(what, 200);
     return false;
   }
 
   const std::string& problem() const { return problem_; }
+  std::size_t position() const { return position_; }
 
  private:
+  std::size_t position_ = 0;
   struct Level {
     bool object;
     std::set<std::string> keys;
@@ -111,7 +120,29 @@ void checkJson(std::string_view text, const std::string& source,
   Checker checker;
   const bool ok = json::sax_parse(text.begin(), text.end(), &checker, json::input_format_t::json,
                                   /*strict=*/true);
-  if (!ok) raise(source + ": " + (checker.problem().empty() ? "invalid JSON" : checker.problem()));
+  if (ok) return;
+  // not JSON at all (a mesh or an image given for a scene, say): say so
+  const std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) raise(source + ": the file is empty; a JSON object {...} was expected");
+  if (text[first] != '{' && text[first] != '[') {
+    std::string start;
+    for (std::size_t k = first; k < text.size() && start.size() < 12; ++k) {
+      const unsigned char c = static_cast<unsigned char>(text[k]);
+      if (c == '\n' || c == '\r') break;
+      start += c >= 32 && c < 127 ? static_cast<char>(c) : '?';
+    }
+    raise(source + ": is not a JSON file (it begins with \"" + start + "\"); a JSON object {...} was expected");
+  }
+  if (checker.problem().empty()) raise(source + ": invalid JSON");
+  // where, as an editor shows it
+  const std::size_t at = std::min(checker.position(), text.size());
+  std::size_t line = 1, column = 1;
+  for (std::size_t k = 0; k + 1 < at; ++k) {
+    if (text[k] == '\n') ++line, column = 1;
+    else ++column;
+  }
+  raise(source + ": invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
+        checker.problem());
 }
 
 }  // namespace loosehair

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <chrono>
 #include <optional>
@@ -204,6 +205,9 @@ HeadTrajectory readMotion(Fields f) {
 
 SceneDesc parseScene(const std::string& text, const std::string& source) {
   const json root = parseJson(text, source);
+  if (root.is_object() && root.contains("wisps"))
+    throw SceneError(source + ": is a style file (it has \"wisps\"), not a scene; grow it on a scene's head with "
+                     "--style " + source + " (e.g. loosehair render data/scenes/hang.json --style " + source + ")");
   SceneDesc s;
   s.source = source;
   Fields top(root, "", source);
@@ -333,7 +337,16 @@ std::string keyframesJson(const std::vector<HeadKeyframe>& keys) {
   return s + "]}}\n";
 }
 
-SceneDesc loadScene(const std::string& path) { return parseScene(readTextFile(path, "the scene file"), path); }
+SceneDesc loadScene(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* mesh : {".ply", ".obj", ".off", ".stl", ".glb", ".gltf"})
+    if (ext == mesh)
+      throw SceneError(path + ": is a mesh, not a scene; a scene (JSON) names its head mesh as \"head\": "
+                       "{\"type\": \"mesh\", \"mesh\": \"" + std::filesystem::path(path).filename().string() +
+                       "\"} (data/scenes/README.md)");
+  return parseScene(readTextFile(path, "the scene file"), path);
+}
 
 namespace {
 Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildReport& rep);
