@@ -183,3 +183,211 @@ TEST(Snapshot, FilesAreWrittenWholeAndReadBack) {
   EXPECT_THROW(saveSnapshot(solver, (dir / "no-such-dir" / "x.state").string()), SnapshotError);
   std::filesystem::remove_all(dir);
 }
+
+// ---- crafted snapshots: every field checked against what the scene allows ----
+namespace {
+
+// A snapshot taken apart as snapshot.cpp lays it out (version 2), to be
+// changed field by field and put together with a new checksum: what a
+// hostile file with a recomputed checksum holds.
+struct Crafted {
+  std::string header;  // magic, version, fingerprint (the length is recomputed)
+  double time = 0, dt = 0;
+  std::uint64_t steps = 0;
+  std::string hair;     // positions .. the spring solve's last change, as bytes
+  std::uint8_t air_kind = 0;
+  std::vector<std::vector<float>> grid;  // u, v, w, pressure
+  double pending = 0;
+  std::vector<glm::vec3> air_x, air_v;
+  std::vector<float> air_density;
+  double advance = 0;
+  std::uint64_t layers = 0, emitted = 0, removed = 0;
+};
+
+template <class T>
+T take(const std::string& b, std::size_t& at) {
+  T v;
+  std::memcpy(&v, b.data() + at, sizeof v);
+  at += sizeof v;
+  return v;
+}
+template <class T>
+std::vector<T> takeArray(const std::string& b, std::size_t& at) {
+  const auto n = take<std::uint64_t>(b, at);
+  std::vector<T> v(n);
+  if (n) std::memcpy(v.data(), b.data() + at, n * sizeof(T));
+  at += n * sizeof(T);
+  return v;
+}
+template <class T>
+void put(std::string& b, const T& v) {
+  b.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+template <class T>
+void putArray(std::string& b, const std::vector<T>& v) {
+  put<std::uint64_t>(b, v.size());
+  b.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+std::uint64_t fnv(const std::string& s) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
+Crafted takeApart(const std::string& bytes, std::size_t n) {
+  Crafted c;
+  c.header = bytes.substr(0, 32);
+  std::size_t at = 40;
+  c.time = take<double>(bytes, at);
+  c.steps = take<std::uint64_t>(bytes, at);
+  c.dt = take<double>(bytes, at);
+  const std::size_t hair_begin = at;
+  for (int k = 0; k < 3; ++k) (void)takeArray<glm::vec3>(bytes, at);
+  (void)take<std::uint8_t>(bytes, at);
+  if (take<std::uint8_t>(bytes, at)) {
+    (void)takeArray<float>(bytes, at);
+    (void)takeArray<float>(bytes, at);
+    (void)take<std::uint64_t>(bytes, at);
+  }
+  (void)takeArray<glm::vec3>(bytes, at);
+  c.hair = bytes.substr(hair_begin, at - hair_begin);
+  (void)n;
+  c.air_kind = take<std::uint8_t>(bytes, at);
+  if (c.air_kind == 2) {
+    for (int k = 0; k < 4; ++k) c.grid.push_back(takeArray<float>(bytes, at));
+    c.pending = take<double>(bytes, at);
+  } else if (c.air_kind == 1) {
+    c.air_x = takeArray<glm::vec3>(bytes, at);
+    c.air_v = takeArray<glm::vec3>(bytes, at);
+    c.air_density = takeArray<float>(bytes, at);
+    c.advance = take<double>(bytes, at);
+    c.layers = take<std::uint64_t>(bytes, at);
+    c.emitted = take<std::uint64_t>(bytes, at);
+    c.removed = take<std::uint64_t>(bytes, at);
+  }
+  return c;
+}
+
+std::string putTogether(const Crafted& c) {
+  std::string payload;
+  put(payload, c.time);
+  put(payload, c.steps);
+  put(payload, c.dt);
+  payload += c.hair;
+  put(payload, c.air_kind);
+  if (c.air_kind == 2) {
+    for (const auto& a : c.grid) putArray(payload, a);
+    put(payload, c.pending);
+  } else if (c.air_kind == 1) {
+    putArray(payload, c.air_x);
+    putArray(payload, c.air_v);
+    putArray(payload, c.air_density);
+    put(payload, c.advance);
+    put(payload, c.layers);
+    put(payload, c.emitted);
+    put(payload, c.removed);
+  }
+  std::string out = c.header;
+  put<std::uint64_t>(out, payload.size());
+  out += payload;
+  put(out, fnv(out));
+  return out;
+}
+
+// The hair's positions in the crafted bytes (the first array of `hair`).
+glm::vec3* positions(Crafted& c) { return reinterpret_cast<glm::vec3*>(c.hair.data() + 8); }
+
+void expectRefused(Solver& target, const std::string& bytes, const char* says) {
+  const std::uint64_t before = target.stateHash();
+  try {
+    decodeSnapshot(target, bytes, "crafted.state");
+    ADD_FAILURE() << "accepted a crafted snapshot: " << says;
+  } catch (const SnapshotError& e) {
+    EXPECT_NE(std::strstr(e.what(), "crafted.state"), nullptr) << e.what();
+    EXPECT_NE(std::strstr(e.what(), says), nullptr) << e.what();
+  }
+  EXPECT_EQ(target.stateHash(), before);
+}
+
+}  // namespace
+
+TEST(Snapshot, CraftedHairFieldsAreCheckedAgainstTheScene) {
+  const SceneDesc scene = tiny();
+  Solver source = buildSolver(scene);
+  source.advance(3);
+  const std::string good = encodeSnapshot(source);
+  const std::size_t n = source.particles().size();
+  ASSERT_EQ(putTogether(takeApart(good, n)), good) << "the test's reading of the layout is off";
+  Solver target = buildSolver(scene);
+  {
+    Crafted c = takeApart(good, n);
+    c.steps = std::uint64_t{1} << 63;
+    expectRefused(target, putTogether(c), "step count");
+    c.steps = 6442450944ULL * 1000;
+    expectRefused(target, putTogether(c), "step count");
+  }
+  {
+    Crafted c = takeApart(good, n);
+    c.time = -1e9;
+    expectRefused(target, putTogether(c), "the time is -1e+09");
+  }
+  {
+    Crafted c = takeApart(good, n);
+    for (std::size_t i = 0; i < n; ++i) positions(c)[i] += glm::vec3(1e6f, 0.0f, 0.0f);
+    expectRefused(target, putTogether(c), "a hair particle lies");
+  }
+  {
+    Crafted c = takeApart(good, n);
+    glm::vec3* velocity = reinterpret_cast<glm::vec3*>(c.hair.data() + 8 + n * 12 + 8);
+    velocity[n / 2] = glm::vec3(3e38f, 0.0f, 0.0f);
+    expectRefused(target, putTogether(c), "speed of 3e+38");
+  }
+  decodeSnapshot(target, good, "crafted.state");
+  EXPECT_EQ(target.stateHash(), source.stateHash());
+}
+
+TEST(Snapshot, CraftedAirIsCheckedAgainstTheScene) {
+  // the grid air: velocities far beyond any wind
+  SceneDesc windy = tiny("tiny-wind.json");
+  Solver grid_source = buildSolver(windy);
+  grid_source.advance(4);
+  const std::string grid_good = encodeSnapshot(grid_source);
+  const std::size_t n = grid_source.particles().size();
+  ASSERT_EQ(putTogether(takeApart(grid_good, n)), grid_good);
+  Solver grid_target = buildSolver(windy);
+  {
+    Crafted c = takeApart(grid_good, n);
+    ASSERT_EQ(c.air_kind, 2);
+    for (float& u : c.grid[0]) u = 3e38f;
+    expectRefused(grid_target, putTogether(c), "speed of 3e+38");
+  }
+  // the particle air: a run of 1e300, and 200,000 air particles at a point
+  SceneDesc particles = windy;
+  particles.wind.model = AirModel::Particles;
+  Solver air_source = buildSolver(particles);
+  air_source.advance(4);
+  const std::string air_good = encodeSnapshot(air_source);
+  Solver air_target = buildSolver(particles);
+  {
+    Crafted c = takeApart(air_good, n);
+    ASSERT_EQ(c.air_kind, 1);
+    c.advance = 1e300;
+    expectRefused(air_target, putTogether(c), "the wind run is 1e+300");
+  }
+  {
+    Crafted c = takeApart(air_good, n);
+    c.air_x.assign(200000, glm::vec3(0.01f, 0.02f, 0.03f));
+    c.air_v.assign(200000, glm::vec3(0.0f));
+    c.air_density.clear();
+    expectRefused(air_target, putTogether(c), "air particles");
+  }
+  {
+    Crafted c = takeApart(air_good, n);
+    c.air_x.assign(2000, glm::vec3(0.01f, 0.02f, 0.03f));
+    c.air_v.assign(2000, glm::vec3(0.0f));
+    c.air_density.clear();
+    expectRefused(air_target, putTogether(c), "crowd into one cell");
+  }
+  decodeSnapshot(air_target, air_good, "crafted.state");
+  EXPECT_EQ(air_target.stateHash(), air_source.stateHash());
+}

@@ -117,14 +117,15 @@ constexpr std::uint64_t kMaxSnapshotSteps = std::uint64_t{1} << 40;
 // motion file's keyframes translate it by 10 m at most; a hand drag less.
 constexpr float kHeadTravel = 100.0f;
 
-float largest(const std::vector<glm::vec3>& v) {
-  float m = 0.0f;
-  for (const glm::vec3& x : v) m = std::max(m, glm::length(x));
+// (in double: a float length of 3e38 would overflow)
+double largest(const std::vector<glm::vec3>& v) {
+  double m = 0.0;
+  for (const glm::vec3& x : v) m = std::max(m, glm::length(glm::dvec3(x)));
   return m;
 }
-float largest(const std::vector<float>& v) {
-  float m = 0.0f;
-  for (float x : v) m = std::max(m, std::abs(x));
+double largest(const std::vector<float>& v) {
+  double m = 0.0;
+  for (float x : v) m = std::max(m, static_cast<double>(std::abs(x)));
   return m;
 }
 std::string num(double v) {
@@ -322,14 +323,14 @@ struct SnapshotAccess {
     // a head may travel, speeds and air within bounds no run reaches
     {
       const Particles& p = s.particles_;
-      float reach = 0.0f;
+      double reach = 0.0;
       for (std::size_t i = 0; i < n; ++i)
-        reach = std::max(reach, glm::length(p.root_point[i]) + 2.0f * std::abs(p.arc_length[i]));
-      const float far = largest(position);
+        reach = std::max(reach, static_cast<double>(glm::length(p.root_point[i]) + 2.0f * std::abs(p.arc_length[i])));
+      const double far = largest(position);
       if (far > reach + kHeadTravel)
         r.fail("a hair particle lies " + num(far) + " m from the head's origin; this scene's hair reaches " +
                num(reach) + " m and a head travels " + num(kHeadTravel) + " m at most");
-      const float fast = std::max({largest(velocity), largest(spring_dv), largest(air.v), largest(grid.u[0]),
+      const double fast = std::max({largest(velocity), largest(spring_dv), largest(air.v), largest(grid.u[0]),
                                    largest(grid.u[1]), largest(grid.u[2])});
       if (fast > kMaxSnapshotSpeed)
         r.fail("it holds a speed of " + num(fast) + " m/s, above the " + num(kMaxSnapshotSpeed) +
@@ -345,7 +346,7 @@ struct SnapshotAccess {
       if (!(air.advance >= 0.0 && air.advance <= w.spacing))
         r.fail("the wind run is " + num(air.advance) + " m, outside [0, " + num(w.spacing) + "] (the air spacing)");
       if (air.removed > air.emitted) r.fail("more air particles removed than emitted");
-      const float box_reach = glm::length(w.box_size) + glm::length(w.box_center) + kHeadTravel;
+      const double box_reach = glm::length(w.box_size) + glm::length(w.box_center) + kHeadTravel;
       if (largest(air.x) > box_reach)
         r.fail("an air particle lies " + num(largest(air.x)) + " m away, beyond the air box");
       // air crowded into one place would make every pair of it neighbours
