@@ -222,6 +222,7 @@ struct GlfwSession {
 // `scripted` set: it addresses the 3-D view, never the panel.
 struct Window {
   viewer::Controller* c = nullptr;
+  GLFWwindow* glfw = nullptr;
   bool orbiting = false, turning = false, brushing = false, shift = false;
   // per mouse button: the 3-D view took its press (the panel sees nothing
   // of it until the release)
@@ -461,7 +462,25 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
   const nlohmann::json& a = e.args;
   const std::string& what = e.what;
   auto text = [&](const char* f) { return a.at(f).get<std::string>(); };
-  if (what == "mouse_down" || what == "mouse_up" || what == "mouse_move") {
+  if (a.value("window", false) || what == "hover" || what == "scroll") {
+    // as a person's input: the pointer moves there and the window's own
+    // handlers decide whether the panel or the view gets it
+    const double x = a.contains("x") ? a["x"].get<double>() : a["at"][0].get<double>();
+    const double y = a.contains("x") ? a["y"].get<double>() : a["at"][1].get<double>();
+    int ww = 1, wh = 1;
+    glfwGetWindowSize(w.glfw, &ww, &wh);
+    const double wx = x * ww / std::max(w.width, 1), wy = y * wh / std::max(w.height, 1);
+    glfwSetCursorPos(w.glfw, wx, wy);
+    if (what == "scroll") {
+      onScroll(w.glfw, 0.0, a["dy"].get<double>());
+    } else if (what == "hover" || what == "mouse_move") {
+      onCursor(w.glfw, wx, wy);
+    } else {
+      const int button = a["button"] == "left" ? GLFW_MOUSE_BUTTON_LEFT : GLFW_MOUSE_BUTTON_RIGHT;
+      onMouseButton(w.glfw, button, what == "mouse_down" ? GLFW_PRESS : GLFW_RELEASE,
+                    a["shift"].get<bool>() ? GLFW_MOD_SHIFT : 0);
+    }
+  } else if (what == "mouse_down" || what == "mouse_up" || what == "mouse_move") {
     const int button = a["button"] == "left" ? GLFW_MOUSE_BUTTON_LEFT : GLFW_MOUSE_BUTTON_RIGHT;
     const double x = a["x"].get<double>(), y = a["y"].get<double>();
     if (what == "mouse_move") {
@@ -592,9 +611,10 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
   } else if (what == "hash") {
     const std::shared_ptr<const viewer::PublishedFrame> f = c.sim().latest();
     const glm::vec3 pivot(c.head().pivot());
-    std::printf("script: %s frame %lld t %.4f head-yaw %.2f hair-yaw %.2f state-hash %016llx\n",
+    std::printf("script: %s frame %lld t %.4f head-yaw %.2f hair-yaw %.2f camera-distance %.4f state-hash %016llx\n",
                 a.value("label", "hash").c_str(), static_cast<long long>(f->frame), f->time, c.head().eulerDeg().x,
-                meanYawDeg(f->input.position, run.start, pivot), static_cast<unsigned long long>(f->state_hash));
+                meanYawDeg(f->input.position, run.start, pivot), static_cast<double>(v.camera.distance),
+                static_cast<unsigned long long>(f->state_hash));
     std::fflush(stdout);
   } else if (what == "save_motion") {
     c.saveHeadMotion(text("path"));
@@ -700,6 +720,7 @@ int run(const ViewOptions& o) {
   }
   Window w;
   w.c = &controller;
+  w.glfw = window.get();
   glfwSetWindowUserPointer(window.get(), &w);
   glfwSetKeyCallback(window.get(), onKey);
   glfwSetMouseButtonCallback(window.get(), onMouseButton);

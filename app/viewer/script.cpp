@@ -20,7 +20,9 @@ struct Kind {
 
 const Kind kKinds[] = {
     {"key", {"key"}, {"ctrl", "shift"}},
-    {"drag", {"from", "to"}, {"button", "frames", "shift", "steps"}},
+    {"drag", {"from", "to"}, {"button", "frames", "shift", "steps", "window"}},
+    {"hover", {"at"}, {}},
+    {"scroll", {"at", "dy"}, {}},
     {"brush", {"path"}, {}},
     {"click", {"at"}, {"button"}},
     {"press", {"name"}, {}},
@@ -71,8 +73,8 @@ bool flag(const json& e, const char* field, const std::string& where) {
   return v.get<bool>();
 }
 
-json mouse(const char* button, std::pair<double, double> p, bool shift) {
-  return json{{"button", button}, {"x", p.first}, {"y", p.second}, {"shift", shift}};
+json mouse(const char* button, std::pair<double, double> p, bool shift, bool window = false) {
+  return json{{"button", button}, {"x", p.first}, {"y", p.second}, {"shift", shift}, {"window", window}};
 }
 
 }  // namespace
@@ -120,16 +122,18 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       const int frames = e.contains("frames") ? static_cast<int>(number(e, "frames", where, 0, 1e5)) : 0;
       const int steps = e.contains("steps") ? static_cast<int>(number(e, "steps", where, 1, 1e4)) : std::max(frames, 1);
       const bool shift = flag(e, "shift", where);
+      const bool window = flag(e, "window", where);
       if (out.size() + static_cast<std::size_t>(steps) + 2 > kMaxScriptEvents) tooMany(where);
-      out.push_back({frame, "mouse_down", mouse(button.c_str(), a, shift), where});
+      out.push_back({frame, "mouse_down", mouse(button.c_str(), a, shift, window), where});
       for (int k = 1; k <= steps; ++k) {
         const double t = static_cast<double>(k) / steps;
         const std::int64_t f = frame + (frames * k) / steps;
         out.push_back({f, "mouse_move",
-                       mouse(button.c_str(), {a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)}, shift),
+                       mouse(button.c_str(), {a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)},
+                             shift, window),
                        where});
       }
-      out.push_back({frame + frames, "mouse_up", mouse(button.c_str(), b, shift), where});
+      out.push_back({frame + frames, "mouse_up", mouse(button.c_str(), b, shift, window), where});
     } else if (what == "brush" || what == "click") {
       std::vector<std::pair<double, double>> pts;
       if (what == "click") {
@@ -144,6 +148,8 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       for (std::size_t k = 1; k < pts.size(); ++k) out.push_back({frame, "mouse_move", mouse(button.c_str(), pts[k], false), where});
       out.push_back({frame, "mouse_up", mouse(button.c_str(), pts.back(), false), where});
     } else {
+      if (what == "hover" || what == "scroll") (void)point(e["at"], where, "at");
+      if (what == "scroll") (void)number(e, "dy", where, -100, 100);
       if (out.size() + 1 > kMaxScriptEvents) tooMany(where);
       out.push_back({frame, what, e, where});
     }

@@ -41,15 +41,18 @@ class Checker : public nlohmann::json_sax<json> {
     if (const std::size_t tag = what.find("] "); what.rfind("[json.exception", 0) == 0 && tag != std::string::npos)
       what = what.substr(tag + 2);
     position_ = position;
+    syntax_ = true;
     problem_ = clipped(what, 200);
     return false;
   }
 
   const std::string& problem() const { return problem_; }
   std::size_t position() const { return position_; }
+  bool syntax() const { return syntax_; }
 
  private:
   std::size_t position_ = 0;
+  bool syntax_ = false;  // a syntax error (else nesting or a repeated key)
   struct Level {
     bool object;
     std::set<std::string> keys;
@@ -121,6 +124,7 @@ void checkJson(std::string_view text, const std::string& source,
   const bool ok = json::sax_parse(text.begin(), text.end(), &checker, json::input_format_t::json,
                                   /*strict=*/true);
   if (ok) return;
+  if (!checker.problem().empty() && !checker.syntax()) raise(source + ": " + checker.problem());
   // not JSON at all (a mesh or an image given for a scene, say): say so
   const std::size_t first = text.find_first_not_of(" \t\r\n");
   if (first == std::string_view::npos) raise(source + ": the file is empty; a JSON object {...} was expected");
