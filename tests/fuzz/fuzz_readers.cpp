@@ -4,7 +4,8 @@
 // unbounded allocation (run under AddressSanitizer in scripts/test.sh).
 //
 // Deterministic mutation mode (the test suite runs a short round):
-//   loosehair_fuzz [--iterations N] [--seed S] [--kind scene|mesh|image|all]
+//   loosehair_fuzz [--iterations N] [--seed S]
+//                  [--kind scene|mesh|image|style|groom|snapshot|script|motion|all]
 // Replaying inputs (the regression corpus, tests/fuzz/regressions/, whose
 // file names end in the reader's extension):
 //   loosehair_fuzz FILE...
@@ -15,6 +16,8 @@
 #include "fuzz_target.hpp"
 
 #include "random.hpp"
+#include "loosehair/loosehair.hpp"
+#include "loosehair/strand_files.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -24,6 +27,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -94,6 +98,27 @@ std::vector<Seed> fileSeeds() {
     for (const auto& e : std::filesystem::directory_iterator(src + dir))
       if (e.path().extension() == ".json") seeds.push_back({Kind::Scene, ".json", readAll(e.path())});
   seeds.push_back({Kind::Image, ".png", readAll(src + "/data/maps/hair_length.png")});
+  for (const auto& e : std::filesystem::directory_iterator(src + "/data/styles"))
+    if (e.path().extension() == ".json") seeds.push_back({Kind::Style, ".style.json", readAll(e.path())});
+  for (const auto& e : std::filesystem::directory_iterator(src + "/tests/viewer"))
+    if (e.path().extension() == ".json") seeds.push_back({Kind::Script, ".script.json", readAll(e.path())});
+  seeds.push_back({Kind::Motion, ".motion.json",
+                   R"({"motion": {"type": "keyframes", "keys": [{"time": 0, "euler_deg": [0, 0, 0]},)"
+                   R"( {"time": 0.5, "euler_deg": [30, 5, 0], "translation": [0, 0.01, 0]}]}})"});
+  // grooms: two strands rooted on a sphere of radius 0.1, in each format
+  loosehair::Polylines groom;
+  groom.points = {{0, 0.1f, 0}, {0, 0.15f, 0.01f}, {0.02f, 0.2f, 0.02f}, {0.1f, 0, 0}, {0.15f, -0.02f, 0}, {0.2f, -0.1f, 0}};
+  groom.first = {0, 3, 6};
+  for (const auto& [ext, format] : {std::pair{".hair", "g.hair"}, {".groom.ply", "g.ply"}, {".groom.obj", "g.obj"}})
+    seeds.push_back({Kind::Groom, ext, loosehair::polylineFileBytes(groom, format)});
+  // snapshots of the tiny scenes, without air, with a grid, with particles
+  for (int k = 0; k < 3; ++k) {
+    loosehair::SceneDesc scene = loosehair::loadScene(src + (k ? "/tests/data/tiny-wind.json" : "/tests/data/tiny.json"));
+    if (k == 2) scene.wind.model = loosehair::AirModel::Particles;
+    loosehair::Solver solver = loosehair::buildSolver(scene);
+    solver.advance(2);
+    seeds.push_back({Kind::Snapshot, ".state", loosehair::encodeSnapshot(solver)});
+  }
   return seeds;
 }
 
@@ -145,8 +170,24 @@ void mutate(std::string& s, loosehair::Random& rng) {
   if (s.size() > (1u << 20)) s.resize(1u << 20);
 }
 
+const char* kindName(Kind k) {
+  switch (k) {
+    case Kind::Scene: return "scene";
+    case Kind::Mesh: return "mesh";
+    case Kind::Image: return "image";
+    case Kind::Style: return "style";
+    case Kind::Groom: return "groom";
+    case Kind::Snapshot: return "snapshot";
+    case Kind::Script: return "script";
+    case Kind::Motion: return "motion";
+  }
+  return "";
+}
+
 int usage() {
-  std::fputs("usage: loosehair_fuzz [--iterations N] [--seed S] [--kind scene|mesh|image|all] [FILE...]\n", stderr);
+  std::fputs("usage: loosehair_fuzz [--iterations N] [--seed S]\n"
+             "                      [--kind scene|mesh|image|style|groom|snapshot|script|motion|all] [FILE...]\n",
+             stderr);
   return 2;
 }
 
@@ -174,7 +215,7 @@ int main(int argc, char** argv) {
     for (const std::string& f : files) {
       const std::filesystem::path p(f);
       const std::string ext = p.extension().string();
-      const Kind k = ext == ".json" ? Kind::Scene : (ext == ".pgm" || ext == ".png") ? Kind::Image : Kind::Mesh;
+      const Kind k = loosehair::fuzz::kindOfFile(p.filename().string());
       const std::string bytes = readAll(p);
       const std::string outcome = loosehair::fuzz::readInput(k, ext, bytes);
       std::printf("%s: %s\n", f.c_str(), outcome.c_str());
@@ -185,8 +226,7 @@ int main(int argc, char** argv) {
   for (Seed& s : fileSeeds()) seeds.push_back(std::move(s));
   std::vector<Seed> chosen;
   for (Seed& s : seeds)
-    if (kind == "all" || (kind == "scene" && s.kind == Kind::Scene) || (kind == "mesh" && s.kind == Kind::Mesh) ||
-        (kind == "image" && s.kind == Kind::Image))
+    if (kind == "all" || kind == kindName(s.kind))
       chosen.push_back(s);
   if (chosen.empty()) return usage();
   loosehair::Random rng(seed);
