@@ -7,6 +7,7 @@
 
 #include "connection_builder.hpp"
 #include "connection_slices.hpp"
+#include "hair_chain.hpp"
 #include "implicit_springs.hpp"
 #include "kernel.hpp"
 #include "air.hpp"
@@ -273,6 +274,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   copt.threads = threads_;
   connections_ = buildConnections(particles_.position, particles_.direction, particles_.arc_length,
                                   particles_.is_root, copt);
+  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, params_.h1);
 
   // Cross-sections (eq. 9) and the side factors of the rest state, the
   // reference of the stiffness clamp.
@@ -486,6 +488,11 @@ void Solver::setThreadCount(int threads) {
 
 Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
+
+std::uint32_t Solver::chainParent(std::size_t i) const {
+  return params_.tether ? chain_->parent(i) : std::numeric_limits<std::uint32_t>::max();
+}
+float Solver::chainReach(std::size_t i) const { return params_.tether ? chain_->reach(i) : 0.0f; }
 Solver& Solver::operator=(Solver&&) noexcept = default;
 
 // ---- stage 1: neighbours ---------------------------------------------------
@@ -1532,6 +1539,19 @@ std::size_t Solver::limitStrain() {
   return limited;
 }
 
+// The hair chain (sim/src/hair_chain.hpp) with the tethers: each particle
+// within reach of its parent and of its root (and tie), parents first.
+void Solver::holdHairChains() {
+  const auto& rp = particles_.root_point;
+  const auto& sarc = particles_.arc_length;
+  const float scale = 1.0f + params_.tether_slack;
+  chain_->project(particles_.position, [&](std::size_t i, glm::vec3 x) {
+    x = tether::within(x, rp[i], scale * sarc[i]);
+    if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) x = tether::within(x, tie_point_[i], scale * tie_reach_[i]);
+    return x;
+  });
+}
+
 // Tethers (sim/src/tether.hpp) on particles [b, e): called by
 // projectOutOfBodies, block by block, just before their bodies are asked
 // (one pass over the particles for both).
@@ -1899,8 +1919,10 @@ void Solver::step() {
   const std::size_t contacts = integrate(dt, start_frames_, head_start);
   lap(st.integrate);
 
-  // Corrections: strain limit, tethers, and no particle left inside a body.
+  // Corrections: strain limit, the hair chain, tethers, and no particle
+  // left inside a body.
   const std::size_t limited = limitStrain();
+  if (params_.tether) holdHairChains();
   HeadKinematics head_end;
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);

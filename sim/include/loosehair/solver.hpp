@@ -33,6 +33,7 @@ class WindAir;
 class ThreadChoice;
 struct ShapeKeeping;
 class ImplicitSprings;
+class HairChain;
 
 /// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
 /// everything after integration that corrects positions: the strain limit,
@@ -195,6 +196,11 @@ class Solver {
   const SimParams& params() const { return params_; }
   const Particles& particles() const { return particles_; }
   const ConnectionSet& connections() const { return connections_; }
+  /// The hair chain's parent of particle i, the root-side partner it is kept
+  /// within reach of with the tethers on (sim/src/hair_chain.hpp), and that
+  /// reach (m); UINT32_MAX and 0 for a root or with the tethers off.
+  std::uint32_t chainParent(std::size_t i) const;
+  float chainReach(std::size_t i) const;
   const StepStats& stats() const { return stats_; }
   const InitReport& initReport() const { return report_; }
   const HeadTrajectory& trajectory() const { return trajectory_; }
@@ -290,6 +296,7 @@ class Solver {
   std::size_t integrate(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
   std::size_t limitStrain();
   void applyTethers(std::size_t b, std::size_t e);  // particles [b, e)
+  void holdHairChains();
   /// `start_frames`: the world bodies where integrate() saw them.
   void projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
                           const std::vector<BodyFrame>& frames,
@@ -310,6 +317,7 @@ class Solver {
   std::vector<WorldBody> world_bodies_;
   std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
+  std::unique_ptr<HairChain> chain_;  // each particle's parent within reach (hair_chain.hpp)
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
   // (Body::signedDistanceBelowHinted); they change no result, so they are
