@@ -1,6 +1,6 @@
 #include "hair_chain.hpp"
 
-#include <glm/geometric.hpp>
+#include <glm/common.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -8,47 +8,73 @@
 
 namespace loosehair {
 
-HairChain::HairChain(const ConnectionSet& c, std::span<const std::uint8_t> is_root, float h1) {
+HairChain::HairChain(const ConnectionSet& c, std::span<const std::uint8_t> is_root, std::span<const float> s,
+                     float h1) {
   const std::size_t n = is_root.size();
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  parent_.assign(n, kNone);
-  reach_.assign(n, 0.0f);
-  // breadth-first from the roots: a particle's depth is one more than that
-  // of the first root-side partner that reaches it
-  std::vector<std::uint32_t> depth(n, kNone), frontier, next;
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (is_root[i]) {
-      depth[i] = 0;
-      frontier.push_back(i);
-    }
-  for (std::uint32_t d = 1; !frontier.empty(); ++d) {
-    next.clear();
-    for (std::uint32_t j : frontier)
-      for (std::uint32_t e = c.begin(j); e < c.end(j); ++e) {
-        const std::uint32_t i = c.partner[e];
-        if (c.tip_side[e] && depth[i] == kNone) {
-          depth[i] = d;
-          next.push_back(i);
-        }
-      }
-    // (the order within a depth is the particles' own: deterministic)
-    std::sort(next.begin(), next.end());
-    for (std::uint32_t i : next) {
-      // the nearest root-side partner of a lower depth
-      float best = std::numeric_limits<float>::infinity();
-      for (std::uint32_t e = c.begin(i); e < c.tipBegin(i); ++e) {
+  support_reach_ = kSupportFraction * 2.0f * h1;
+  // a particle's candidates: its partners nearer the root by arc length
+  // (following them ends at a root, s falling all the way)
+  first_.assign(n + 1, 0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!is_root[i])
+      for (std::uint32_t e = c.begin(i); e < c.end(i); ++e) {
         const std::uint32_t j = c.partner[e];
-        if (depth[j] < d && c.rest_length[e] < best) {
-          best = c.rest_length[e];
-          parent_[i] = j;
+        if (s[j] < s[i]) {
+          candidate_.push_back(j);
+          reach_.push_back(std::max(support_reach_, c.rest_length[e]));
         }
       }
-      if (parent_[i] == kNone) continue;  // (a tip-side entry reached it; cannot happen with symmetric sides)
-      reach_[i] = std::max(kSupportFraction * 2.0f * h1, best);
-      order_.push_back(i);
-    }
-    frontier.swap(next);
+    first_[i + 1] = static_cast<std::uint32_t>(candidate_.size());
+    if (first_[i + 1] > first_[i]) order_.push_back(i);
   }
+  // what may hold a particle: a root, or a particle the chain holds itself
+  holds_.assign(n, 0);
+  for (std::uint32_t i = 0; i < n; ++i) holds_[i] = is_root[i] || first_[i + 1] > first_[i];
+  // by arc length: whatever is nearer the root is placed first
+  std::stable_sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) { return s[a] < s[b]; });
+}
+
+namespace {
+
+std::uint64_t cellKey(glm::ivec3 c) {
+  // 21 bits an axis, offset to be positive (cells of centimetres: 20 km)
+  const auto u = [](int v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1fffff; };
+  return (u(c.x) << 42) | (u(c.y) << 21) | u(c.z);
+}
+
+glm::ivec3 cellOf(const glm::vec3& p, float inv) { return glm::ivec3(glm::floor(p * inv)); }
+
+}  // namespace
+
+void HairChain::makeGrid(std::span<const glm::vec3> x) const {
+  const float inv = 1.0f / support_reach_;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(x.size());
+  for (std::uint32_t i = 0; i < x.size(); ++i) keyed[i] = {cellKey(cellOf(x[i], inv)), i};
+  std::sort(keyed.begin(), keyed.end());
+  cell_key_.resize(keyed.size());
+  cell_particle_.resize(keyed.size());
+  for (std::size_t k = 0; k < keyed.size(); ++k) {
+    cell_key_[k] = keyed[k].first;
+    cell_particle_[k] = keyed[k].second;
+  }
+}
+
+bool HairChain::nearerHairWithin(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i) const {
+  const float inv = 1.0f / support_reach_, r2 = support_reach_ * support_reach_;
+  const glm::ivec3 c = cellOf(x[i], inv);
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::uint64_t key = cellKey(c + glm::ivec3(dx, dy, dz));
+        auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
+        for (; it != cell_key_.end() && *it == key; ++it) {
+          const std::uint32_t j = cell_particle_[static_cast<std::size_t>(it - cell_key_.begin())];
+          if (j == i || !(s[j] < s[i]) || !holds_[j]) continue;
+          const glm::vec3 d = x[j] - x[i];
+          if (glm::dot(d, d) < r2) return true;
+        }
+      }
+  return false;
 }
 
 }  // namespace loosehair

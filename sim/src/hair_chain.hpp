@@ -1,27 +1,33 @@
-// The hair chain: each hair particle keeps one root-side partner, its
-// parent, within reach (our addition to the LCP connections, with the
-// tethers). The loose springs of the paper let go of a partner beyond the
-// kernel's support h1, and so does the strain limit; under a fast turn or
-// nod a clump flung beyond h1 of all its partners was held by its tethers
-// alone and lay on the shoulders or floated off (issue 43). The chain keeps
-// every particle within reach of a particle nearer its root, which is
-// within reach of one nearer still, down to a root: hair splits sideways
-// between chains as before, but no particle or clump comes loose.
+// The hair chain: each hair particle stays within reach of at least one of
+// its root-side partners nearer a root (our addition to the LCP
+// connections, with the tethers). The loose springs of the paper let go of
+// a partner beyond their support 2 h1, and so does the strain limit; under
+// a fast turn or nod a clump flung beyond the support of all its partners
+// was held by its tethers alone and lay on the shoulders or floated off
+// (issue 43). The chain keeps every particle within reach of a particle
+// nearer its root, which is within reach of one nearer still, down to a
+// root: hair splits, slides and settles as before, but no particle or clump
+// comes loose.
 //
-// The parents form a forest over the root-side connections: found by a
-// breadth-first walk from the roots along tip-side connections, each
-// particle's parent is its nearest (at rest) root-side partner of a lower
-// depth. A link reaches kSupportFraction of the springs' support 2 h1 (or
-// its rest length where that is longer): the pair's spring and strain limit
-// never let go, and the link itself acts only where they would have.
-// Projecting in that order (follow the leader: only the child moves)
-// meets every link in one pass.
+// "Nearer a root" is a smaller arc length s; a particle's candidates are
+// its partners nearer the root. A particle none of whose candidates is within reach
+// (kSupportFraction of the support 2 h1, or the pair's rest length where
+// that is longer), and no particle nearer the root within
+// that reach either, moves towards the nearest candidate until it is within
+// reach. Hanging hair settles far from its first partners (constraining it
+// to them held it 7 cm higher), but never far from all hair nearer the root.
+// Particles are visited by arc length, so everything nearer the root has
+// been placed first: a loose clump is drawn back from its root end on, and
+// cannot hold itself up. Particles
+// are visited by depth, so the candidates have been placed first: one pass
+// meets every particle's reach.
 #pragma once
 
 #include "loosehair/connections.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec2.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -35,19 +41,40 @@ class HairChain {
   static constexpr float kSupportFraction = 0.95f;
 
   HairChain() = default;
-  HairChain(const ConnectionSet& connections, std::span<const std::uint8_t> is_root, float h1);
+  HairChain(const ConnectionSet& connections, std::span<const std::uint8_t> is_root,
+            std::span<const float> arc_length, float h1);
 
-  /// Moves each linked particle (parents first) to within reach of its
-  /// parent, along the line to it, and back within its tethers
-  /// (`tether(i, x_i)` returns x_i tethered), alternating twice so that
-  /// both hold where both can; returns how many moved.
+  /// Moves each linked particle (by arc length) that has no particle nearer its
+  /// root (smaller arc length `s`) within the reach of the support, and
+  /// none of its candidates within reach either, to within reach of the
+  /// nearest candidate, then back within its tethers (`tether(i, x_i)`
+  /// returns x_i tethered), alternating twice so that both hold where both
+  /// can; returns how many moved.
   template <class Tether>
-  std::size_t project(std::span<glm::vec3> x, const Tether& tether) const {
+  std::size_t project(std::span<glm::vec3> x, std::span<const float> s, const Tether& tether) const {
     std::size_t moved = 0;
+    bool grid_made = false;
     for (std::uint32_t i : order_) {
-      const glm::vec3 p = x[parent_[i]], before = x[i];
+      const glm::vec3 before = x[i];
+      // the nearest candidate, in units of its reach
+      float best = INFINITY;
+      std::uint32_t at = first_[i];
+      for (std::uint32_t k = first_[i]; k < first_[i + 1]; ++k) {
+        const glm::vec3 d = before - x[candidate_[k]];
+        const float r = glm::dot(d, d) / (reach_[k] * reach_[k]);
+        if (r < best) best = r, at = k;
+      }
+      if (best <= 1.0f) continue;
+      // any hair nearer the root close by holds it as well (the hair has
+      // settled away from its first partners, as hanging hair does)
+      if (!grid_made) {
+        makeGrid(x);
+        grid_made = true;
+      }
+      if (nearerHairWithin(x, s, i)) continue;
+      const glm::vec3 p = x[candidate_[at]];
       glm::vec3 xi = before;
-      for (int pass = 0; pass < 2; ++pass) xi = tether(i, within(xi, p, reach_[i]));
+      for (int pass = 0; pass < 2; ++pass) xi = tether(i, within(xi, p, reach_[at]));
       if (xi != before) {
         x[i] = xi;
         ++moved;
@@ -56,12 +83,14 @@ class HairChain {
     return moved;
   }
 
-  /// Particles with a parent.
+  /// Particles with candidates.
   std::size_t linked() const { return order_.size(); }
-  /// The parent of particle i (UINT32_MAX for a root or a particle that
-  /// reaches no root through root-side connections).
-  std::uint32_t parent(std::size_t i) const { return parent_[i]; }
-  float reach(std::size_t i) const { return reach_[i]; }
+  /// The candidates of particle i (none for a root, or for a particle with
+  /// no partner nearer the root) and their reaches (m).
+  std::span<const std::uint32_t> candidates(std::size_t i) const {
+    return {candidate_.data() + first_[i], first_[i + 1] - first_[i]};
+  }
+  std::span<const float> reaches(std::size_t i) const { return {reach_.data() + first_[i], first_[i + 1] - first_[i]}; }
 
  private:
   static glm::vec3 within(const glm::vec3& x, const glm::vec3& p, float reach) {
@@ -69,9 +98,18 @@ class HairChain {
     const float r2 = glm::dot(d, d);
     return r2 > reach * reach ? p + (reach / std::sqrt(r2)) * d : x;
   }
-  std::vector<std::uint32_t> order_;   // linked particles, parents before children
-  std::vector<std::uint32_t> parent_;  // per particle
-  std::vector<float> reach_;           // per particle (m)
+  void makeGrid(std::span<const glm::vec3> x) const;
+  bool nearerHairWithin(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i) const;
+  float support_reach_ = 0.0f;            // kSupportFraction * 2 h1
+  std::vector<std::uint32_t> order_;      // linked particles by arc length
+  std::vector<std::uint32_t> first_;      // candidates of i: [first_[i], first_[i + 1])
+  std::vector<std::uint32_t> candidate_;  // partners nearer the root
+  std::vector<float> reach_;              // per candidate (m)
+  std::vector<std::uint8_t> holds_;       // a root or a linked particle
+  // the particles sorted by grid cell (cells of support_reach_), made when
+  // a pass first needs it
+  mutable std::vector<std::uint64_t> cell_key_;
+  mutable std::vector<std::uint32_t> cell_particle_;
 };
 
 }  // namespace loosehair

@@ -151,8 +151,19 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
     // a whole body in metres (1.2-2.3 m tall, and taller than wide or deep)
     // is a head with a body below it, not a head in the wrong unit
     const bool whole_body = extent.y >= 1.2f && extent.y <= 2.3f && extent.y >= std::max(extent.x, extent.z);
-    if (field == "head" && (size < 0.08f || (size > 0.6f && !whole_body)))
-      rep.warnings.push_back(field + ": the mesh is " + metres(size) + " across, far from a human head (about 0.2 m); if its unit is not the metre, set " +
+    // The head's own width: across the top 30% of the mesh's height, where a
+    // bust's or a body's head is (a bust with arms is 0.8 m across, its head
+    // 0.2 m); for a head alone, the width of its crown
+    glm::vec2 top_lo(INFINITY), top_hi(-INFINITY);
+    for (const glm::vec3& v : mesh.vertices)
+      if (v.y >= hi.y - 0.3f * extent.y) {
+        top_lo = glm::min(top_lo, glm::vec2(v.x, v.z));
+        top_hi = glm::max(top_hi, glm::vec2(v.x, v.z));
+      }
+    const float head_width = std::max(top_hi.x - top_lo.x, top_hi.y - top_lo.y);
+    if (field == "head" && (head_width < 0.08f || (head_width > 0.6f && !whole_body)))
+      rep.warnings.push_back(field + ": the mesh's head is " + metres(head_width) + " across (the whole mesh " +
+                             metres(size) + "), far from a human head (about 0.2 m); if its unit is not the metre, set " +
                              field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
     if (spec.sdf_voxel > 0.0f) {
       double cells = 1;

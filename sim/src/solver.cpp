@@ -274,7 +274,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   copt.threads = threads_;
   connections_ = buildConnections(particles_.position, particles_.direction, particles_.arc_length,
                                   particles_.is_root, copt);
-  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, params_.h1);
+  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, particles_.arc_length, params_.h1);
 
   // Cross-sections (eq. 9) and the side factors of the rest state, the
   // reference of the stiffness clamp.
@@ -489,10 +489,16 @@ void Solver::setThreadCount(int threads) {
 Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 
-std::uint32_t Solver::chainParent(std::size_t i) const {
-  return params_.tether ? chain_->parent(i) : std::numeric_limits<std::uint32_t>::max();
+float Solver::chainGap(std::size_t i) const {
+  if (!params_.tether) return -1.0f;
+  const auto cand = chain_->candidates(i);
+  const auto reach = chain_->reaches(i);
+  if (cand.empty()) return -1.0f;
+  float gap = INFINITY;
+  for (std::size_t k = 0; k < cand.size(); ++k)
+    gap = std::min(gap, glm::length(particles_.position[i] - particles_.position[cand[k]]) / reach[k]);
+  return gap;
 }
-float Solver::chainReach(std::size_t i) const { return params_.tether ? chain_->reach(i) : 0.0f; }
 Solver& Solver::operator=(Solver&&) noexcept = default;
 
 // ---- stage 1: neighbours ---------------------------------------------------
@@ -1541,14 +1547,15 @@ std::size_t Solver::limitStrain() {
 
 // The hair chain (sim/src/hair_chain.hpp) with the tethers: each particle
 // within reach of its parent and of its root (and tie), parents first.
+// Its moves become velocity with the other corrections (projectOutOfBodies).
 void Solver::holdHairChains() {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
   const float scale = 1.0f + params_.tether_slack;
-  chain_->project(particles_.position, [&](std::size_t i, glm::vec3 x) {
-    x = tether::within(x, rp[i], scale * sarc[i]);
-    if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) x = tether::within(x, tie_point_[i], scale * tie_reach_[i]);
-    return x;
+  chain_->project(particles_.position, sarc, [&](std::size_t i, glm::vec3 y) {
+    y = tether::within(y, rp[i], scale * sarc[i]);
+    if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) y = tether::within(y, tie_point_[i], scale * tie_reach_[i]);
+    return y;
   });
 }
 

@@ -196,11 +196,12 @@ class Solver {
   const SimParams& params() const { return params_; }
   const Particles& particles() const { return particles_; }
   const ConnectionSet& connections() const { return connections_; }
-  /// The hair chain's parent of particle i, the root-side partner it is kept
-  /// within reach of with the tethers on (sim/src/hair_chain.hpp), and that
-  /// reach (m); UINT32_MAX and 0 for a root or with the tethers off.
-  std::uint32_t chainParent(std::size_t i) const;
-  float chainReach(std::size_t i) const;
+  /// With the tethers on, the hair chain (sim/src/hair_chain.hpp) keeps
+  /// particle i within reach of a partner nearer the root, or of other hair
+  /// nearer the root: its distance to the nearest such partner in units of
+  /// that partner's reach; -1 for a root, a particle without such partners,
+  /// or tethers off.
+  float chainGap(std::size_t i) const;
   const StepStats& stats() const { return stats_; }
   const InitReport& initReport() const { return report_; }
   const HeadTrajectory& trajectory() const { return trajectory_; }
@@ -317,7 +318,7 @@ class Solver {
   std::vector<WorldBody> world_bodies_;
   std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
-  std::unique_ptr<HairChain> chain_;  // each particle's parent within reach (hair_chain.hpp)
+  std::unique_ptr<HairChain> chain_;  // no particle loose from the hair (hair_chain.hpp)
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
   // (Body::signedDistanceBelowHinted); they change no result, so they are
