@@ -78,7 +78,9 @@ struct SimParams {
 
   /// Tether every hair particle to its root point: |x_i - r_i| <= (1 +
   /// tether_slack) s_i after each step (a long-range attachment; our
-  /// addition). It keeps the no-stretch promise for any stiffness E.
+  /// addition). It keeps the no-stretch promise for any stiffness E. With
+  /// it, the hair chain keeps every particle near a partner or other hair
+  /// nearer the root, so that nothing comes loose (sim/src/hair_chain.hpp).
   bool tether = true;
   /// Allowed excess of |x_i - r_i| over s_i (dimensionless).
   float tether_slack = 0.01f;
