@@ -1547,14 +1547,22 @@ std::size_t Solver::limitStrain() {
 
 // The hair chain (sim/src/hair_chain.hpp) with the tethers: each particle
 // within reach of its parent and of its root (and tie), parents first.
-// Its moves become velocity with the other corrections (projectOutOfBodies).
+// Its moves are not a velocity (a move of a few millimetres in a short step
+// made a fast particle, and the shaken hair swung 20% wider with explicit
+// springs): they are kept in chain_shift_, left out of the velocity the
+// corrections make, and a particle drawn back only loses its speed away
+// from where it was drawn.
 void Solver::holdHairChains() {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
   const float scale = 1.0f + params_.tether_slack;
-  chain_->project(particles_.position, sarc, [&](std::size_t i, glm::vec3 y) {
+  auto& x = particles_.position;
+  chain_shift_.assign(x.size(), glm::vec3(0.0f));
+  chain_->project(x, sarc, [&](std::size_t i, glm::vec3 y) {
+    const glm::vec3 before = x[i];  // (project writes x[i] after its passes)
     y = tether::within(y, rp[i], scale * sarc[i]);
     if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) y = tether::within(y, tie_point_[i], scale * tie_reach_[i]);
+    chain_shift_[i] = y - before;
     return y;
   });
 }
@@ -1732,8 +1740,14 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
         for (std::size_t i = b; i < b + len; ++i) {
           if (root[i]) continue;
           glm::vec3 vi = v[i];
+          const glm::vec3 held = chain_shift_.empty() ? glm::vec3(0.0f) : chain_shift_[i];
           if (x[i] != integrated_position_[i] && !absorb)
-            vi += (x[i] - integrated_position_[i]) / dt;
+            vi += (x[i] - integrated_position_[i] - held) / dt;
+          if (held != glm::vec3(0.0f)) {  // drawn back: no speed away from there
+            const glm::vec3 nrm = glm::normalize(held);
+            const float vn = glm::dot(vi, nrm);
+            if (vn < 0.0f) vi -= vn * nrm;
+          }
           if (pushed[i - b]) {
             const glm::vec3 nrm = push_normal[i - b];
             const float vn = glm::dot(vi - surface[i - b], nrm);
@@ -1930,6 +1944,7 @@ void Solver::step() {
   // left inside a body.
   const std::size_t limited = limitStrain();
   if (params_.tether) holdHairChains();
+  else chain_shift_.clear();
   HeadKinematics head_end;
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);

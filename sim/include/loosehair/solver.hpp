@@ -318,7 +318,8 @@ class Solver {
   std::vector<WorldBody> world_bodies_;
   std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
-  std::unique_ptr<HairChain> chain_;  // no particle loose from the hair (hair_chain.hpp)
+  std::unique_ptr<HairChain> chain_;   // no particle loose from the hair (hair_chain.hpp)
+  std::vector<glm::vec3> chain_shift_;  // this step's moves by the chain (not a velocity)
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
   // (Body::signedDistanceBelowHinted); they change no result, so they are
