@@ -1549,9 +1549,8 @@ std::size_t Solver::limitStrain() {
 // within reach of its parent and of its root (and tie), parents first.
 // Its moves are not a velocity (a move of a few millimetres in a short step
 // made a fast particle, and the shaken hair swung 20% wider with explicit
-// springs): they are kept in chain_shift_, left out of the velocity the
-// corrections make, and a particle drawn back only loses its speed away
-// from where it was drawn.
+// springs): they are kept in chain_shift_ and left out of the velocity the
+// corrections make.
 void Solver::holdHairChains() {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
@@ -1743,11 +1742,6 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
           const glm::vec3 held = chain_shift_.empty() ? glm::vec3(0.0f) : chain_shift_[i];
           if (x[i] != integrated_position_[i] && !absorb)
             vi += (x[i] - integrated_position_[i] - held) / dt;
-          if (held != glm::vec3(0.0f)) {  // drawn back: no speed away from there
-            const glm::vec3 nrm = glm::normalize(held);
-            const float vn = glm::dot(vi, nrm);
-            if (vn < 0.0f) vi -= vn * nrm;
-          }
           if (pushed[i - b]) {
             const glm::vec3 nrm = push_normal[i - b];
             const float vn = glm::dot(vi - surface[i - b], nrm);
