@@ -23,7 +23,7 @@ bool leadsToARoot(const HairChain& chain, const Particles& p, std::size_t i) {
 }  // namespace
 
 TEST(HairChain, CandidatesArePartnersNearerTheRootLeadingToARoot) {
-  Solver s = buildSolver(lhtest::sphereScene(1500));
+  Solver s = buildSolver(lhtest::sphereScene(1500, R"({"hair_chain": true})"));
   const Particles& p = s.particles();
   const ConnectionSet& c = s.connections();
   HairChain chain(c, p.is_root, p.arc_length, s.params().h1);

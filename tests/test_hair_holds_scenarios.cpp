@@ -59,6 +59,7 @@ After runScene(const std::string& motion_json, double seconds) {
                                 motion_json + "}",
                             "motion")
                      .motion;
+  scene.sim.hair_chain = true;
   Solver solver = buildSolver(scene);
   const double dt = solver.params().time_step;
   solver.advance(static_cast<int>(std::ceil(seconds / dt)));

@@ -60,6 +60,7 @@ void readSolver(Fields f, SceneDesc& s) {
   p.strain_limit_iterations =
       static_cast<int>(f.integer("strain_limit_iterations", p.strain_limit_iterations, 0, 1000));
   p.tether = f.boolean("tether", p.tether);
+  p.hair_chain = f.boolean("hair_chain", p.hair_chain);
   p.tether_slack = f.real("tether_slack", p.tether_slack, 0.0, 1.0);
   p.hair_hair = f.boolean("hair_hair", p.hair_hair);
   p.pressure_stiffness = f.real("pressure_stiffness", p.pressure_stiffness, 0.0, 1e6);

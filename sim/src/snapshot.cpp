@@ -212,6 +212,7 @@ struct SnapshotAccess {
         static_cast<float>(s.world_bodies_.size())};
     mix(values);
     if (q.shape_keeping > 0.0f) mix(std::vector<float>{q.shape_keeping});
+    if (q.hair_chain) mix(std::vector<float>{2.0f});
     if (q.implicit_springs)
       mix(std::vector<float>{1.0f, q.implicit_tolerance, static_cast<float>(q.implicit_iterations)});
     return h;

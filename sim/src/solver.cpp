@@ -490,7 +490,7 @@ Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 
 float Solver::chainGap(std::size_t i) const {
-  if (!params_.tether) return -1.0f;
+  if (!params_.tether || !params_.hair_chain) return -1.0f;
   const auto cand = chain_->candidates(i);
   const auto reach = chain_->reaches(i);
   if (cand.empty()) return -1.0f;
@@ -1937,7 +1937,7 @@ void Solver::step() {
   // Corrections: strain limit, the hair chain, tethers, and no particle
   // left inside a body.
   const std::size_t limited = limitStrain();
-  if (params_.tether) holdHairChains();
+  if (params_.tether && params_.hair_chain) holdHairChains();
   else chain_shift_.clear();
   HeadKinematics head_end;
   const std::vector<BodyFrame>& frames = end_frames_;

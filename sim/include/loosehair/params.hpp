@@ -78,10 +78,13 @@ struct SimParams {
 
   /// Tether every hair particle to its root point: |x_i - r_i| <= (1 +
   /// tether_slack) s_i after each step (a long-range attachment; our
-  /// addition). It keeps the no-stretch promise for any stiffness E. With
-  /// it, the hair chain keeps every particle near a partner or other hair
-  /// nearer the root, so that nothing comes loose (sim/src/hair_chain.hpp).
+  /// addition). It keeps the no-stretch promise for any stiffness E.
   bool tether = true;
+  /// With the tethers, the hair chain: every particle kept near a partner
+  /// or other hair nearer the root, so that no clump comes loose under fast
+  /// motion (sim/src/hair_chain.hpp). Off by default for now: it changes
+  /// the hair's stretch under a flat-bottomed bust (docs/design.md).
+  bool hair_chain = false;
   /// Allowed excess of |x_i - r_i| over s_i (dimensionless).
   float tether_slack = 0.01f;
 
