@@ -53,6 +53,10 @@ UsageError unknownOption(const std::string& given, const char* usage) {
   }
   std::string best;
   std::size_t best_distance = 3;
+  // an option the text names for another command ("render's --out") is
+  // not this one's: nothing to suggest for it
+  if (std::find(known.begin(), known.end(), given) != known.end())
+    return UsageError{"unknown option " + given + " (not an option of this command)", usage};
   for (const std::string& k : known) {
     const std::size_t d = k.rfind(given, 0) == 0 && given.size() > 3 ? 1 : editDistance(given, k);
     if (d < best_distance) best = k, best_distance = d;

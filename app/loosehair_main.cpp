@@ -292,6 +292,8 @@ int simulate(const Options& o) {
                 build.seconds_sdf, build.scalp_triangles, build.scalp_area * 1e4, build.seconds_scalp,
                 build.scalp_mean_value ? " (mean-value weights)" : "");
   std::printf("particles: %zu (%zu roots", r.particles, r.roots);
+  if (build.stragglers_pulled > 0)
+    std::printf("; %zu drawn in to the hair nearer the root", build.stragglers_pulled);
   if (build.stragglers_dropped > 0)
     std::printf("; %zu dropped, with nothing nearer the root within reach", build.stragglers_dropped);
   std::printf("), connections: %zu pairs, degree mean %.1f min %u max %u\n", r.connection_pairs,

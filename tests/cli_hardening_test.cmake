@@ -127,6 +127,9 @@ run(2 ${LOOSEHAIR} render ${SCENE} --colour red)
 says("${err}" "did you mean --color\\?" "--colour")
 run(2 ${LOOSEHAIR} simulate ${SCENE} --seeds 3)
 says("${err}" "did you mean --seed\\?" "--seeds")
+# render's --out, named in simulate's help, is not simulate's: no "did you mean --out?"
+run(2 ${LOOSEHAIR} simulate ${SCENE} --out x)
+says("${err}" "unknown option --out .not an option of this command." "simulate --out")
 run(0 ${LOOSEHAIR} simulate ${SCENE} --frames=3 --threads=2)
 says("${out}" "simulated 0.100 s" "--frames=3")
 # one default strand count for simulate and render

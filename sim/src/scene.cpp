@@ -284,7 +284,15 @@ constexpr double kAccurateStep = 1.0 / 90.0;
 
 // The particles to keep, in their order: the roots, and, by increasing s,
 // every particle with a kept particle of smaller s within `reach`.
-std::vector<std::uint32_t> anchorableParticles(const Particles& p, float reach) {
+// Particles that hang on something: in order of arc length, each must have
+// a kept particle nearer the root within `reach`. One that has none, but a
+// kept particle nearer the root within `pull` (> reach), is moved along the
+// line towards the nearest such particle until it is within 0.9 reach of it
+// (`pulled` counts them): at the edge of a pillar the sampling thins out,
+// and a particle a few millimetres beyond reach is hair all the same. The
+// others are left out. Moved particles may end up inside the head or a
+// little beyond their tethers; the first step's corrections see to both.
+std::vector<std::uint32_t> anchorableParticles(Particles& p, float reach, float pull, std::size_t& pulled) {
   const std::size_t n = p.size();
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
@@ -294,9 +302,12 @@ std::vector<std::uint32_t> anchorableParticles(const Particles& p, float reach) 
   NeighborGrid grid;
   grid.build(p.position, reach, 1);
   std::vector<std::uint8_t> kept(n, 0);
+  std::vector<std::uint32_t> kept_list;  // by arc length
+  pulled = 0;
   for (std::uint32_t i : order) {
     if (p.is_root[i]) {
       kept[i] = 1;
+      kept_list.push_back(i);
       continue;
     }
     for (std::uint32_t j : grid.neighbors(i))
@@ -305,6 +316,24 @@ std::vector<std::uint32_t> anchorableParticles(const Particles& p, float reach) 
         kept[i] = 1;
         break;
       }
+    if (!kept[i]) {
+      // stragglers are few: every kept particle nearer the root is asked
+      // (a moved particle is no longer where the grid has it)
+      std::uint32_t best = i;
+      float best_d = pull;
+      for (std::uint32_t j : kept_list) {
+        if (!(p.arc_length[j] < p.arc_length[i])) continue;
+        const float d = glm::length(p.position[j] - p.position[i]);
+        if (d < best_d) best_d = d, best = j;
+      }
+      if (best != i) {
+        const glm::vec3 from = p.position[best];
+        p.position[i] = from + (0.9f * reach / best_d) * (p.position[i] - from);
+        kept[i] = 1;
+        ++pulled;
+      }
+    }
+    if (kept[i]) kept_list.push_back(i);
   }
   std::vector<std::uint32_t> which;
   for (std::uint32_t i = 0; i < n; ++i)
@@ -667,13 +696,16 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   // 4b. Stragglers (SPEC §3.1 connectivity): a particle with no particle
   //     nearer the root within the springs' reach (most of 2 h1) can hang
   //     on its root tether alone; the Poisson sampling leaves a few where a
-  //     pillar thins out at its edge. Drop them, in order of s, so that the
-  //     rest each have a neighbour on the root side, and share their mass.
+  //     pillar thins out at its edge. In order of s, those within twice
+  //     that reach of hair nearer the root are drawn in to it, the others
+  //     are dropped, so that the rest each have a neighbour on the root
+  //     side; the dropped ones' mass is shared.
   {
     const std::size_t before = p.size();
     std::size_t free_before = 0;
     for (std::size_t k = 0; k < before; ++k) free_before += p.is_root[k] ? 0 : 1;
-    const std::vector<std::uint32_t> kept = anchorableParticles(p, 1.8f * params.h1);
+    const std::vector<std::uint32_t> kept =
+        anchorableParticles(p, 1.8f * params.h1, 3.6f * params.h1, rep.stragglers_pulled);
     if (kept.size() < before) {
       p = p.select(kept);
       tie_tethers.select(kept);

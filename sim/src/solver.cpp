@@ -1550,7 +1550,8 @@ std::size_t Solver::limitStrain() {
 // Its moves are not a velocity (a move of a few millimetres in a short step
 // made a fast particle, and the shaken hair swung 20% wider with explicit
 // springs): they are kept in chain_shift_ and left out of the velocity the
-// corrections make.
+// corrections make, except that a particle drawn back keeps no speed away
+// from the hair (projectOutOfBodies).
 void Solver::holdHairChains() {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
@@ -1645,6 +1646,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
   const float reach_scale = 1.0f + params_.tether_slack;
+  if (slide) trapped_.resize(n);
   static_assert(kBodyBlock <= 65536);
   prepareBodyHints(frames);
   // A particle's clearance now: integrate()'s bound, less how far it moved
@@ -1742,14 +1744,30 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
           const glm::vec3 held = chain_shift_.empty() ? glm::vec3(0.0f) : chain_shift_[i];
           if (x[i] != integrated_position_[i] && !absorb)
             vi += (x[i] - integrated_position_[i] - held) / dt;
+          // the chain drew it back: it keeps no speed away from the hair
+          // (else a particle held at the chain's reach kept a speed it
+          // never moved at, 2 m/s on a still head)
+          const float held2 = glm::dot(held, held);
+          if (held2 > 0.0f) {
+            const float away = glm::dot(vi, held);
+            if (away < 0.0f) vi -= (away / held2) * held;
+          }
           if (pushed[i - b]) {
             const glm::vec3 nrm = push_normal[i - b];
             const float vn = glm::dot(vi - surface[i - b], nrm);
             if (vn > 0.0f) vi -= vn * nrm;  // the push-out is not a velocity
           }
           v[i] = vi;
+          // pushed out beyond its tether's reach: caught where sliding
+          // does not help (freeTrappedHair)
+          if (slide) {
+            const float caught = (reach_scale + tether::kTrappedExcess) * sarc[i];
+            const glm::vec3 d = x[i] - rp[i];
+            trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
+          }
         }
       });
+  if (slide) freeTrappedHair(solid_frames, head);
 }
 
 // ---- hair directions, eq. 15, with the spring lengths of the next step ------

@@ -13,6 +13,11 @@
 
 namespace loosehair::tether {
 
+/// A pushed-out particle farther from its root than (1 + slack +
+/// kTrappedExcess) s_i is caught where the tether and the body disagree
+/// (Solver::freeTrappedHair).
+inline constexpr float kTrappedExcess = 0.005f;
+
 /// x moved along the line to `root` until it is within `reach` of it.
 inline glm::vec3 within(const glm::vec3& x, const glm::vec3& root, float reach) {
   const glm::vec3 d = x - root;
@@ -41,6 +46,21 @@ inline glm::vec3 slideAlongSurface(const glm::vec3& x, const glm::vec3& n, const
   // x + t e/a is within reach for t >= a - sqrt(a^2 - over2); no nearer than t = a
   const float t = a * a > over2 ? a - std::sqrt(a * a - over2) : a;
   return (std::min(t, std::sqrt(d2) - reach) / a) * e;
+}
+
+/// The farthest point from `from` towards `to` on the segment between them
+/// that is within `reach` of `root`, as the fraction t in [0, 1] of the way
+/// (`from` must be within reach; -1 when it is not).
+inline float farthestWithin(const glm::vec3& from, const glm::vec3& to, const glm::vec3& root, float reach) {
+  const glm::vec3 a = from - root, d = to - from;
+  const float c = glm::dot(a, a) - reach * reach;
+  if (!(c <= 0.0f)) return -1.0f;
+  const float dd = glm::dot(d, d);
+  if (!(dd > 0.0f)) return 0.0f;
+  // |a + t d|^2 = reach^2: dd t^2 + 2 (a.d) t + c = 0, c <= 0, so one root >= 0
+  const float b = glm::dot(a, d);
+  const float t = (-b + std::sqrt(std::max(0.0f, b * b - dd * c))) / dd;
+  return std::clamp(t, 0.0f, 1.0f);
 }
 
 }  // namespace loosehair::tether

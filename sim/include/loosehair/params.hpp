@@ -82,9 +82,8 @@ struct SimParams {
   bool tether = true;
   /// With the tethers, the hair chain: every particle kept near a partner
   /// or other hair nearer the root, so that no clump comes loose under fast
-  /// motion (sim/src/hair_chain.hpp). Off by default for now: it changes
-  /// the hair's stretch under a flat-bottomed bust (docs/design.md).
-  bool hair_chain = false;
+  /// motion (sim/src/hair_chain.hpp).
+  bool hair_chain = true;
   /// Allowed excess of |x_i - r_i| over s_i (dimensionless).
   float tether_slack = 0.01f;
 

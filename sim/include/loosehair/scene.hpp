@@ -188,6 +188,9 @@ struct BuildReport {
   /// Particles dropped after sampling because no particle nearer the root
   /// was within the springs' reach (they would hang on their tether alone).
   std::size_t stragglers_dropped = 0;
+  /// Particles drawn in to hair nearer the root at the start (it was
+  /// within twice the springs' reach), rather than dropped.
+  std::size_t stragglers_pulled = 0;
   // styled scenes
   std::size_t style_wisps = 0, style_strands = 0, style_points = 0;
   std::size_t tied_particles = 0;  // held by a tie

@@ -298,6 +298,10 @@ class Solver {
   std::size_t limitStrain();
   void applyTethers(std::size_t b, std::size_t e);  // particles [b, e)
   void holdHairChains();
+  /// Particles that the push-out left beyond their tethers (trapped_) put
+  /// back along the hair, within reach of a particle nearer the root
+  /// (trapped_hair.cpp).
+  void freeTrappedHair(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
   /// `start_frames`: the world bodies where integrate() saw them.
   void projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
                           const std::vector<BodyFrame>& frames,
@@ -320,6 +324,8 @@ class Solver {
   ConnectionSet connections_;
   std::unique_ptr<HairChain> chain_;   // no particle loose from the hair (hair_chain.hpp)
   std::vector<glm::vec3> chain_shift_;  // this step's moves by the chain (not a velocity)
+  std::vector<std::uint8_t> trapped_;      // this step's particles caught beyond their tethers
+  std::vector<std::uint32_t> trapped_list_;
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
   // (Body::signedDistanceBelowHinted); they change no result, so they are
