@@ -36,15 +36,15 @@ inline std::size_t looseParticles(const std::vector<glm::vec3>& x, const std::ve
 }
 
 // The largest distance from a hair particle to the nearest other particle
-// rooted within `region` of its own root (m).
-inline float farthestFromItsRegion(const loosehair::Particles& p, float region) {
+// of its root region (`same(i, j)`: j is rooted in i's region) (m).
+template <class Same>
+float farthestFromItsRegion(const loosehair::Particles& p, const Same& same) {
   float worst = 0.0f;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.is_root[i]) continue;
     float nearest = INFINITY;
     for (std::size_t j = 0; j < p.size(); ++j)
-      if (j != i && glm::distance(p.root_point[j], p.root_point[i]) < region)
-        nearest = std::min(nearest, glm::distance(p.position[j], p.position[i]));
+      if (j != i && same(i, j)) nearest = std::min(nearest, glm::distance(p.position[j], p.position[i]));
     worst = std::max(worst, nearest);
   }
   return worst;

@@ -26,7 +26,7 @@ TEST(HairChain, CandidatesArePartnersNearerTheRootLeadingToARoot) {
   Solver s = buildSolver(lhtest::sphereScene(1500, R"({"hair_chain": true})"));
   const Particles& p = s.particles();
   const ConnectionSet& c = s.connections();
-  HairChain chain(c, p.is_root, p.arc_length, s.params().h1);
+  HairChain chain(c, p.is_root, p.arc_length, p.root_point, s.params().h1);
   std::size_t linked = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const auto cand = chain.candidates(i);
@@ -54,7 +54,7 @@ TEST(HairChain, CandidatesArePartnersNearerTheRootLeadingToARoot) {
 TEST(HairChain, AFlungClumpIsBroughtBackWithinReachAndTheRestIsLeftAlone) {
   Solver s = buildSolver(lhtest::sphereScene(800));
   const Particles& p = s.particles();
-  HairChain chain(s.connections(), p.is_root, p.arc_length, s.params().h1);
+  HairChain chain(s.connections(), p.is_root, p.arc_length, p.root_point, s.params().h1);
   // the outer half of the hair thrown a metre away, as a clump
   std::vector<glm::vec3> x = p.position;
   float longest = 0.0f;

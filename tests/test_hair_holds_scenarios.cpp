@@ -3,12 +3,16 @@
 // tests/data/drag-and-nod-motion.json) and after a 2 Hz, 40-degree nod, no
 // particle or clump lies loose: every particle is joined to the rooted hair
 // through particles within the springs' support 2 h1 of each other (before
-// the hair chain, clumps of 18 and 37 particles lay on the shoulders), and
-// no particle is farther from its nearest neighbour than on a still head,
-// give or take a quarter.
+// the hair chain, clumps of 18 and 37 particles lay on the shoulders), no
+// particle is farther than 2 h1 from the hair of its own root region (hair
+// that wandered off to another part of the head lay 12 cm from it), no
+// particle is farther from its nearest neighbour than on a still head,
+// give or take a quarter, and hardly any render strand loops off the
+// crown.
 #include "test_support.hpp"
 
 #include "hair_holds_measures.hpp"
+#include "hair_chain.hpp"
 #include "loosehair/render_strands.hpp"
 
 #include <glm/geometric.hpp>
@@ -41,7 +45,7 @@ struct After {
   std::size_t loose;
   float nearest;     // the largest nearest-neighbour distance (m)
   std::size_t fast;  // particles above 5 cm/s
-  float region_gap;  // the farthest from other hair rooted within 4 cm (m)
+  float region_gap;  // the farthest from other hair of its root region (m)
   std::size_t loops, strands;  // render strands looping 2 cm off the crown, of
   float support;     // 2 h1 (m)
 };
@@ -57,6 +61,9 @@ After runScene(const std::string& motion_json, double seconds) {
   RenderStrandOptions ro;
   ro.strands = 3000;
   const StrandField field = bindSceneStrands(scene, solver.particles(), build, ro, 2);
+  // the root regions the hair chain holds hair to (hair_chain.hpp)
+  const Particles& rest = solver.particles();
+  const HairChain chain(solver.connections(), rest.is_root, rest.arc_length, rest.root_point, solver.params().h1);
   const double dt = solver.params().time_step;
   solver.advance(static_cast<int>(std::ceil(seconds / dt)));
   const Particles& p = solver.particles();
@@ -65,7 +72,7 @@ After runScene(const std::string& motion_json, double seconds) {
   std::size_t looped = 0;
   for (float l : crownLoops(field.rest(), pts, solverBodyContacts(solver), scene.head_center.y)) looped += l > 0.02f;
   return {looseParticles(p.position, p.is_root, 2.0f * solver.params().h1), largestNearestNeighbour(p.position),
-          fasterThan(p, 0.05f), farthestFromItsRegion(p, 0.04f), looped, field.strandCount(),
+          fasterThan(p, 0.05f), farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); }), looped, field.strandCount(),
           2.0f * solver.params().h1};
 }
 
@@ -81,6 +88,7 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
   const After still = runScene(R"({"type": "still"})", 3.0);
   print("still head, 3 s", still);
   EXPECT_EQ(still.loose, 0u);
+  EXPECT_LT(still.region_gap, still.support);
   // (the issue asks for none above 5 cm/s after 3 s; a few particles at
   // 5-6 cm/s remain, rocking by half a millimetre where the tether holds
   // them against the scalp: reported, not asserted)
@@ -94,10 +102,11 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
     print(name, a);
     EXPECT_EQ(a.loose, 0u) << name << ": particles no longer joined to the hair";
     EXPECT_LE(a.nearest, 1.25f * still.nearest) << name;
-    // (the issue asks for one smoothing length; even at rest the sampling
-    // leaves particles ~30 mm from the nearest hair rooted within 4 cm,
-    // above 2 h1 = 23 mm: no farther than at rest, give or take a quarter)
-    EXPECT_LE(a.region_gap, 1.25f * still.region_gap) << name << ": a particle away from its root region's hair";
+    // Within the springs' support 2 h1 of hair of its own root region (the
+    // issue asks for one smoothing length h1, which a still head's
+    // sampling does not meet either: there the largest distance to the
+    // nearest particle of any region is already 20 mm, h1 12 mm)
+    EXPECT_LT(a.region_gap, a.support) << name << ": a particle away from its root region's hair";
     // (the issue asks for none; a few of 3000 remain, reported)
     EXPECT_LE(a.loops, a.strands / 200) << name << ": render strands looping off the crown";
   }

@@ -8,6 +8,7 @@
 // still head are reported (0-9 of 3000).
 #include "test_support.hpp"
 
+#include "hair_chain.hpp"
 #include "hair_holds_measures.hpp"
 #include "loosehair/render_strands.hpp"
 #include "scenario_watch.hpp"
@@ -64,8 +65,16 @@ struct Settled {
   std::size_t dropped = 0, particles = 0, loose_start = 0, loose_still = 0, loose_nod = 0, fast = 0, loops = 0;
   std::size_t strands = 0;
   float alone_start = 0, alone_still = 0, alone_nod = 0;  // largest nearest-neighbour distance (m)
+  float region_still = 0, region_nod = 0;  // farthest from the hair of its root region (m)
   float support = 0;                                      // 2 h1
 };
+
+// the farthest a particle of `solver` lies from the hair of its root region
+float regionGap(const Solver& solver) {
+  const Particles& p = solver.particles();
+  const HairChain chain(solver.connections(), p.is_root, p.arc_length, p.root_point, solver.params().h1);
+  return lhtest::farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); });
+}
 
 float largestNearest(const Particles& p) {
   float worst = 0;
@@ -109,6 +118,7 @@ Settled settle(const TriangleMesh& head, const std::string& name, bool nod = tru
     const lhtest::Watch w = lhtest::run(solver, 3.0, scene.hair.length, [] {}, 3);
     lhtest::expectInvariants(w, name + ", still");
     r.alone_still = largestNearest(solver.particles());
+    r.region_still = regionGap(solver);
     r.loose_still = lhtest::looseParticles(solver.particles().position, solver.particles().is_root, r.support);
     r.fast = lhtest::fasterThan(solver.particles(), 0.05f);
     std::vector<glm::vec3> pts;
@@ -124,13 +134,16 @@ Settled settle(const TriangleMesh& head, const std::string& name, bool nod = tru
     const lhtest::Watch w = lhtest::run(solver, 2.0, scene.hair.length, [] {}, 3);
     lhtest::expectInvariants(w, name + ", 2 Hz nod");
     r.alone_nod = largestNearest(solver.particles());
+    r.region_nod = regionGap(solver);
     r.loose_nod = lhtest::looseParticles(solver.particles().position, solver.particles().is_root, r.support);
   }
   std::printf("%s: %zu particles, %zu dropped at the start; largest nearest-neighbour distance %.1f mm at the "
-              "start, %.1f still, %.1f after the nod (2 h1 = %.1f mm); loose %zu/%zu/%zu; %zu above 5 cm/s "
-              "after 3 s; %zu strands loop 2 cm off the crown\n",
+              "start, %.1f still, %.1f after the nod (2 h1 = %.1f mm); from its root region's hair %.1f still, "
+              "%.1f after the nod; loose %zu/%zu/%zu; %zu above 5 cm/s after 3 s; %zu of %zu strands loop 2 cm "
+              "off the crown\n",
               name.c_str(), r.particles, r.dropped, 1e3 * r.alone_start, 1e3 * r.alone_still, 1e3 * r.alone_nod,
-              1e3 * r.support, r.loose_start, r.loose_still, r.loose_nod, r.fast, r.loops);
+              1e3 * r.support, 1e3 * r.region_still, 1e3 * r.region_nod, r.loose_start, r.loose_still, r.loose_nod,
+              r.fast, r.loops, r.strands);
   return r;
 }
 
@@ -138,6 +151,8 @@ void expectHolds(const Settled& r, const std::string& name) {
   EXPECT_LE(r.dropped, r.particles / 100) << name << ": at most 1% dropped at the start";
   for (float alone : {r.alone_start, r.alone_still, r.alone_nod})
     EXPECT_LT(alone, r.support) << name << ": a particle alone, farther than 2 h1 from any other";
+  for (float gap : {r.region_still, r.region_nod})
+    EXPECT_LT(gap, r.support) << name << ": a particle away from the hair of its root region";
   EXPECT_EQ(r.loose_start + r.loose_still + r.loose_nod, 0u) << name << ": particles not joined to the hair";
   // (the issue asks for none; one to four of 2000 remain, reported)
   EXPECT_LE(r.loops, r.strands / 200) << name << ": render strands looping off the crown";

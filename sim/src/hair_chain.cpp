@@ -9,9 +9,10 @@
 namespace loosehair {
 
 HairChain::HairChain(const ConnectionSet& c, std::span<const std::uint8_t> is_root, std::span<const float> s,
-                     float h1) {
+                     std::span<const glm::vec3> root_point, float h1) {
   const std::size_t n = is_root.size();
   support_reach_ = kSupportFraction * 2.0f * h1;
+  root_.assign(root_point.begin(), root_point.end());
   // a particle's candidates: its partners nearer the root by arc length
   // (following them ends at a root, s falling all the way)
   first_.assign(n + 1, 0);
@@ -27,6 +28,13 @@ HairChain::HairChain(const ConnectionSet& c, std::span<const std::uint8_t> is_ro
     first_[i + 1] = static_cast<std::uint32_t>(candidate_.size());
     if (first_[i + 1] > first_[i]) order_.push_back(i);
   }
+  // each particle's root region: its candidates' roots included
+  region2_.assign(n, (kRegionReaches * support_reach_) * (kRegionReaches * support_reach_));
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t k = first_[i]; k < first_[i + 1]; ++k) {
+      const glm::vec3 d = root_[candidate_[k]] - root_[i];
+      region2_[i] = std::max(region2_[i], glm::dot(d, d));
+    }
   // what may hold a particle: a root, or a particle the chain holds itself
   holds_.assign(n, 0);
   for (std::uint32_t i = 0; i < n; ++i) holds_[i] = is_root[i] || first_[i + 1] > first_[i];
@@ -69,12 +77,35 @@ bool HairChain::nearerHairWithin(std::span<const glm::vec3> x, std::span<const f
         auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
         for (; it != cell_key_.end() && *it == key; ++it) {
           const std::uint32_t j = cell_particle_[static_cast<std::size_t>(it - cell_key_.begin())];
-          if (j == i || !(s[j] < s[i]) || !holds_[j]) continue;
+          if (j == i || !(s[j] < s[i]) || !holds_[j] || !sameRegion(i, j)) continue;
           const glm::vec3 d = x[j] - x[i];
           if (glm::dot(d, d) < r2) return true;
         }
       }
   return false;
+}
+
+bool HairChain::nearestNearerHair(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i,
+                                  std::uint32_t& nearest) const {
+  const float inv = 1.0f / support_reach_;
+  float best = 4.0f * support_reach_ * support_reach_;
+  bool found = false;
+  const glm::ivec3 c = cellOf(x[i], inv);
+  for (int dz = -2; dz <= 2; ++dz)
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        const std::uint64_t key = cellKey(c + glm::ivec3(dx, dy, dz));
+        auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
+        for (; it != cell_key_.end() && *it == key; ++it) {
+          const std::uint32_t j = cell_particle_[static_cast<std::size_t>(it - cell_key_.begin())];
+          if (j == i || !(s[j] < s[i]) || !holds_[j] || !sameRegion(i, j)) continue;
+          const glm::vec3 d = x[j] - x[i];
+          const float d2 = glm::dot(d, d);
+          // ties by index: the same answer whatever the cell order
+          if (d2 < best || (d2 == best && found && j < nearest)) best = d2, nearest = j, found = true;
+        }
+      }
+  return found;
 }
 
 }  // namespace loosehair

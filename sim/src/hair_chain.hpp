@@ -39,10 +39,16 @@ namespace loosehair {
 class HairChain {
  public:
   static constexpr float kSupportFraction = 0.95f;
+  /// Other hair holds a particle only if rooted in its root region, within
+  /// this many support reaches of its root (or as far as its candidates):
+  /// hair of another part of the scalp does not (a particle held by any
+  /// hair wandered 12 cm from the hair of its own part of the scalp in a
+  /// turn and a nod).
+  static constexpr float kRegionReaches = 2.0f;
 
   HairChain() = default;
   HairChain(const ConnectionSet& connections, std::span<const std::uint8_t> is_root,
-            std::span<const float> arc_length, float h1);
+            std::span<const float> arc_length, std::span<const glm::vec3> root_point, float h1);
 
   /// Moves each linked particle (by arc length) that has no particle nearer its
   /// root (smaller arc length `s`) within the reach of the support, and
@@ -72,15 +78,37 @@ class HairChain {
         grid_made = true;
       }
       if (nearerHairWithin(x, s, i)) continue;
-      const glm::vec3 p = x[candidate_[at]];
+      // towards whichever needs the shorter move: the nearest candidate, or
+      // the nearest other hair nearer the root (within two reaches), so
+      // that hair that fell past the hair nearer its root rests at its
+      // edge rather than being drawn back up to its first partners, to
+      // fall again
+      glm::vec3 p = x[candidate_[at]];
+      float reach = reach_[at];
+      const float move = std::sqrt(best) * reach - reach;
+      std::uint32_t near = i;
+      if (nearestNearerHair(x, s, i, near) &&
+          glm::distance(x[near], before) - support_reach_ < move) {
+        p = x[near];
+        reach = support_reach_;
+      }
       glm::vec3 xi = before;
-      for (int pass = 0; pass < 2; ++pass) xi = tether(i, within(xi, p, reach_[at]));
+      for (int pass = 0; pass < 2; ++pass) xi = tether(i, within(xi, p, reach));
       if (xi != before) {
         x[i] = xi;
         ++moved;
       }
     }
     return moved;
+  }
+
+  /// The radius of particle i's root region (m): hair rooted this near its
+  /// root may hold it. kRegionReaches support reaches, or as far as its
+  /// farthest-rooted candidate, whichever is more.
+  float regionRadius(std::size_t i) const { return std::sqrt(region2_[i]); }
+  /// Whether j's root is in i's root region.
+  bool inRegion(std::size_t i, std::size_t j) const {
+    return sameRegion(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
   }
 
   /// Particles with candidates.
@@ -100,7 +128,17 @@ class HairChain {
   }
   void makeGrid(std::span<const glm::vec3> x) const;
   bool nearerHairWithin(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i) const;
+  /// The nearest particle that holds (a root or linked) nearer the root
+  /// than i within two support reaches of it, in `nearest`; false if none.
+  bool nearestNearerHair(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i,
+                         std::uint32_t& nearest) const;
+  bool sameRegion(std::uint32_t i, std::uint32_t j) const {
+    const glm::vec3 d = root_[j] - root_[i];
+    return glm::dot(d, d) <= region2_[i];
+  }
   float support_reach_ = 0.0f;            // kSupportFraction * 2 h1
+  std::vector<float> region2_;            // regionRadius(i)^2
+  std::vector<glm::vec3> root_;           // each particle's root point
   std::vector<std::uint32_t> order_;      // linked particles by arc length
   std::vector<std::uint32_t> first_;      // candidates of i: [first_[i], first_[i + 1])
   std::vector<std::uint32_t> candidate_;  // partners nearer the root

@@ -274,7 +274,10 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   copt.threads = threads_;
   connections_ = buildConnections(particles_.position, particles_.direction, particles_.arc_length,
                                   particles_.is_root, copt);
-  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, particles_.arc_length, params_.h1);
+  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, particles_.arc_length,
+                                       particles_.root_point, params_.h1);
+  longest_hair_ = 0.0f;
+  for (float a : particles_.arc_length) longest_hair_ = std::max(longest_hair_, a);
 
   // Cross-sections (eq. 9) and the side factors of the rest state, the
   // reference of the stiffness clamp.
@@ -1546,23 +1549,18 @@ std::size_t Solver::limitStrain() {
 }
 
 // The hair chain (sim/src/hair_chain.hpp) with the tethers: each particle
-// within reach of its parent and of its root (and tie), parents first.
-// Its moves are not a velocity (a move of a few millimetres in a short step
-// made a fast particle, and the shaken hair swung 20% wider with explicit
-// springs): they are kept in chain_shift_ and left out of the velocity the
-// corrections make, except that a particle drawn back keeps no speed away
-// from the hair (projectOutOfBodies).
+// within reach of hair nearer its root and of its root (and tie), nearer
+// the root first. Its moves may stop a particle moving away from the hair,
+// never throw it back (chain_moved_, projectOutOfBodies).
 void Solver::holdHairChains() {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
   const float scale = 1.0f + params_.tether_slack;
-  auto& x = particles_.position;
-  chain_shift_.assign(x.size(), glm::vec3(0.0f));
-  chain_->project(x, sarc, [&](std::size_t i, glm::vec3 y) {
-    const glm::vec3 before = x[i];  // (project writes x[i] after its passes)
+  chain_moved_.assign(particles_.size(), 0);
+  chain_->project(particles_.position, sarc, [&](std::size_t i, glm::vec3 y) {
+    chain_moved_[i] = 1;
     y = tether::within(y, rp[i], scale * sarc[i]);
     if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) y = tether::within(y, tie_point_[i], scale * tie_reach_[i]);
-    chain_shift_[i] = y - before;
     return y;
   });
 }
@@ -1741,16 +1739,21 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
         for (std::size_t i = b; i < b + len; ++i) {
           if (root[i]) continue;
           glm::vec3 vi = v[i];
-          const glm::vec3 held = chain_shift_.empty() ? glm::vec3(0.0f) : chain_shift_[i];
-          if (x[i] != integrated_position_[i] && !absorb)
-            vi += (x[i] - integrated_position_[i] - held) / dt;
-          // the chain drew it back: it keeps no speed away from the hair
-          // (else a particle held at the chain's reach kept a speed it
-          // never moved at, 2 m/s on a still head)
-          const float held2 = glm::dot(held, held);
-          if (held2 > 0.0f) {
-            const float away = glm::dot(vi, held);
-            if (away < 0.0f) vi -= (away / held2) * held;
+          if (x[i] != integrated_position_[i] && !absorb) {
+            // The corrections' move over dt is a velocity (position-based
+            // dynamics: hair dragged along keeps the drag's speed), but
+            // where the hair chain moved the particle (chain_moved_) the
+            // move only stops a motion against it: counted whole, a
+            // particle the chain drew back flew on past it, and fell again.
+            const glm::vec3 d = x[i] - integrated_position_[i];
+            if (!chain_moved_.empty() && chain_moved_[i]) {
+              const float moved = glm::length(d);
+              const glm::vec3 dir = d / moved;
+              const float a = glm::dot(vi, dir);
+              vi += (std::min(a + moved / dt, std::max(a, 0.0f)) - a) * dir;
+            } else {
+              vi += d / dt;
+            }
           }
           if (pushed[i - b]) {
             const glm::vec3 nrm = push_normal[i - b];
@@ -1761,7 +1764,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
           // pushed out beyond its tether's reach: caught where sliding
           // does not help (freeTrappedHair)
           if (slide) {
-            const float caught = (reach_scale + tether::kTrappedExcess) * sarc[i];
+            const float caught = reach_scale * sarc[i] + tether::kTrappedExcess * longest_hair_;
             const glm::vec3 d = x[i] - rp[i];
             trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
           }
@@ -1956,7 +1959,7 @@ void Solver::step() {
   // left inside a body.
   const std::size_t limited = limitStrain();
   if (params_.tether && params_.hair_chain) holdHairChains();
-  else chain_shift_.clear();
+  else chain_moved_.clear();
   HeadKinematics head_end;
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);

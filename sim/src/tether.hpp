@@ -13,9 +13,12 @@
 
 namespace loosehair::tether {
 
-/// A pushed-out particle farther from its root than (1 + slack +
-/// kTrappedExcess) s_i is caught where the tether and the body disagree
-/// (Solver::freeTrappedHair).
+/// A pushed-out particle farther from its root than (1 + slack) s_i +
+/// kTrappedExcess L (L the longest hair's arc length) is caught where the
+/// tether and the body disagree (Solver::freeTrappedHair). In units of L,
+/// as the no-stretch promise is: an excess relative to s_i freed particles
+/// next to their roots a fraction of a millimetre beyond reach, which the
+/// springs threw back every few steps.
 inline constexpr float kTrappedExcess = 0.005f;
 
 /// x moved along the line to `root` until it is within `reach` of it.

@@ -323,8 +323,9 @@ class Solver {
   std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
   std::unique_ptr<HairChain> chain_;   // no particle loose from the hair (hair_chain.hpp)
-  std::vector<glm::vec3> chain_shift_;  // this step's moves by the chain (not a velocity)
+  std::vector<std::uint8_t> chain_moved_;  // this step's particles the hair chain moved
   std::vector<std::uint8_t> trapped_;      // this step's particles caught beyond their tethers
+  float longest_hair_ = 0.0f;              // the largest arc length (m)
   std::vector<std::uint32_t> trapped_list_;
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
