@@ -347,6 +347,69 @@ TEST(MeshBody, OverlappingClosedPartsActAsTheirUnion) {
   EXPECT_EQ(wrong, 0);
 }
 
+// Two closed boxes, one reaching 2 cm into the other (a neck pushed into a
+// bust), as their union of one body each (what a head mesh of separate
+// parts becomes, head_model.cpp): inside the overlap, next to the faces of
+// one box that lie inside the other, the distance is the union's, and one
+// push along the normal brings a point out; hinted queries give the same
+// bits as plain ones.
+TEST(MeshBody, SeparatePartsAsAUnionPushOutOfTheWhole) {
+  TriangleMesh a = box({-0.1f, -0.1f, -0.1f}, {0.1f, 0.0f, 0.1f});
+  TriangleMesh b = box({-0.04f, -0.02f, -0.04f}, {0.04f, 0.2f, 0.04f});
+  const BakedBody ba = meshBody(a, 0.005f, "chest"), bb = meshBody(b, 0.005f, "neck");
+  UnionBody both;
+  both.add(ba.body);
+  both.add(bb.body);
+  // the union's exact distance inside: to the nearest outer face
+  auto inside = [](glm::vec3 p) {
+    const bool in_a = p.y < 0.0f && std::abs(p.x) < 0.1f && std::abs(p.z) < 0.1f && p.y > -0.1f;
+    const bool in_b = std::abs(p.x) < 0.04f && std::abs(p.z) < 0.04f && p.y > -0.02f && p.y < 0.2f;
+    return in_a || in_b;
+  };
+  int points = 0, still_in = 0;
+  std::vector<glm::vec3> q;
+  for (int k = 0; k < 400; ++k) {
+    // where hair meets them: 1-4 mm inside the neck's sides, within 4 mm
+    // of the chest's top (inside the neck) above and below it
+    const float along = -0.035f + 0.07f * static_cast<float>(k % 20) / 19.0f;
+    const float depth = 0.001f + 0.003f * static_cast<float>(k / 20 % 4) / 3.0f;
+    const float y = -0.004f + 0.008f * static_cast<float>(k / 80) / 4.0f;
+    const float side = 0.04f - depth;
+    const glm::vec3 around[4] = {{side, y, along}, {-side, y, along}, {along, y, side}, {along, y, -side}};
+    q.push_back(around[k % 4]);
+  }
+  std::vector<float> phi(q.size()), phi_h(q.size());
+  std::vector<glm::vec3> n(q.size()), n_h(q.size());
+  both.signedDistanceBelow(q.data(), q.size(), 1.0f, phi.data(), n.data());  // exact below 1 m
+  std::vector<std::int32_t> hint(q.size(), -1);
+  for (int pass = 0; pass < 2; ++pass)  // the second pass with the first's hints
+    both.signedDistanceBelowHinted(q.data(), q.size(), 1.0f, phi_h.data(), n_h.data(), hint.data());
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    ASSERT_TRUE(inside(q[k]));
+    ++points;
+    // as deep as in the deeper box (not the ~0 of the chest's top it is next to)
+    const glm::vec3 p = q[k];
+    const float depth_a = std::min({0.1f - std::abs(p.x), 0.1f - std::abs(p.z), -p.y, p.y + 0.1f});
+    const float depth_b = std::min({0.04f - std::abs(p.x), 0.04f - std::abs(p.z), p.y + 0.02f, 0.2f - p.y});
+    EXPECT_NEAR(phi[k], -std::max(depth_a, depth_b), 2e-4f) << "at " << p.x << " " << p.y << " " << p.z;
+    // pushed out of the deepest part, then out of the one that leaves it
+    // in (the solver's rounds do as much)
+    glm::vec3 out = q[k];
+    for (int round = 0; round < 3; ++round) {
+      float d;
+      glm::vec3 dn;
+      both.signedDistanceBelow(&out, 1, 1.0f, &d, &dn);
+      if (d >= 0.0f) break;
+      out -= (d - 1e-5f) * dn;
+    }
+    still_in += inside(out) ? 1 : 0;
+    EXPECT_EQ(phi[k], phi_h[k]);
+    EXPECT_EQ(n[k], n_h[k]);
+  }
+  std::printf("%d points where a neck enters a chest: %d still inside after the pushes\n", points, still_in);
+  EXPECT_EQ(still_in, 0);
+}
+
 // The cells list every triangle whose (grown) box meets a query box within
 // their reach: brute force over random triangles of mixed sizes, queries
 // inside, at the edges of and outside the grid.

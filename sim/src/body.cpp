@@ -39,22 +39,126 @@ void CapsuleBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
   }
 }
 
-void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                               glm::vec3* normal) const {
+namespace {
+
+// phi, normal = the least over the parts of what `ask(part, phi, normal)`
+// gives, and `won` (optional) the part it came from
+template <class Ask>
+void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_t n, float* phi,
+               glm::vec3* normal, std::uint32_t* won, const Ask& ask) {
   for (std::size_t k = 0; k < n; ++k) {
     phi[k] = INFINITY;
     normal[k] = glm::vec3(0.0f, 1.0f, 0.0f);
   }
-  std::vector<float> pb(n);
-  std::vector<glm::vec3> nb(n);
-  for (const auto& part : parts_) {
-    part->signedDistance(p, n, pb.data(), nb.data());
-    for (std::size_t k = 0; k < n; ++k)
-      if (pb[k] < phi[k]) {
-        phi[k] = pb[k];
-        normal[k] = nb[k];
-      }
+  // blocks of points, so that the scratch lives on the stack
+  constexpr std::size_t kBlock = 256;
+  float pb[kBlock];
+  glm::vec3 nb[kBlock];
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t len = std::min(kBlock, n - b);
+    for (std::uint32_t q = 0; q < parts.size(); ++q) {
+      ask(q, b, len, pb, nb);
+      for (std::size_t k = 0; k < len; ++k)
+        if (pb[k] < phi[b + k]) {
+          phi[b + k] = pb[k];
+          normal[b + k] = nb[k];
+          if (won) won[b + k] = q;
+        }
+    }
   }
+}
+
+// For the points inside the union: the least over the parts is the
+// deepest part's surface, which may lie inside another part (pushed out of
+// a neck through its bottom, a particle lands in the chest it sits in).
+// The union's own surface is a part's surface point outside every other
+// part: of the parts' nearest surface points p - phi_q n_q, the nearest
+// one outside the others wins; where none is, the least stands (the
+// solver's later rounds push again). `one(q, x, phi, normal)` asks part q
+// about one point, as the query being answered does.
+template <class One>
+void unionSurfaceInside(std::size_t parts, const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal,
+                        const One& one) {
+  if (parts < 2) return;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!(phi[k] < 0.0f)) continue;
+    float best = -INFINITY;
+    glm::vec3 best_normal(0.0f);
+    for (std::size_t q = 0; q < parts; ++q) {
+      float d;
+      glm::vec3 nq;
+      one(q, p[k], d, nq);
+      if (!(d < 0.0f) || !(d > best)) continue;
+      const glm::vec3 c = p[k] - d * nq;  // on part q's surface
+      bool outside = true;
+      for (std::size_t j = 0; j < parts && outside; ++j) {
+        if (j == q) continue;
+        float dj;
+        glm::vec3 nj;
+        one(j, c, dj, nj);
+        outside = !(dj < -1e-6f);
+      }
+      if (outside) best = d, best_normal = nq;
+    }
+    if (best > -INFINITY) phi[k] = best, normal[k] = best_normal;
+  }
+}
+
+}  // namespace
+
+void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
+                               glm::vec3* normal) const {
+  leastOver(parts_, n, phi, normal, nullptr,
+            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
+              parts_[q]->signedDistance(p + b, len, pb, nb);
+            });
+  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
+    parts_[q]->signedDistance(&x, 1, &d, &nq);
+  });
+}
+
+void UnionBody::signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                    glm::vec3* normal) const {
+  leastOver(parts_, n, phi, normal, nullptr,
+            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
+              parts_[q]->signedDistanceBelow(p + b, len, limit, pb, nb);
+            });
+  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
+    parts_[q]->signedDistanceBelow(&x, 1, limit, &d, &nq);
+  });
+}
+
+void UnionBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                   glm::vec3* normal) const {
+  leastOver(parts_, n, phi, normal, nullptr,
+            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
+              parts_[q]->roughDistanceBelow(p + b, len, limit, pb, nb);
+            });
+  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
+    parts_[q]->roughDistanceBelow(&x, 1, limit, &d, &nq);
+  });
+}
+
+void UnionBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                          glm::vec3* normal, std::int32_t* hint) const {
+  const auto parts = static_cast<std::int32_t>(parts_.size());
+  std::vector<std::uint32_t> won(n, 0);
+  std::int32_t own[256];
+  leastOver(parts_, n, phi, normal, won.data(),
+            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
+              for (std::size_t k = 0; k < len; ++k) {
+                const std::int32_t h = hint[b + k];
+                own[k] = h >= 0 && h % parts == static_cast<std::int32_t>(q) ? h / parts : -1;
+              }
+              parts_[q]->signedDistanceBelowHinted(p + b, len, limit, pb, nb, own);
+              // the part's new hint, kept where it is the nearest so far
+              for (std::size_t k = 0; k < len; ++k)
+                if (own[k] >= 0 && pb[k] < phi[b + k] && own[k] <= (INT32_MAX - parts) / parts)
+                  hint[b + k] = own[k] * parts + static_cast<std::int32_t>(q);
+            });
+  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
+    parts_[q]->signedDistanceBelow(&x, 1, limit, &d, &nq);
+  });
 }
 
 float UnionBody::roughError() const {

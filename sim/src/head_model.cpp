@@ -75,6 +75,59 @@ TriangleMesh sphereMesh(glm::vec3 c, float r) {
   return m;
 }
 
+// The pieces a mesh collides as: each separate part at least a tenth of
+// the mesh's size a piece of its own (up to kMaxPieces, the largest by
+// triangles), the other parts with the largest one; one piece (the mesh
+// itself) when there is nothing to separate.
+constexpr std::size_t kMaxPieces = 8;
+std::vector<TriangleMesh> collisionPieces(const TriangleMesh& mesh) {
+  const MeshParts parts = meshParts(mesh);
+  if (parts.count() < 2) return {mesh};
+  std::vector<glm::vec3> lo(parts.count(), glm::vec3(INFINITY)), hi(parts.count(), glm::vec3(-INFINITY));
+  glm::vec3 all_lo(INFINITY), all_hi(-INFINITY);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int c = 0; c < 3; ++c) {
+      const glm::vec3 v = mesh.vertices[mesh.triangles[t][c]];
+      const std::uint32_t q = parts.of_triangle[t];
+      lo[q] = glm::min(lo[q], v);
+      hi[q] = glm::max(hi[q], v);
+      all_lo = glm::min(all_lo, v);
+      all_hi = glm::max(all_hi, v);
+    }
+  const auto extent = [](glm::vec3 a, glm::vec3 b) {
+    const glm::vec3 e = b - a;
+    return std::max({e.x, e.y, e.z});
+  };
+  const float size = extent(all_lo, all_hi);
+  std::vector<std::uint32_t> large;
+  for (std::uint32_t q = 0; q < parts.count(); ++q)
+    if (extent(lo[q], hi[q]) >= 0.1f * size) large.push_back(q);
+  std::stable_sort(large.begin(), large.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return parts.triangles[a] > parts.triangles[b]; });
+  if (large.size() > kMaxPieces) large.resize(kMaxPieces);
+  if (large.size() < 2) return {mesh};
+  // each part's piece: its own, or the first (largest) piece
+  std::vector<std::uint32_t> piece_of(parts.count(), 0);
+  for (std::uint32_t k = 0; k < large.size(); ++k) piece_of[large[k]] = k;
+  std::vector<TriangleMesh> pieces(large.size());
+  std::vector<std::vector<std::uint32_t>> index(large.size(),
+                                                std::vector<std::uint32_t>(mesh.vertices.size(), UINT32_MAX));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::uint32_t k = piece_of[parts.of_triangle[t]];
+    glm::u32vec3 tri;
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t v = mesh.triangles[t][c];
+      if (index[k][v] == UINT32_MAX) {
+        index[k][v] = static_cast<std::uint32_t>(pieces[k].vertices.size());
+        pieces[k].vertices.push_back(mesh.vertices[v]);
+      }
+      tri[c] = index[k][v];
+    }
+    pieces[k].triangles.push_back(tri);
+  }
+  return pieces;
+}
+
 }  // namespace
 
 HeadModel::HeadModel() = default;
@@ -184,21 +237,38 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
     // 2 cm head bake for a minute
     opt.margin = std::min(opt.margin, 0.25f * size);
     opt.cache_dir = cache;
-    bool cached = false;
-    std::shared_ptr<GridSdfBody> body;
-    try {
-      body = GridSdfBody::bake(mesh, opt, &cached);
-    } catch (const MeshError& e) {
-      throw SceneError(source + ": " + field + ".sdf_voxel: " + e.what());
-    } catch (const std::bad_alloc&) {
-      throw SceneError(source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
-    } catch (const std::exception& e) {
-      throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) + ")");
+    bool all_cached = true;
+    auto bodyOf = [&](const TriangleMesh& piece) {
+      bool cached = false;
+      std::shared_ptr<GridSdfBody> grid;
+      try {
+        grid = GridSdfBody::bake(piece, opt, &cached);
+      } catch (const MeshError& e) {
+        throw SceneError(source + ": " + field + ".sdf_voxel: " + e.what());
+      } catch (const std::bad_alloc&) {
+        throw SceneError(source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
+      } catch (const std::exception& e) {
+        throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) +
+                         ")");
+      }
+      all_cached = all_cached && cached;
+      return std::make_shared<MeshBody>(piece, grid);
+    };
+    // Separate parts that may overlap (a neck pushed into a bust): each
+    // large one a body of its own, the union of them the body
+    // (body.hpp's UnionBody); small parts stay with the largest.
+    const std::vector<TriangleMesh> pieces = collisionPieces(mesh);
+    std::shared_ptr<const Body> result;
+    if (pieces.size() == 1) {
+      result = bodyOf(mesh);
+    } else {
+      auto joined = std::make_shared<UnionBody>();
+      for (const TriangleMesh& piece : pieces) joined->add(bodyOf(piece));
+      result = joined;
     }
-    rep.sdf_from_cache = cached;
-    auto exact = std::make_shared<MeshBody>(mesh, body);
+    rep.sdf_from_cache = all_cached;
     rep.seconds_sdf += since(t0);
-    return exact;
+    return result;
   };
   if (desc.head_kind == HeadKind::Sphere) {
     if (desc.head_radius < 5e-4)

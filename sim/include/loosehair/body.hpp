@@ -84,12 +84,27 @@ class CapsuleBody final : public Body {
   float radius_;
 };
 
-/// The union of bodies given in one frame (the nearest surface wins).
+/// The union of bodies given in one frame: the least signed distance wins
+/// (exact outside the union; inside, the deepest part's). A mesh of
+/// separate closed parts that overlap (a neck pushed into a bust, eyes in
+/// a head) is such a union: as one mesh, the faces of one part inside
+/// another are surfaces too, and a point inside near one of them is pushed
+/// onto it, still inside (head_model.cpp).
 class UnionBody final : public Body {
  public:
   void add(std::shared_ptr<const Body> body) { parts_.push_back(std::move(body)); }
+  std::size_t size() const { return parts_.size(); }
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
+  void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                           glm::vec3* normal) const override;
+  /// The hint a point keeps is the nearest part's own, with the part
+  /// (hint = part's hint * parts + part); the other parts are asked
+  /// without one.
+  void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                                 glm::vec3* normal, std::int32_t* hint) const override;
+  void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
+                          glm::vec3* normal) const override;
   /// The parts' largest (their signedDistance is within it of the exact
   /// distance: exact, or a MeshBody's grid beyond its band); negative if
   /// any part has none.
