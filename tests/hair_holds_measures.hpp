@@ -50,22 +50,23 @@ float farthestFromItsRegion(const loosehair::Particles& p, const Same& same) {
   return worst;
 }
 
-// Per render strand, how far it comes back towards the bodies after
-// leaving them above `centre_y` (the crown): the largest drop of its
-// distance from the bodies from one point to a later one, both above
-// centre_y (m). Hair lying on the head only moves away from it.
+// Per render strand, how far it turns back towards its root over the
+// crown: the largest drop of a point's distance from the strand's root
+// below the largest before it, over the points above `centre_y` (m). A
+// strand that hangs or lies on the head only gets farther from its root;
+// one that loops comes back. (Distance from the head is no measure: a
+// strand lying on the hair can end on the bare forehead.)
 inline std::vector<float> crownLoops(const loosehair::StrandSet& rest, const std::vector<glm::vec3>& points,
-                                     const loosehair::BodyContacts& bodies, float centre_y) {
-  std::vector<float> phi(points.size());
-  std::vector<glm::vec3> normal(points.size());
-  bodies(points, INFINITY, false, phi, normal);
+                                     float centre_y) {
   std::vector<float> loop(rest.size(), 0.0f);
   for (std::size_t k = 0; k < rest.size(); ++k) {
-    float highest = -INFINITY;
+    const glm::vec3 root = points[rest.first[k]];
+    float farthest = 0.0f;
     for (std::uint32_t q = rest.first[k]; q < rest.first[k + 1]; ++q) {
       if (points[q].y < centre_y) continue;
-      highest = std::max(highest, phi[q]);
-      loop[k] = std::max(loop[k], highest - phi[q]);
+      const float r = glm::distance(points[q], root);
+      farthest = std::max(farthest, r);
+      loop[k] = std::max(loop[k], farthest - r);
     }
   }
   return loop;

@@ -7,8 +7,11 @@
 // particle is farther than 2 h1 from the hair of its own root region (hair
 // that wandered off to another part of the head lay 12 cm from it), no
 // particle is farther from its nearest neighbour than on a still head,
-// give or take a quarter, and hardly any render strand loops off the
-// crown.
+// give or take a quarter, and no render strand loops over the crown
+// (turns back 1.5 cm towards its root; the issue saw loops of 2-3 cm, from
+// the initial strands, whose push out of the head took the normal of the
+// head's distance grid where it is not one. A bang lying on the forehead
+// may still curl its tip up by about 1 cm).
 #include "test_support.hpp"
 
 #include "hair_holds_measures.hpp"
@@ -46,7 +49,7 @@ struct After {
   float nearest;     // the largest nearest-neighbour distance (m)
   std::size_t fast;  // particles above 5 cm/s
   float region_gap;  // the farthest from other hair of its root region (m)
-  std::size_t loops, strands;  // render strands looping 2 cm off the crown, of
+  std::size_t loops, strands;  // render strands turning back 1.5 cm over the crown, of
   float support;     // 2 h1 (m)
 };
 
@@ -70,7 +73,7 @@ After runScene(const std::string& motion_json, double seconds) {
   std::vector<glm::vec3> pts;
   field.deform(solver, pts, 2);
   std::size_t looped = 0;
-  for (float l : crownLoops(field.rest(), pts, solverBodyContacts(solver), scene.head_center.y)) looped += l > 0.02f;
+  for (float l : crownLoops(field.rest(), pts, scene.head_center.y)) looped += l > 0.015f;
   return {looseParticles(p.position, p.is_root, 2.0f * solver.params().h1), largestNearestNeighbour(p.position),
           fasterThan(p, 0.05f), farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); }), looped, field.strandCount(),
           2.0f * solver.params().h1};
@@ -78,7 +81,7 @@ After runScene(const std::string& motion_json, double seconds) {
 
 void print(const char* name, const After& a) {
   std::printf("%s: %zu loose, largest nearest neighbour %.1f mm, farthest from its root region's hair %.1f mm "
-              "(2 h1 = %.1f), %zu of %zu strands loop 2 cm off the crown, %zu above 5 cm/s\n",
+              "(2 h1 = %.1f), %zu of %zu strands turn back 1.5 cm over the crown, %zu above 5 cm/s\n",
               name, a.loose, 1e3 * a.nearest, 1e3 * a.region_gap, 1e3 * a.support, a.loops, a.strands, a.fast);
 }
 
@@ -89,6 +92,7 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
   print("still head, 3 s", still);
   EXPECT_EQ(still.loose, 0u);
   EXPECT_LT(still.region_gap, still.support);
+  EXPECT_EQ(still.loops, 0u);
   // (the issue asks for none above 5 cm/s after 3 s; a few particles at
   // 5-6 cm/s remain, rocking by half a millimetre where the tether holds
   // them against the scalp: reported, not asserted)
@@ -107,7 +111,6 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
     // sampling does not meet either: there the largest distance to the
     // nearest particle of any region is already 20 mm, h1 12 mm)
     EXPECT_LT(a.region_gap, a.support) << name << ": a particle away from its root region's hair";
-    // (the issue asks for none; a few of 3000 remain, reported)
-    EXPECT_LE(a.loops, a.strands / 200) << name << ": render strands looping off the crown";
+    EXPECT_EQ(a.loops, 0u) << name << ": render strands looping off the crown";
   }
 }

@@ -62,7 +62,10 @@ CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, f
       for (int pass = 0; pass < 3; ++pass) {
         float phi;
         glm::vec3 n;
-        body->signedDistance(&next, 1, &phi, &n);
+        // exact below the clearance: several centimetres out, beyond a
+        // mesh's narrow band, its grid's normal was any direction (straight
+        // up beside a jaw), and turned long strands back up into loops
+        body->signedDistanceBelow(&next, 1, keep_out, &phi, &n);
         if (phi >= keep_out) break;
         next += (keep_out - phi) * n;
         tau = glm::normalize(next - p);
