@@ -1,26 +1,23 @@
-// The hair chain: each hair particle stays within reach of at least one of
-// its root-side partners nearer a root (our addition to the LCP
-// connections, with the tethers). The loose springs of the paper let go of
-// a partner beyond their support 2 h1, and so does the strain limit; under
-// a fast turn or nod a clump flung beyond the support of all its partners
-// was held by its tethers alone and lay on the shoulders or floated off
-// (issue 43). The chain keeps every particle within reach of a particle
-// nearer its root, which is within reach of one nearer still, down to a
-// root: hair splits, slides and settles as before, but no particle or clump
-// comes loose.
+// The hair chain: each hair particle stays within reach of hair nearer its
+// root in its own root region (our addition to the LCP connections, with
+// the tethers). The loose springs of the paper let go of a partner beyond
+// their support 2 h1, and so does the strain limit; under a fast turn or
+// nod a clump flung beyond the support of all its partners was held by
+// its tethers alone and lay on the shoulders or floated off (issue 43).
 //
-// "Nearer a root" is a smaller arc length s; a particle's candidates are
-// its partners nearer the root. A particle none of whose candidates is within reach
-// (kSupportFraction of the support 2 h1, or the pair's rest length where
-// that is longer), and no particle nearer the root within
-// that reach either, moves towards the nearest candidate until it is within
-// reach. Hanging hair settles far from its first partners (constraining it
-// to them held it 7 cm higher), but never far from all hair nearer the root.
-// Particles are visited by arc length, so everything nearer the root has
-// been placed first: a loose clump is drawn back from its root end on, and
-// cannot hold itself up. Particles
-// are visited by depth, so the candidates have been placed first: one pass
-// meets every particle's reach.
+// "Nearer the root" is a smaller arc length s; a particle's candidates are
+// its partners nearer the root. A particle none of whose candidates is
+// within reach (kSupportFraction of the support 2 h1, or the pair's rest
+// length where that is longer), and no held particle nearer the root of
+// its root region within the support reach either, moves towards
+// whichever needs the shorter move, the nearest candidate or the nearest
+// such hair, until it is within reach. Hanging hair settles far from its
+// first partners (constraining it to them held it 7 cm higher), but never
+// far from the hair of its region nearer the root. Particles are visited
+// by arc length, so everything nearer the root has been placed first: a
+// loose clump is drawn back from its root end on, cannot hold itself up,
+// and one pass meets every particle's reach. docs/design.md, "The hair
+// chain", has the choices and what each fixed.
 #pragma once
 
 #include "loosehair/connections.hpp"
@@ -50,10 +47,11 @@ class HairChain {
   HairChain(const ConnectionSet& connections, std::span<const std::uint8_t> is_root,
             std::span<const float> arc_length, std::span<const glm::vec3> root_point, float h1);
 
-  /// Moves each linked particle (by arc length) that has no particle nearer its
-  /// root (smaller arc length `s`) within the reach of the support, and
-  /// none of its candidates within reach either, to within reach of the
-  /// nearest candidate, then back within its tethers (`tether(i, x_i)`
+  /// Moves each linked particle (by arc length) that has no particle of its
+  /// root region nearer its root (smaller arc length `s`) within the reach
+  /// of the support, and none of its candidates within reach either, to
+  /// within reach of the nearest candidate or region's hair (the shorter
+  /// move), then back within its tethers (`tether(i, x_i)`
   /// returns x_i tethered), alternating twice so that both hold where both
   /// can; returns how many moved.
   template <class Tether>

@@ -81,8 +81,8 @@ struct SimParams {
   /// addition). It keeps the no-stretch promise for any stiffness E.
   bool tether = true;
   /// With the tethers, the hair chain: every particle kept near a partner
-  /// or other hair nearer the root, so that no clump comes loose under fast
-  /// motion (sim/src/hair_chain.hpp).
+  /// or other hair of its root region nearer the root, so that no clump
+  /// comes loose under fast motion (sim/src/hair_chain.hpp).
   bool hair_chain = true;
   /// Allowed excess of |x_i - r_i| over s_i (dimensionless).
   float tether_slack = 0.01f;
