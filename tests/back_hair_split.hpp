@@ -23,10 +23,13 @@ struct SplitRun {
 // on the other wisp's side of the parting plane x = 0 by more than 5 mm
 // (the wisps interpenetrate). `middle`: back-hair particles within 1 cm of
 // the plane at the height of the obstacle (the gap of the split). The
-// invariants are checked every `check_every` steps.
-inline SplitRun runSplit(bool hair_hair, std::uint64_t seed, int particles = 3000, int check_every = 1) {
+// invariants are checked every `check_every` steps. `hair_chain`: the
+// solver's switch (on by default).
+inline SplitRun runSplit(bool hair_hair, std::uint64_t seed, int particles = 3000, int check_every = 1,
+                         bool hair_chain = true) {
   loosehair::SceneDesc scene = bundled("back-hair-split", particles);
   scene.sim.hair_hair = hair_hair;
+  scene.sim.hair_chain = hair_chain;
   scene.seed = seed;
   loosehair::Solver solver = loosehair::buildSolver(scene);
   SplitRun r;

@@ -42,10 +42,10 @@ void CapsuleBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
 namespace {
 
 // phi, normal = the least over the parts of what `ask(part, phi, normal)`
-// gives, and `won` (optional) the part it came from
+// gives
 template <class Ask>
 void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_t n, float* phi,
-               glm::vec3* normal, std::uint32_t* won, const Ask& ask) {
+               glm::vec3* normal, const Ask& ask) {
   for (std::size_t k = 0; k < n; ++k) {
     phi[k] = INFINITY;
     normal[k] = glm::vec3(0.0f, 1.0f, 0.0f);
@@ -62,7 +62,6 @@ void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_
         if (pb[k] < phi[b + k]) {
           phi[b + k] = pb[k];
           normal[b + k] = nb[k];
-          if (won) won[b + k] = q;
         }
     }
   }
@@ -106,45 +105,42 @@ void unionSurfaceInside(std::size_t parts, const glm::vec3* p, std::size_t n, fl
 
 }  // namespace
 
-void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                               glm::vec3* normal) const {
-  leastOver(parts_, n, phi, normal, nullptr,
+template <class Query>
+void UnionBody::least(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal, const Query& query) const {
+  leastOver(parts_, n, phi, normal,
             [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
-              parts_[q]->signedDistance(p + b, len, pb, nb);
+              query(*parts_[q], p + b, len, pb, nb);
             });
   unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
-    parts_[q]->signedDistance(&x, 1, &d, &nq);
+    query(*parts_[q], &x, 1, &d, &nq);
+  });
+}
+
+void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
+  least(p, n, phi, normal, [](const Body& part, const glm::vec3* x, std::size_t m, float* d, glm::vec3* nq) {
+    part.signedDistance(x, m, d, nq);
   });
 }
 
 void UnionBody::signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                                     glm::vec3* normal) const {
-  leastOver(parts_, n, phi, normal, nullptr,
-            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
-              parts_[q]->signedDistanceBelow(p + b, len, limit, pb, nb);
-            });
-  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
-    parts_[q]->signedDistanceBelow(&x, 1, limit, &d, &nq);
+  least(p, n, phi, normal, [limit](const Body& part, const glm::vec3* x, std::size_t m, float* d, glm::vec3* nq) {
+    part.signedDistanceBelow(x, m, limit, d, nq);
   });
 }
 
 void UnionBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                                    glm::vec3* normal) const {
-  leastOver(parts_, n, phi, normal, nullptr,
-            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
-              parts_[q]->roughDistanceBelow(p + b, len, limit, pb, nb);
-            });
-  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
-    parts_[q]->roughDistanceBelow(&x, 1, limit, &d, &nq);
+  least(p, n, phi, normal, [limit](const Body& part, const glm::vec3* x, std::size_t m, float* d, glm::vec3* nq) {
+    part.roughDistanceBelow(x, m, limit, d, nq);
   });
 }
 
 void UnionBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
                                           glm::vec3* normal, std::int32_t* hint) const {
   const auto parts = static_cast<std::int32_t>(parts_.size());
-  std::vector<std::uint32_t> won(n, 0);
-  std::int32_t own[256];
-  leastOver(parts_, n, phi, normal, won.data(),
+  std::int32_t own[256];  // leastOver's block
+  leastOver(parts_, n, phi, normal,
             [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
               for (std::size_t k = 0; k < len; ++k) {
                 const std::int32_t h = hint[b + k];

@@ -67,44 +67,40 @@ void HairChain::makeGrid(std::span<const glm::vec3> x) const {
   }
 }
 
-bool HairChain::nearerHairWithin(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i) const {
-  const float inv = 1.0f / support_reach_, r2 = support_reach_ * support_reach_;
-  const glm::ivec3 c = cellOf(x[i], inv);
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
+template <class Visit>
+void HairChain::forEachHolder(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i, int cells,
+                              const Visit& visit) const {
+  const glm::ivec3 c = cellOf(x[i], 1.0f / support_reach_);
+  for (int dz = -cells; dz <= cells; ++dz)
+    for (int dy = -cells; dy <= cells; ++dy)
+      for (int dx = -cells; dx <= cells; ++dx) {
         const std::uint64_t key = cellKey(c + glm::ivec3(dx, dy, dz));
         auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
         for (; it != cell_key_.end() && *it == key; ++it) {
           const std::uint32_t j = cell_particle_[static_cast<std::size_t>(it - cell_key_.begin())];
           if (j == i || !(s[j] < s[i]) || !holds_[j] || !sameRegion(i, j)) continue;
           const glm::vec3 d = x[j] - x[i];
-          if (glm::dot(d, d) < r2) return true;
+          if (visit(j, glm::dot(d, d))) return;
         }
       }
-  return false;
+}
+
+bool HairChain::nearerHairWithin(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i) const {
+  const float r2 = support_reach_ * support_reach_;
+  bool found = false;
+  forEachHolder(x, s, i, 1, [&](std::uint32_t, float d2) { return found = d2 < r2; });
+  return found;
 }
 
 bool HairChain::nearestNearerHair(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i,
                                   std::uint32_t& nearest) const {
-  const float inv = 1.0f / support_reach_;
   float best = 4.0f * support_reach_ * support_reach_;
   bool found = false;
-  const glm::ivec3 c = cellOf(x[i], inv);
-  for (int dz = -2; dz <= 2; ++dz)
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) {
-        const std::uint64_t key = cellKey(c + glm::ivec3(dx, dy, dz));
-        auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
-        for (; it != cell_key_.end() && *it == key; ++it) {
-          const std::uint32_t j = cell_particle_[static_cast<std::size_t>(it - cell_key_.begin())];
-          if (j == i || !(s[j] < s[i]) || !holds_[j] || !sameRegion(i, j)) continue;
-          const glm::vec3 d = x[j] - x[i];
-          const float d2 = glm::dot(d, d);
-          // ties by index: the same answer whatever the cell order
-          if (d2 < best || (d2 == best && found && j < nearest)) best = d2, nearest = j, found = true;
-        }
-      }
+  forEachHolder(x, s, i, 2, [&](std::uint32_t j, float d2) {
+    // ties by index: the same answer whatever the cell order
+    if (d2 < best || (d2 == best && found && j < nearest)) best = d2, nearest = j, found = true;
+    return false;
+  });
   return found;
 }
 

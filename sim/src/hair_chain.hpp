@@ -125,6 +125,12 @@ class HairChain {
     return r2 > reach * reach ? p + (reach / std::sqrt(r2)) * d : x;
   }
   void makeGrid(std::span<const glm::vec3> x) const;
+  /// Calls visit(j, |x_j - x_i|^2) for each holder j nearer the root of i's
+  /// root region in the grid cells within `cells` of i's, until it returns
+  /// true.
+  template <class Visit>
+  void forEachHolder(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i, int cells,
+                     const Visit& visit) const;
   bool nearerHairWithin(std::span<const glm::vec3> x, std::span<const float> s, std::uint32_t i) const;
   /// The nearest particle that holds (a root or linked) nearer the root
   /// than i within two support reaches of it, in `nearest`; false if none.

@@ -111,6 +111,10 @@ class UnionBody final : public Body {
   float roughError() const override;
 
  private:
+  // the least over the parts of query(part, points, count, phi, normal),
+  // and for the points inside, the union's own surface where a part's is
+  template <class Query>
+  void least(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal, const Query& query) const;
   std::vector<std::shared_ptr<const Body>> parts_;
 };
 
