@@ -72,6 +72,13 @@ inline std::vector<float> crownLoops(const loosehair::StrandSet& rest, const std
   return loop;
 }
 
+inline float fastest(const loosehair::Particles& p) {
+  float most = 0.0f;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_root[i]) most = std::max(most, glm::length(p.velocity[i]));
+  return most;
+}
+
 inline std::size_t fasterThan(const loosehair::Particles& p, float speed) {
   std::size_t fast = 0;
   for (std::size_t i = 0; i < p.size(); ++i) fast += !p.is_root[i] && glm::length(p.velocity[i]) > speed;

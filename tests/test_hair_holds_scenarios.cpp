@@ -48,6 +48,7 @@ struct After {
   std::size_t loose;
   float nearest;     // the largest nearest-neighbour distance (m)
   std::size_t fast;  // particles above 5 cm/s
+  float fastest;     // m/s
   float region_gap;  // the farthest from other hair of its root region (m)
   std::size_t loops, strands;  // render strands turning back 1.5 cm over the crown, of
   float support;     // 2 h1 (m)
@@ -75,14 +76,16 @@ After runScene(const std::string& motion_json, double seconds) {
   std::size_t looped = 0;
   for (float l : crownLoops(field.rest(), pts, scene.head_center.y)) looped += l > 0.015f;
   return {looseParticles(p.position, p.is_root, 2.0f * solver.params().h1), largestNearestNeighbour(p.position),
-          fasterThan(p, 0.05f), farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); }), looped, field.strandCount(),
+          fasterThan(p, 0.05f), lhtest::fastest(p), farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); }), looped, field.strandCount(),
           2.0f * solver.params().h1};
 }
 
 void print(const char* name, const After& a) {
   std::printf("%s: %zu loose, largest nearest neighbour %.1f mm, farthest from its root region's hair %.1f mm "
-              "(2 h1 = %.1f), %zu of %zu strands turn back 1.5 cm over the crown, %zu above 5 cm/s\n",
-              name, a.loose, 1e3 * a.nearest, 1e3 * a.region_gap, 1e3 * a.support, a.loops, a.strands, a.fast);
+              "(2 h1 = %.1f), %zu of %zu strands turn back 1.5 cm over the crown, %zu above 5 cm/s, "
+              "fastest %.3f m/s\n",
+              name, a.loose, 1e3 * a.nearest, 1e3 * a.region_gap, 1e3 * a.support, a.loops, a.strands, a.fast,
+              a.fastest);
 }
 
 }  // namespace
@@ -93,9 +96,13 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
   EXPECT_EQ(still.loose, 0u);
   EXPECT_LT(still.region_gap, still.support);
   EXPECT_EQ(still.loops, 0u);
-  // (the issue asks for none above 5 cm/s after 3 s; a few particles at
-  // 5-6 cm/s remain, rocking by half a millimetre where the tether holds
-  // them against the scalp: reported, not asserted)
+  // The issue asks for none above 5 cm/s after 3 s; over 3-3.5 s and
+  // three seeds 0-6 particles are, at up to 18 cm/s, rocking by a
+  // millimetre at a taut tether (docs/design.md, "The hair chain"):
+  // reported. What is asserted is that nothing runs: a particle held at
+  // the chain's reach kept 2.2 m/s, and one drawn back up to its first
+  // partners fell and bounced at 1 m/s, for ever.
+  EXPECT_LT(still.fastest, 0.3f) << "a still head's hair at rest after 3 s";
   // the viewer session's turn, turn back and nod end at 3.37 s; one second to settle
   const std::string drag = lhtest::sourceDir() + "/tests/data/drag-and-nod-motion.json";
   const std::string saved = readRegularFile(drag, kMaxTextFileBytes);
