@@ -272,13 +272,7 @@ TEST(HeadMeshes, ABustWithArmsIsNotTakenForAHeadInAnotherUnit) {
   float bottom = INFINITY;
   for (const glm::vec3& v : bust.vertices) bottom = std::min(bottom, v.y);
   // the arms and shoulders: a closed box below the neck, outward faces
-  const glm::vec3 lo(-0.45f, bottom - 0.12f, -0.08f), hi(0.45f, bottom - 0.01f, 0.08f);
-  const auto base = static_cast<std::uint32_t>(bust.vertices.size());
-  for (int k = 0; k < 8; ++k)
-    bust.vertices.push_back({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
-  const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  for (const auto& f : faces) bust.triangles.push_back({base + f[0], base + f[1], base + f[2]});
+  lhtest::addBox(bust, {-0.45f, bottom - 0.12f, -0.08f}, {0.45f, bottom - 0.01f, 0.08f});
   const Built metres = buildHead(bust, "bust-with-arms");
   EXPECT_TRUE(metres.error.empty()) << metres.error;
   EXPECT_FALSE(mentions(metres, "head.scale")) << (metres.warnings.empty() ? "" : metres.warnings[0]);

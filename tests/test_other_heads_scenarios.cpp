@@ -48,14 +48,7 @@ TriangleMesh openNeck() {
 // neck, down to y = -0.30, into the chest; the arms into its sides)
 TriangleMesh bustWithArms() {
   TriangleMesh h = bundledHead();
-  auto box = [&](glm::vec3 lo, glm::vec3 hi) {
-    const auto base = static_cast<std::uint32_t>(h.vertices.size());
-    for (int k = 0; k < 8; ++k)
-      h.vertices.push_back({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
-    const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                        {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    for (const auto& f : faces) h.triangles.push_back({base + f[0], base + f[1], base + f[2]});
-  };
+  const auto box = [&](glm::vec3 lo, glm::vec3 hi) { lhtest::addBox(h, lo, hi); };
   box({-0.21f, -0.45f, -0.10f}, {0.21f, -0.29f, 0.10f});   // shoulders and chest
   box({-0.27f, -0.75f, -0.05f}, {-0.20f, -0.30f, 0.05f});  // arms, 1 cm into the chest
   box({0.20f, -0.75f, -0.05f}, {0.27f, -0.30f, 0.05f});

@@ -122,4 +122,13 @@ void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3
                     turn(r.points[q - 1], r.points[q], r.points[q + 1]));
 }
 
+void addBox(loosehair::TriangleMesh& mesh, glm::vec3 lo, glm::vec3 hi) {
+  const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+  for (int k = 0; k < 8; ++k)
+    mesh.vertices.push_back({(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z});
+  const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (const auto& f : faces) mesh.triangles.push_back({base + f[0], base + f[1], base + f[2]});
+}
+
 }  // namespace lhtest

@@ -52,4 +52,8 @@ float strandLengthError(const loosehair::StrandField& field, const std::vector<g
 void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points,
                 std::vector<float>& out);
 
+/// Appends a closed box [lo, hi] to `mesh` as a part of its own (12
+/// triangles, counter-clockwise seen from outside).
+void addBox(loosehair::TriangleMesh& mesh, glm::vec3 lo, glm::vec3 hi);
+
 }  // namespace lhtest

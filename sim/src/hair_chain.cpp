@@ -56,7 +56,8 @@ glm::ivec3 cellOf(const glm::vec3& p, float inv) { return glm::ivec3(glm::floor(
 
 void HairChain::makeGrid(std::span<const glm::vec3> x) const {
   const float inv = 1.0f / support_reach_;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(x.size());
+  auto& keyed = keyed_;
+  keyed.resize(x.size());
   for (std::uint32_t i = 0; i < x.size(); ++i) keyed[i] = {cellKey(cellOf(x[i], inv)), i};
   std::sort(keyed.begin(), keyed.end());
   cell_key_.resize(keyed.size());

@@ -24,7 +24,6 @@
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
-#include <glm/vec2.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -100,11 +99,8 @@ class HairChain {
     return moved;
   }
 
-  /// The radius of particle i's root region (m): hair rooted this near its
-  /// root may hold it. kRegionReaches support reaches, or as far as its
-  /// farthest-rooted candidate, whichever is more.
-  float regionRadius(std::size_t i) const { return std::sqrt(region2_[i]); }
-  /// Whether j's root is in i's root region.
+  /// Whether j's root is in i's root region: within kRegionReaches support
+  /// reaches of i's root, or as far as i's farthest-rooted candidate.
   bool inRegion(std::size_t i, std::size_t j) const {
     return sameRegion(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
   }
@@ -141,7 +137,7 @@ class HairChain {
     return glm::dot(d, d) <= region2_[i];
   }
   float support_reach_ = 0.0f;            // kSupportFraction * 2 h1
-  std::vector<float> region2_;            // regionRadius(i)^2
+  std::vector<float> region2_;            // the root region's radius^2 (m^2)
   std::vector<glm::vec3> root_;           // each particle's root point
   std::vector<std::uint32_t> order_;      // linked particles by arc length
   std::vector<std::uint32_t> first_;      // candidates of i: [first_[i], first_[i + 1])
@@ -150,6 +146,7 @@ class HairChain {
   std::vector<std::uint8_t> holds_;       // a root or a linked particle
   // the particles sorted by grid cell (cells of support_reach_), made when
   // a pass first needs it
+  mutable std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_;  // makeGrid's scratch
   mutable std::vector<std::uint64_t> cell_key_;
   mutable std::vector<std::uint32_t> cell_particle_;
 };

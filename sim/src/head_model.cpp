@@ -110,18 +110,19 @@ std::vector<TriangleMesh> collisionPieces(const TriangleMesh& mesh) {
   std::vector<std::uint32_t> piece_of(parts.count(), 0);
   for (std::uint32_t k = 0; k < large.size(); ++k) piece_of[large[k]] = k;
   std::vector<TriangleMesh> pieces(large.size());
-  std::vector<std::vector<std::uint32_t>> index(large.size(),
-                                                std::vector<std::uint32_t>(mesh.vertices.size(), UINT32_MAX));
+  // a vertex belongs to one part (the parts are joined through vertices),
+  // so to one piece: its index there
+  std::vector<std::uint32_t> index(mesh.vertices.size(), UINT32_MAX);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const std::uint32_t k = piece_of[parts.of_triangle[t]];
     glm::u32vec3 tri;
     for (int c = 0; c < 3; ++c) {
       const std::uint32_t v = mesh.triangles[t][c];
-      if (index[k][v] == UINT32_MAX) {
-        index[k][v] = static_cast<std::uint32_t>(pieces[k].vertices.size());
+      if (index[v] == UINT32_MAX) {
+        index[v] = static_cast<std::uint32_t>(pieces[k].vertices.size());
         pieces[k].vertices.push_back(mesh.vertices[v]);
       }
-      tri[c] = index[k][v];
+      tri[c] = index[v];
     }
     pieces[k].triangles.push_back(tri);
   }

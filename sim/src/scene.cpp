@@ -17,6 +17,7 @@
 #include "style/hair_tie.hpp"
 #include "style/style_seeding.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <unordered_map>
 #include <set>
 #include <sstream>
 
@@ -282,8 +284,6 @@ namespace {
 // per cent at this step (docs/design.md "Implicit springs", measured).
 constexpr double kAccurateStep = 1.0 / 90.0;
 
-// The particles to keep, in their order: the roots, and, by increasing s,
-// every particle with a kept particle of smaller s within `reach`.
 // Particles that hang on something: in order of arc length, each must have
 // a kept particle nearer the root within `reach`. One that has none, but a
 // kept particle nearer the root within `pull` (> reach), is moved along the
@@ -303,37 +303,62 @@ std::vector<std::uint32_t> anchorableParticles(Particles& p, float reach, float 
   grid.build(p.position, reach, 1);
   std::vector<std::uint8_t> kept(n, 0);
   std::vector<std::uint32_t> kept_list;  // by arc length
+  // the kept particles by cell of `pull` at their current positions, made
+  // at the first straggler (each a list in the order kept: deterministic)
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> kept_cells;
+  bool cells_made = false;
+  const float inv_pull = 1.0f / pull;
+  auto cellOf = [&](const glm::vec3& x) { return glm::ivec3(glm::floor(x * inv_pull)); };
+  auto key = [](glm::ivec3 c) {
+    const auto u = [](int v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1fffff; };
+    return (u(c.x) << 42) | (u(c.y) << 21) | u(c.z);
+  };
+  auto keep = [&](std::uint32_t i) {
+    kept[i] = 1;
+    kept_list.push_back(i);
+    if (cells_made) kept_cells[key(cellOf(p.position[i]))].push_back(i);
+  };
   pulled = 0;
   for (std::uint32_t i : order) {
     if (p.is_root[i]) {
-      kept[i] = 1;
-      kept_list.push_back(i);
+      keep(i);
       continue;
     }
+    bool anchored = false;
     for (std::uint32_t j : grid.neighbors(i))
       if (kept[j] && p.arc_length[j] < p.arc_length[i] &&
           glm::length(p.position[j] - p.position[i]) < reach) {
-        kept[i] = 1;
+        anchored = true;
         break;
       }
-    if (!kept[i]) {
-      // stragglers are few: every kept particle nearer the root is asked
-      // (a moved particle is no longer where the grid has it)
+    if (!anchored) {
+      // a straggler: the nearest kept particle nearer the root within
+      // `pull`, from the cells (a moved particle is no longer where the
+      // grid has it)
+      if (!cells_made) {
+        for (std::uint32_t j : kept_list) kept_cells[key(cellOf(p.position[j]))].push_back(j);
+        cells_made = true;
+      }
       std::uint32_t best = i;
       float best_d = pull;
-      for (std::uint32_t j : kept_list) {
-        if (!(p.arc_length[j] < p.arc_length[i])) continue;
-        const float d = glm::length(p.position[j] - p.position[i]);
-        if (d < best_d) best_d = d, best = j;
-      }
-      if (best != i) {
-        const glm::vec3 from = p.position[best];
-        p.position[i] = from + (0.9f * reach / best_d) * (p.position[i] - from);
-        kept[i] = 1;
-        ++pulled;
-      }
+      const glm::ivec3 c = cellOf(p.position[i]);
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const auto it = kept_cells.find(key(c + glm::ivec3(dx, dy, dz)));
+            if (it == kept_cells.end()) continue;
+            for (std::uint32_t j : it->second) {
+              if (!(p.arc_length[j] < p.arc_length[i])) continue;
+              const float d = glm::length(p.position[j] - p.position[i]);
+              if (d < best_d || (d == best_d && best != i && j < best)) best_d = d, best = j;
+            }
+          }
+      if (best == i) continue;  // left out
+      const glm::vec3 from = p.position[best];
+      p.position[i] = from + (0.9f * reach / best_d) * (p.position[i] - from);
+      ++pulled;
     }
-    if (kept[i]) kept_list.push_back(i);
+    keep(i);
   }
   std::vector<std::uint32_t> which;
   for (std::uint32_t i = 0; i < n; ++i)

@@ -1645,6 +1645,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
   const auto& sarc = particles_.arc_length;
   const float reach_scale = 1.0f + params_.tether_slack;
   if (slide) trapped_.resize(n);
+  std::atomic<bool> any_trapped{false};
   static_assert(kBodyBlock <= 65536);
   prepareBodyHints(frames);
   // A particle's clearance now: integrate()'s bound, less how far it moved
@@ -1767,10 +1768,11 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
             const float caught = reach_scale * sarc[i] + tether::kTrappedExcess * longest_hair_;
             const glm::vec3 d = x[i] - rp[i];
             trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
+            if (trapped_[i]) any_trapped.store(true, std::memory_order_relaxed);
           }
         }
       });
-  if (slide) freeTrappedHair(solid_frames, head);
+  if (any_trapped.load()) freeTrappedHair(solid_frames, head);  // rare: most steps catch none
 }
 
 // ---- hair directions, eq. 15, with the spring lengths of the next step ------

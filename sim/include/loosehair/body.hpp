@@ -93,7 +93,6 @@ class CapsuleBody final : public Body {
 class UnionBody final : public Body {
  public:
   void add(std::shared_ptr<const Body> body) { parts_.push_back(std::move(body)); }
-  std::size_t size() const { return parts_.size(); }
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
   void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
