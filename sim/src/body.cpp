@@ -67,42 +67,6 @@ void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_
   }
 }
 
-// For the points inside the union: the least over the parts is the
-// deepest part's surface, which may lie inside another part (pushed out of
-// a neck through its bottom, a particle lands in the chest it sits in).
-// The union's own surface is a part's surface point outside every other
-// part: of the parts' nearest surface points p - phi_q n_q, the nearest
-// one outside the others wins; where none is, the least stands (the
-// solver's later rounds push again). `one(q, x, phi, normal)` asks part q
-// about one point, as the query being answered does.
-template <class One>
-void unionSurfaceInside(std::size_t parts, const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal,
-                        const One& one) {
-  if (parts < 2) return;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!(phi[k] < 0.0f)) continue;
-    float best = -INFINITY;
-    glm::vec3 best_normal(0.0f);
-    for (std::size_t q = 0; q < parts; ++q) {
-      float d;
-      glm::vec3 nq;
-      one(q, p[k], d, nq);
-      if (!(d < 0.0f) || !(d > best)) continue;
-      const glm::vec3 c = p[k] - d * nq;  // on part q's surface
-      bool outside = true;
-      for (std::size_t j = 0; j < parts && outside; ++j) {
-        if (j == q) continue;
-        float dj;
-        glm::vec3 nj;
-        one(j, c, dj, nj);
-        outside = !(dj < -1e-6f);
-      }
-      if (outside) best = d, best_normal = nq;
-    }
-    if (best > -INFINITY) phi[k] = best, normal[k] = best_normal;
-  }
-}
-
 }  // namespace
 
 template <class Query>
@@ -111,9 +75,6 @@ void UnionBody::least(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* 
             [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
               query(*parts_[q], p + b, len, pb, nb);
             });
-  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
-    query(*parts_[q], &x, 1, &d, &nq);
-  });
 }
 
 void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
@@ -152,9 +113,6 @@ void UnionBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, flo
                 if (own[k] >= 0 && pb[k] < phi[b + k] && own[k] <= (INT32_MAX - parts) / parts)
                   hint[b + k] = own[k] * parts + static_cast<std::int32_t>(q);
             });
-  unionSurfaceInside(parts_.size(), p, n, phi, normal, [&](std::size_t q, const glm::vec3& x, float& d, glm::vec3& nq) {
-    parts_[q]->signedDistanceBelow(&x, 1, limit, &d, &nq);
-  });
 }
 
 float UnionBody::roughError() const {

@@ -85,7 +85,8 @@ class CapsuleBody final : public Body {
 };
 
 /// The union of bodies given in one frame: the least signed distance wins
-/// (exact outside the union; inside, the deepest part's). A mesh of
+/// (exact outside the union; inside, the deepest part's, whose surface may
+/// lie inside another part: the solver's later rounds push again). A mesh of
 /// separate closed parts that overlap (a neck pushed into a bust, eyes in
 /// a head) is such a union: as one mesh, the faces of one part inside
 /// another are surfaces too, and a point inside near one of them is pushed
@@ -110,8 +111,7 @@ class UnionBody final : public Body {
   float roughError() const override;
 
  private:
-  // the least over the parts of query(part, points, count, phi, normal),
-  // and for the points inside, the union's own surface where a part's is
+  // the least over the parts of query(part, points, count, phi, normal)
   template <class Query>
   void least(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal, const Query& query) const;
   std::vector<std::shared_ptr<const Body>> parts_;
