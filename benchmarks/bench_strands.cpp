@@ -1,14 +1,11 @@
 // Carrying render strands with the particles (issue "strands"): the bundled
 // hang scene settled for a second, then StrandField::deform with and
 // without the push out of the bodies, for 10k and 50k strands of 24 points,
-// on two threads. Counters: the binding's time and the first carry's with
-// the bodies (which builds their fine bands where the hair lies), in ms.
-// Run: build/release/benchmarks/loosehair_bench_strands
+// on two threads. Run: build/release/benchmarks/loosehair_bench_strands
 #include "loosehair/loosehair.hpp"
 
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <map>
 #include <memory>
 
@@ -21,7 +18,6 @@ struct Setup {
   BuildReport build;
   std::unique_ptr<Solver> solver;
   std::unique_ptr<StrandField> field;
-  double bind_ms = 0, first_ms = 0;  // binding, and the first carry with bodies
 };
 
 Setup& setup(std::size_t strands) {
@@ -34,17 +30,8 @@ Setup& setup(std::size_t strands) {
     RenderStrandOptions so;
     so.strands = strands;
     so.points = 24;
-    const auto t0 = std::chrono::steady_clock::now();
     s->field = std::make_unique<StrandField>(bindSceneStrands(s->scene, s->solver->particles(), s->build, so, 2));
-    const auto t1 = std::chrono::steady_clock::now();
     s->solver->advance(30 * s->build.substeps);
-    // the first carry builds the bodies' fine bands where the hair lies
-    std::vector<glm::vec3> out;
-    const auto t2 = std::chrono::steady_clock::now();
-    s->field->deform(*s->solver, out, 2);
-    const auto t3 = std::chrono::steady_clock::now();
-    s->bind_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    s->first_ms = std::chrono::duration<double, std::milli>(t3 - t2).count();
   }
   return *s;
 }
@@ -61,8 +48,6 @@ void BM_CarryStrands(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   state.counters["points"] = static_cast<double>(out.size());
-  state.counters["bind_ms"] = s.bind_ms;
-  state.counters["first_ms"] = s.first_ms;
 }
 
 }  // namespace

@@ -279,67 +279,6 @@ TEST(MeshBody, RoughErrorBoundsTheRoughAnswers) {
   EXPECT_LE(worst, static_cast<double>(body->roughError()));
 }
 
-// The fine band (sim/src/fine_band.hpp): within its error of the exact
-// distance wherever it answers below the limit, on a box's sharp edges and
-// corners and on a bumpy sphere's creases; no nearer than the limit less
-// that error elsewhere; and the
-// same bits whichever points were asked first (its bricks are built lazily
-// by whoever asks, from exact values).
-TEST(MeshBody, FineAnswersAreWithinTheFineErrorOfTheExactDistance) {
-  for (int shape = 0; shape < 2; ++shape) {
-    TriangleMesh m = shape == 0 ? bumpySphere(0.1f, 3, 0.06f)
-                                : box(glm::vec3(-0.05f, -0.03f, -0.04f), glm::vec3(0.05f, 0.04f, 0.03f));
-    const BakedBody baked = meshBody(m, 0.008f);
-    const auto& body = baked.body;
-    const float e = body->fineError();
-    EXPECT_GT(e, 0.0f);
-    EXPECT_LT(e, 1e-3f);
-    EXPECT_EQ(SphereBody(glm::vec3(0.0f), 0.1f).fineError(), 0.0f);
-    Random rng(11 + shape);
-    std::vector<glm::vec3> pts;
-    for (int k = 0; k < 3000; ++k) {
-      // near the surface: along a random ray from the centre to the exact
-      // surface, then a few millimetres in or out
-      const glm::vec3 d = glm::normalize(glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
-      float lo = 0.0f, hi = 0.2f;
-      for (int it = 0; it < 40; ++it) {
-        const float mid = 0.5f * (lo + hi);
-        (exactSignedDistance(m, mid * d) < 0.0 ? lo : hi) = mid;
-      }
-      pts.push_back(lo * d + static_cast<float>(rng.uniform(-0.006, 0.004)) * d);
-    }
-    const float limit = 1e-3f;
-    std::vector<float> phi(pts.size()), again(pts.size());
-    std::vector<glm::vec3> n(pts.size()), n2(pts.size());
-    body->fineDistanceBelow(pts.data(), pts.size(), limit, phi.data(), n.data());
-    double worst = 0;
-    int below = 0;
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-      const double exact = exactSignedDistance(m, pts[k]);
-      if (phi[k] < limit) {
-        ++below;
-        worst = std::max(worst, std::fabs(static_cast<double>(phi[k]) - exact));
-        EXPECT_NEAR(glm::length(n[k]), 1.0f, 1e-4f);
-      } else {
-        // a lower bound, or a fine answer at or over the limit
-        EXPECT_LE(static_cast<double>(limit - e), exact + 1e-6) << "an answer over the limit where the point is nearer";
-      }
-    }
-    std::printf("shape %d: %d of %zu below the limit, fine minus exact at most %.2e m (error %.2e m), %zu bricks\n",
-                shape, below, pts.size(), worst, static_cast<double>(e), body->fineBricks());
-    EXPECT_GT(below, 1000);
-    EXPECT_LE(worst, static_cast<double>(e));
-    // asked again in the reverse order, on a fresh body: the same bits
-    const BakedBody fresh = meshBody(m, 0.008f);
-    std::vector<glm::vec3> rev(pts.rbegin(), pts.rend());
-    fresh.body->fineDistanceBelow(rev.data(), rev.size(), limit, again.data(), n2.data());
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-      ASSERT_EQ(phi[k], again[pts.size() - 1 - k]) << "point " << k;
-      ASSERT_EQ(n[k], n2[pts.size() - 1 - k]) << "point " << k;
-    }
-  }
-}
-
 // A world body that moves between a step's start and its end: a bumpy
 // ball swept along the hanging back hair at 3 m/s (33 mm a step). The
 // projection skips the particles integrate() proved clear of every body at

@@ -122,7 +122,7 @@ TEST(StrandField, StrandsEndingInsideAThinPartStayOnTheSideTheyCameFrom) {
   for (std::size_t s = 0; s < r.size(); ++s) tips.push_back(free[r.first[s + 1] - 1].y);
   std::sort(tips.begin(), tips.end());
   const float mid = tips[tips.size() / 5], half = 0.015f;
-  const BodyContacts plate = [&](std::span<const glm::vec3> pts, float, BodyQuery, std::span<float> phi,
+  const BodyContacts plate = [&](std::span<const glm::vec3> pts, float, bool, std::span<float> phi,
                                  std::span<glm::vec3> normal) {
     for (std::size_t k = 0; k < pts.size(); ++k) {
       const float dy = pts[k].y - mid;

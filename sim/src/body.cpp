@@ -115,19 +115,6 @@ void UnionBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, flo
             });
 }
 
-void UnionBody::fineDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                  glm::vec3* normal) const {
-  least(p, n, phi, normal, [limit](const Body& part, const glm::vec3* x, std::size_t m, float* d, glm::vec3* nq) {
-    part.fineDistanceBelow(x, m, limit, d, nq);
-  });
-}
-
-float UnionBody::fineError() const {
-  float most = 0.0f;
-  for (const auto& part : parts_) most = std::max(most, part->fineError());
-  return most;
-}
-
 float UnionBody::roughError() const {
   float most = 0.0f;
   for (const auto& part : parts_) {

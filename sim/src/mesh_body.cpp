@@ -5,7 +5,6 @@
 #include "loosehair/body.hpp"
 
 #include "exact_distance.hpp"
-#include "fine_band.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -25,18 +24,6 @@ MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> 
   // over the distance (the bake keeps it below GridSdfBody::kFarAllowance)
   static_assert(GridSdfBody::kFarAllowance < 0.8660254f);
   grid_error_ = 1.7321f * grid_->voxelSize() * 1.001f + 1e-7f;
-  // The fine band over the grid's box (which holds the mesh with room
-  // around it); a lattice value is what refine() gives an exact query.
-  const glm::vec3 top = grid_->lower() + grid_->voxelSize() * glm::vec3(grid_->dims() - 1);
-  fine_ = std::make_unique<FineBand>(grid_->lower(), top, kFineVoxel,
-                                     [this](const glm::vec3& p, std::int32_t& hint) {
-                                       float phi = 0.0f;
-                                       glm::vec3 n(0.0f);
-                                       grid_->signedDistance(&p, 1, &phi, &n);
-                                       refine(&p, 1, std::numeric_limits<float>::max(),
-                                              std::numeric_limits<float>::infinity(), &phi, &n, &hint);
-                                       return phi;
-                                     });
 }
 
 MeshBody::~MeshBody() = default;
@@ -107,28 +94,6 @@ void MeshBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, floa
   grid_->signedDistanceBelow(p, n, limit + grid_error_, phi, normal);
   refine(p, n, limit, std::numeric_limits<float>::infinity(), phi, normal, hint);
 }
-
-void MeshBody::fineDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                 glm::vec3* normal) const {
-  // Beyond the band's reach a lower bound from the grid: the band's bricks
-  // are built only where points lie at the surface.
-  const float reach = std::min(limit, kFineReach);
-  grid_->signedDistanceBelow(p, n, reach + grid_error_, phi, normal);
-  for (std::size_t k = 0; k < n; ++k) {
-    const float g = phi[k];
-    if (!(g < reach + grid_error_)) {
-      phi[k] = std::max(reach, g - grid_error_);  // a lower bound, as refine() gives
-      continue;
-    }
-    if (g > -kFineDepth && fine_->sample(p[k], phi[k], normal[k])) continue;
-    phi[k] = g;  // deep inside, outside the box or not finite: exactly
-    refine(&p[k], 1, limit, std::numeric_limits<float>::infinity(), &phi[k], &normal[k]);
-  }
-}
-
-float MeshBody::fineError() const { return fine_->error(); }
-
-std::size_t MeshBody::fineBricks() const { return fine_->bricks(); }
 
 void MeshBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                                   glm::vec3* normal) const {

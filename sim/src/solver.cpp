@@ -1113,7 +1113,7 @@ std::int32_t* Solver::bodyHints(const Body* body) const {
 
 void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                         glm::vec3* surface_velocity, float limit, BodyQuery how,
+                         glm::vec3* surface_velocity, float limit, bool rough,
                          const std::uint32_t* index) const {
   // The exact queries of one body over the points, with the particles'
   // hints for it where there are any.
@@ -1134,16 +1134,10 @@ void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinemat
   };
   // Where every body answers phi >= limit, the nearest may be any of them:
   // the callers only look at the normal and the surface velocity below it.
-  auto ask = [&](const Body& body, const glm::vec3* p, std::size_t count, std::size_t first, float* out_phi,
-                 glm::vec3* out_normal) {
-    if (how == BodyQuery::rough)
-      body.roughDistanceBelow(p, count, limit, out_phi, out_normal);
-    else if (how == BodyQuery::fine)
-      body.fineDistanceBelow(p, count, limit, out_phi, out_normal);
-    else
-      exact(body, p, count, first, out_phi, out_normal);
-  };
-  ask(*head_, x, n, 0, phi, normal);
+  if (rough)
+    head_->roughDistanceBelow(x, n, limit, phi, normal);
+  else
+    exact(*head_, x, n, 0, phi, normal);
   if (surface_velocity)
     for (std::size_t k = 0; k < n; ++k) surface_velocity[k] = glm::vec3(0.0f);
   if (frames.empty()) return;
@@ -1155,7 +1149,10 @@ void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinemat
     const std::size_t len = std::min(kBodyBlock, n - b);
     for (const BodyFrame& f : frames) {
       for (std::size_t k = 0; k < len; ++k) q[k] = f.m * x[b + k] + f.d;
-      ask(*f.body, q, len, b, pb, nb);
+      if (rough)
+        f.body->roughDistanceBelow(q, len, limit, pb, nb);
+      else
+        exact(*f.body, q, len, b, pb, nb);
       for (std::size_t k = 0; k < len; ++k) {
         if (!(pb[k] < phi[b + k])) continue;
         phi[b + k] = pb[k];
@@ -1179,23 +1176,14 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t, std::vect
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
-float Solver::bodyFineError() const {
-  std::vector<BodyFrame> frames;
-  HeadKinematics head;
-  placeBodies(time_, frames, head, true);
-  float most = head_->fineError();
-  for (const BodyFrame& f : frames) most = std::max(most, f.body->fineError());
-  return most;
-}
-
 void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit,
-                          std::span<float> phi, std::span<glm::vec3> normal, BodyQuery how) const {
+                          std::span<float> phi, std::span<glm::vec3> normal, bool rough) const {
   if (phi.size() < points.size() || normal.size() < points.size())
     throw std::invalid_argument("Solver::bodyContacts: output spans shorter than the points");
   std::vector<BodyFrame> frames;
   HeadKinematics head;
   placeBodies(t, frames, head, true);
-  queryBodies(frames, head, points.data(), points.size(), phi.data(), normal.data(), nullptr, limit, how);
+  queryBodies(frames, head, points.data(), points.size(), phi.data(), normal.data(), nullptr, limit, rough);
 }
 
 // ---- wind (SPEC §5) -----------------------------------------------------------
@@ -1258,8 +1246,7 @@ void Solver::worldBodySample(const std::vector<BodyFrame>& frames, const HeadKin
     const std::size_t b = bb * kBodyBlock, len = std::min(kBodyBlock, n - b);
     glm::vec3 local[kBodyBlock]{}, nrm[kBodyBlock], surface[kBodyBlock];
     for (std::size_t k = 0; k < len; ++k) local[k] = glm::vec3(rt * (glm::dvec3(world[b + k]) - head.pose.center));
-    queryBodies(frames, head, local, len, phi + b, nrm, velocity ? surface : nullptr, INFINITY,
-                rough ? BodyQuery::rough : BodyQuery::exact);
+    queryBodies(frames, head, local, len, phi + b, nrm, velocity ? surface : nullptr, INFINITY, rough);
     // the bodies' velocity relative to the head frame, made a world one
     if (velocity)
       for (std::size_t k = 0; k < len; ++k)
@@ -1386,7 +1373,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
       // after the constraints keeps particles out of the exact surface.
       // Beyond the contact thickness, as far as a particle at
       // kSpeculativeSpeed gets in a step: speculative contacts.
-      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, reach, BodyQuery::rough);
+      queryBodies(frames, head, &x[b], e - b, &body_phi_[b], &body_normal_[b], surface, reach, true);
       for (std::size_t i = b; i < e; ++i) {
         if (root[i]) {
           strain_record[i] = glm::vec4(x[i], inv_mass[i]);
@@ -1712,7 +1699,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
         for (int round = 0; round < total_rounds; ++round) {
           if (round == 0 && asked == len) {
             for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
-            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f, BodyQuery::exact,
+            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f, false,
                         index);
           } else {
             for (std::size_t k = 0; k < asked; ++k) {
@@ -1720,7 +1707,7 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
               index[k] = static_cast<std::uint32_t>(b + ask[k]);
             }
             queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
-                        q_surface, 0.0f, BodyQuery::exact, index);
+                        q_surface, 0.0f, false, index);
             for (std::size_t k = 0; k < asked; ++k) {
               body_phi_[b + ask[k]] = q_phi[k];
               body_normal_[b + ask[k]] = q_normal[k];
@@ -1991,7 +1978,7 @@ void Solver::step() {
       StepBodies(const Solver& s, const std::vector<BodyFrame>& f) : solver(s), frames(f) {}
       void local(const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal,
                  glm::vec3* v) const override {
-        solver.queryBodies(frames, end, x, count, phi, normal, v, INFINITY, BodyQuery::rough);
+        solver.queryBodies(frames, end, x, count, phi, normal, v, INFINITY, true);
       }
       void worldSample(const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) const override {
         solver.worldBodySample(frames, end, w, count, phi, v, true);

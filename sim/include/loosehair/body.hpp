@@ -13,13 +13,6 @@
 
 namespace loosehair {
 
-/// How exactly a query is answered (Body's three kinds of query).
-enum class BodyQuery : std::uint8_t {
-  exact,  ///< signedDistanceBelow
-  rough,  ///< roughDistanceBelow: the fast approximation
-  fine,   ///< fineDistanceBelow: within fineError()
-};
-
 class Body {
  public:
   virtual ~Body() = default;
@@ -61,19 +54,6 @@ class Body {
   /// particle is clear of the body without asking again). Negative: no
   /// such bound (the default; the solver then asks about every particle).
   virtual float roughError() const { return -1.0f; }
-  /// The same answered within fineError() of the exact signed distance
-  /// (MeshBody: a fine lattice of exact values near its surface, built where
-  /// points are asked about), for the render strands, which need many
-  /// queries right at the surface. A body may answer with a lower bound
-  /// below the limit where the point is more than a few millimetres out
-  /// (MeshBody::kFineReach). By default: signedDistanceBelow.
-  virtual void fineDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                 glm::vec3* normal) const {
-    signedDistanceBelow(p, n, limit, phi, normal);
-  }
-  /// How far (m) fineDistanceBelow's answers below the limit may lie from
-  /// the exact signed distance (0: they are exact).
-  virtual float fineError() const { return 0.0f; }
 };
 
 /// An analytic sphere.
@@ -129,10 +109,6 @@ class UnionBody final : public Body {
   /// distance: exact, or a MeshBody's grid beyond its band); negative if
   /// any part has none.
   float roughError() const override;
-  void fineDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                         glm::vec3* normal) const override;
-  /// The parts' largest.
-  float fineError() const override;
 
  private:
   // the least over the parts of query(part, points, count, phi, normal)
@@ -241,7 +217,6 @@ class GridSdfBody final : public Body {
 /// So contacts keep particles outside the real triangles, not only outside
 /// the grid's interpolant, which cuts corners by up to a voxel.
 class ExactDistance;
-class FineBand;
 
 class MeshBody final : public Body {
  public:
@@ -262,24 +237,6 @@ class MeshBody final : public Body {
   /// Its grid's error: the rough answers (and signedDistance's beyond its
   /// band) are within it of the exact distance, which decides the sign.
   float roughError() const override { return grid_error_; }
-  /// The fine band's answers (sim/src/fine_band.hpp): exact values on a
-  /// lattice of kFineVoxel, interpolated; exact deeper than kFineDepth
-  /// inside and outside the lattice's box.
-  void fineDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                         glm::vec3* normal) const override;
-  float fineError() const override;
-  /// The fine band's voxel (m): its error, sqrt(3)/2 of it (0.69 mm),
-  /// stays below the render strands' default clearance of 0.8 mm; finer,
-  /// the bricks under a head of hair took seconds to build.
-  static constexpr float kFineVoxel = 8e-4f;
-  /// Deeper inside than this (m) the fine query asks exactly (rare: the
-  /// bricks are built where the hair lies, at the surface).
-  static constexpr float kFineDepth = 1.5e-2f;
-  /// The fine answers are within fineError() where they are below
-  /// min(limit, kFineReach) (m); elsewhere they are lower bounds.
-  static constexpr float kFineReach = 1e-3f;
-  /// Fine-band bricks built so far.
-  std::size_t fineBricks() const;
   const GridSdfBody& grid() const { return *grid_; }
   /// The grid's worst error (m): a Lipschitz bound, sqrt(3) voxels.
   float gridError() const { return grid_error_; }
@@ -293,7 +250,6 @@ class MeshBody final : public Body {
               glm::vec3* normal, std::int32_t* hint = nullptr) const;
   std::shared_ptr<const GridSdfBody> grid_;
   std::unique_ptr<ExactDistance> exact_;
-  std::unique_ptr<FineBand> fine_;
   float grid_error_ = 0.0f;
 };
 

@@ -175,14 +175,9 @@ class Solver {
   /// Signed distance and outward normal (head frame) of the nearest of the
   /// head and the world bodies active at time t, obstacles included, exact
   /// where phi < limit (elsewhere phi >= limit, the normal unspecified);
-  /// `how`: exactly, by the bodies' fast approximation
-  /// (Body::roughDistanceBelow) or within their fine error
-  /// (Body::fineDistanceBelow).
-  /// The largest fineError() of the head and the world bodies.
-  float bodyFineError() const;
+  /// `rough`: by the bodies' fast approximation (Body::roughDistanceBelow).
   void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit,
-                    std::span<float> phi, std::span<glm::vec3> normal,
-                    BodyQuery how = BodyQuery::exact) const;
+                    std::span<float> phi, std::span<glm::vec3> normal, bool rough = false) const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay
@@ -284,13 +279,13 @@ class Solver {
                    bool include_obstacles = true) const;
   /// phi, normal and surface velocity of the nearest body; exact where phi <
   /// limit, elsewhere phi >= limit and the rest unspecified
-  /// (Body::signedDistanceBelow, or as `how` says).
+  /// (Body::signedDistanceBelow; `rough`: Body::roughDistanceBelow).
   /// `index` (optional): the particles the points are, whose exact-query
   /// hints (body_hints_, made by prepareBodyHints) speed the exact queries
   /// up without changing their answers.
   void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                    const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                   glm::vec3* surface_velocity, float limit = INFINITY, BodyQuery how = BodyQuery::exact,
+                   glm::vec3* surface_velocity, float limit = INFINITY, bool rough = false,
                    const std::uint32_t* index = nullptr) const;
   /// A hint a particle for the head and for every body of `frames`.
   void prepareBodyHints(const std::vector<BodyFrame>& frames) const;

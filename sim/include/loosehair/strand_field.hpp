@@ -17,14 +17,12 @@
 // No GL here: the renderer and the exporters take the points.
 #pragma once
 
-#include "loosehair/body.hpp"
 #include "loosehair/particles.hpp"
 #include "loosehair/style.hpp"
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -46,14 +44,14 @@ struct StrandFieldOptions {
   /// Segment lengths are kept within this fraction of their rest length.
   float length_tolerance = 0.01f;
   /// Points (roots excepted) are kept this far out of the bodies (m).
-  float clearance = 8e-4f;
+  float clearance = 5e-4f;
 };
 
 /// Signed distances (negative inside) and outward normals of the bodies at
-/// `points`, exact where phi < limit (or as `how` says: the bodies' fast
-/// approximation, or within their fine error); elsewhere phi is a lower
+/// `points`, exact where phi < limit (`rough`: the bodies' fast
+/// approximation there, Body::roughDistanceBelow); elsewhere phi is a lower
 /// bound >= limit.
-using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, BodyQuery how,
+using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, bool rough,
                                         std::span<float> phi, std::span<glm::vec3> normal)>;
 
 /// The head and the world bodies of `solver` at its current time, for
@@ -72,13 +70,9 @@ class StrandField {
   /// frame as the rest state, one per particle): `out` receives
   /// rest().points.size() points. `bodies` (may be null) keeps points out
   /// of the bodies. Same bits for any thread count. Throws
-  /// std::invalid_argument on wrong sizes. `fine_error`: how far the
-  /// bodies' fine answers (BodyQuery::fine) may lie from the exact
-  /// distance; below the clearance they decide alone (no point is left
-  /// inside), otherwise exact queries have the last word.
+  /// std::invalid_argument on wrong sizes.
   void deform(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-              const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads = 1,
-              float fine_error = INFINITY) const;
+              const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads = 1) const;
   /// The same for a solver's current state, head frame, out of its bodies.
   void deform(const Solver& solver, std::vector<glm::vec3>& out, int threads = 1) const;
   /// The same in world coordinates (the head frame placed by the head's

@@ -103,7 +103,7 @@ void checkFinite(const std::vector<glm::vec3>& v, const char* what) {
 // Rounds of (push out by the bodies' fast approximation, length limit);
 // exact pushes of what is left inside, at most kFinalPushes times; rounds
 // of (mend the length at the tip, exact pushes).
-constexpr int kRoughRounds = 2, kFinalPushes = 4, kTrimRounds = 2;
+constexpr int kRoughRounds = 3, kFinalPushes = 4, kTrimRounds = 2;
 // A push that would leave a segment longer than this many rest lengths
 // went through a thin part (pushOut); the entry point is then found to
 // 2^-kEntryBisections of the segment (nearSidePush).
@@ -144,8 +144,8 @@ constexpr float kRotationRadius = 3.0f;
 }  // namespace
 
 BodyContacts solverBodyContacts(const Solver& solver) {
-  return [&solver](std::span<const glm::vec3> p, float limit, BodyQuery how, std::span<float> phi,
-                   std::span<glm::vec3> n) { solver.bodyContacts(p, solver.time(), limit, phi, n, how); };
+  return [&solver](std::span<const glm::vec3> p, float limit, bool rough, std::span<float> phi,
+                   std::span<glm::vec3> n) { solver.bodyContacts(p, solver.time(), limit, phi, n, rough); };
 }
 
 StrandField::StrandField(StrandSet rest, const Particles& particles, const StrandFieldOptions& options,
@@ -307,8 +307,7 @@ void StrandField::particleMotions(std::span<const glm::vec3> x, std::span<const 
 }
 
 void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
-                         const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads,
-                         float fine_error) const {
+                         const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads) const {
   if (x.size() != particles_ || t.size() != particles_)
     throw std::invalid_argument("StrandField::deform: " + std::to_string(x.size()) + " positions and " +
                                 std::to_string(t.size()) + " directions for " + std::to_string(particles_) +
@@ -316,17 +315,8 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
   std::vector<glm::mat3> rot;
   std::vector<glm::vec3> shift;
   particleMotions(x, t, rot, shift, threads);
-  // The fine answers settle every push where they are within the
-  // clearance of the exact distance (MeshBody's fine band: 0.35 mm against
-  // 0.5 mm): pushed to the clearance by them, a point is outside.
-  const bool fine_decides = fine_error < options_.clearance;
-  const BodyQuery last_word = fine_decides ? BodyQuery::fine : BodyQuery::exact;
-  const float bound_error = std::isfinite(fine_error) ? fine_error : 0.0f;
-  // the fine answer below which a point may be inside
-  const float final_trigger = fine_decides ? fine_error : 0.0f;
-  // lower bounds of the particles' distances to the bodies (within the
-  // fine error nearer than a few supports, where strand points may need
-  // them)
+  // lower bounds of the particles' distances to the bodies (exact nearer
+  // than a few supports, where strand points may need them)
   std::vector<float> particle_phi;
   if (bodies) {
     particle_phi.resize(particles_);
@@ -335,9 +325,8 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     const float reach = 4.0f * options_.support + options_.clearance;
     parallel::forEachDynamic(threads, (particles_ + kChunk - 1) / kChunk, [&](std::size_t c) {
       const std::size_t b = c * kChunk, n = std::min(kChunk, particles_ - b);
-      (*bodies)(x.subspan(b, n), reach, std::isfinite(fine_error) ? BodyQuery::fine : BodyQuery::exact,
-                std::span<float>(particle_phi.data() + b, n), std::span<glm::vec3>(pn.data() + b, n));
-      for (std::size_t i = b; i < b + n; ++i) particle_phi[i] -= bound_error;
+      (*bodies)(x.subspan(b, n), reach, false, std::span<float>(particle_phi.data() + b, n),
+                std::span<glm::vec3>(pn.data() + b, n));
     });
   }
   const std::size_t np = rest_.points.size();
@@ -377,7 +366,7 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     glm::vec3 n(0.0f);
     auto ask = [&](const glm::vec3& point) {
       at = point;
-      (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, last_word, std::span<float>(&f, 1),
+      (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, false, std::span<float>(&f, 1),
                 std::span<glm::vec3>(&n, 1));
     };
     ask(lo);
@@ -400,14 +389,14 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
   // Queries the points `which` (`rough`: by the fast approximation) and
   // pushes those nearer than `trigger` out to the clearance; `which` keeps
   // the points it moved.
-  auto pushOut = [&](BodyQuery how, float trigger, std::vector<std::uint32_t>& which, std::vector<glm::vec3>& pts,
+  auto pushOut = [&](bool rough, float trigger, std::vector<std::uint32_t>& which, std::vector<glm::vec3>& pts,
                      std::vector<float>& phi, std::vector<glm::vec3>& nrm) {
     if (which.empty()) return;
     pts.resize(which.size());
     for (std::size_t m = 0; m < which.size(); ++m) pts[m] = out[which[m]];
     phi.resize(which.size());
     nrm.resize(which.size());
-    (*bodies)(pts, std::max(trigger, 1e-6f), how, phi, nrm);
+    (*bodies)(pts, std::max(trigger, 1e-6f), rough, phi, nrm);
     std::size_t kept = 0;
     for (std::size_t m = 0; m < which.size(); ++m) {
       if (!(phi[m] < trigger)) continue;
@@ -529,16 +518,15 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     // the push out of the bodies (by their fast approximation) and the
     // length limit, in turn; then exact pushes, so no point is left inside
     for (int round = 0; round < kRoughRounds; ++round) {
-      selectNear(s0, s1, clearance + bound_error, which);
-      pushOut(std::isfinite(fine_error) ? BodyQuery::fine : BodyQuery::rough, clearance, which, pts, phi, nrm);
+      selectNear(s0, s1, clearance, which);
+      pushOut(true, clearance, which, pts, phi, nrm);
       for (std::size_t s = s0; s < s1; ++s) limitLengths(s, b, carried);
     }
     // last, exact pushes until no point is left inside: the points pushed
     // are queried again (one pushed out of a body into another, in a
     // crease, needs more than one)
-    selectNear(s0, s1, 2.0f * final_trigger + 1e-6f, which);
-    for (int round = 0; round < kFinalPushes && !which.empty(); ++round)
-      pushOut(last_word, final_trigger, which, pts, phi, nrm);
+    selectNear(s0, s1, 1e-6f, which);
+    for (int round = 0; round < kFinalPushes && !which.empty(); ++round) pushOut(false, 0.0f, which, pts, phi, nrm);
     // Pushes around a convex body lengthen a strand, pushes together onto
     // it shorten one; beyond the tolerance this is mended at the tip end:
     // points move along their segments (a chord of a segment's length dips
@@ -546,16 +534,15 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
     // more.
     for (int round = 0; round < kTrimRounds; ++round) {
       for (std::size_t s = s0; s < s1; ++s) trimTip(s);
-      selectNear(s0, s1, 2.0f * final_trigger + 1e-6f, which);
-      for (int p = 0; p < kFinalPushes && !which.empty(); ++p)
-        pushOut(last_word, final_trigger, which, pts, phi, nrm);
+      selectNear(s0, s1, 1e-6f, which);
+      for (int p = 0; p < kFinalPushes && !which.empty(); ++p) pushOut(false, 0.0f, which, pts, phi, nrm);
     }
   });
 }
 
 void StrandField::deform(const Solver& solver, std::vector<glm::vec3>& out, int threads) const {
   const BodyContacts bodies = solverBodyContacts(solver);
-  deform(solver.particles().position, solver.particles().direction, &bodies, out, threads, solver.bodyFineError());
+  deform(solver.particles().position, solver.particles().direction, &bodies, out, threads);
 }
 
 void StrandField::deformWorld(const Solver& solver, std::vector<glm::vec3>& out, int threads) const {
