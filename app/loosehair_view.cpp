@@ -742,6 +742,9 @@ int run(const ViewOptions& o) {
   bool done = false;
   const auto started = std::chrono::steady_clock::now();
   const double started_sim = sim.latest()->time;
+  std::int64_t last_carried = -1;  // the strands shown: how many frames carried, how late
+  int carried_shown = 0, strand_frames = 0;
+  double carry_ms_sum = 0, strand_lag_sum = 0;
   std::uint64_t generation = 0;
   std::unique_ptr<app::DrawableBodies> styling_bodies;
   const viewer::StylingSession* styling_bodies_of = nullptr;
@@ -776,6 +779,7 @@ int run(const ViewOptions& o) {
                             " cannot be reached (the simulation is paused or stopped)");
             return 1;
           }
+          sim.waitForStrands();  // a scripted picture shows its frame's strands
         }
         // a restart that finished meanwhile is taken in first (its head, the
         // panel's values), at the top of the next displayed frame
@@ -797,11 +801,30 @@ int run(const ViewOptions& o) {
       const std::int64_t to = sim.latest()->frame + 1;
       sim.runUntil(to);
       sim.waitForFrame(to);
+      sim.waitForStrands();
     }
     std::shared_ptr<const viewer::PublishedFrame> frame = sim.latest();
     if (o.frames) {  // wait for the last frame, then show it
       if (frame->frame < *o.frames && sim.waitForFrame(*o.frames)) frame = sim.latest();
+      sim.waitForStrands();
       if (shown >= 2) done = true;  // two frames drawn before: the panel has its size
+    }
+    // the newest carried strands with the newest frame (they may be a frame
+    // or two behind it: the carry runs on its own thread)
+    render::FrameInput with_strands;
+    const render::FrameInput* input = &frame->input;
+    if (const auto strands = sim.latestStrands()) {
+      if (strands->frame != last_carried) {
+        last_carried = strands->frame;
+        ++carried_shown;
+        carry_ms_sum += strands->carry_ms;
+      }
+      ++strand_frames;
+      strand_lag_sum += static_cast<double>(frame->frame - strands->frame);
+      with_strands = frame->input;
+      with_strands.strand_points = strands->points;
+      with_strands.strand_points_each = strands->points_each;
+      input = &with_strands;
     }
     viewer::ViewState& v = view;
     v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)
@@ -835,7 +858,7 @@ int run(const ViewOptions& o) {
       renderer.render(empty, v.camera, v.settings, width, height);
       renderer.setBodies(&bodies->head, bodies->torso ? &*bodies->torso : nullptr);
     } else {
-      renderer.render(frame->input, v.camera, v.settings, width, height);
+      renderer.render(*input, v.camera, v.settings, width, height);
     }
     buildOverlay(controller, *frame, hidden, on_top);
     overlay.draw(hidden, on_top, v.camera, width, height);
@@ -882,6 +905,10 @@ int run(const ViewOptions& o) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::printf("measured: %d frames drawn in %.2f s = %.1f frames/s (%dx%d), simulation %.2fx real time\n", shown,
                 wall, shown / wall, w.width, w.height, (sim.latest()->time - started_sim) / wall);
+    if (strand_frames > 0)
+      std::printf("strands: %d simulated frames carried and shown (%.0f ms a carry), drawn %.1f frames behind the "
+                  "simulation on average\n",
+                  carried_shown, carry_ms_sum / std::max(1, carried_shown), strand_lag_sum / strand_frames);
   }
   controller.stopRecording();
   const std::shared_ptr<const viewer::PublishedFrame> last = sim.latest();

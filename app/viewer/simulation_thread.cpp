@@ -26,7 +26,11 @@ double wallNow() {
 
 SimulationThread::SimulationThread(const SceneDesc& scene, bool paused) : scene_(scene), paused_(paused) {
   solver_ = std::make_unique<Solver>(buildSolver(scene_, &build_));
-  rest_ = solver_->particles();
+  rest_ = std::make_shared<const Particles>(solver_->particles());
+  built_scene_ = std::make_shared<const SceneDesc>(scene_);
+  built_report_ = std::make_shared<const BuildReport>(build_);
+  // one worker: the simulation has the other cores
+  carrier_ = std::make_unique<StrandCarrier>(1);
   publish(0.0);
   pace_wall_ = wallNow();
   pace_sim_ = solver_->time();
@@ -41,6 +45,26 @@ SimulationThread::~SimulationThread() {
   wake_.notify_all();
   published_.notify_all();
   if (thread_.joinable()) thread_.join();
+  carrier_.reset();
+}
+
+std::shared_ptr<const CarriedStrands> SimulationThread::latestStrands() const {
+  std::shared_ptr<const CarriedStrands> s = carrier_->latest();
+  std::lock_guard<std::mutex> lk(mutex_);
+  if (strand_count_ == 0 || !s || s->generation != generation_) return nullptr;
+  return s;
+}
+
+bool SimulationThread::waitForStrands() const {
+  std::int64_t frame = 0;
+  std::uint64_t generation = 0;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (strand_count_ == 0) return false;
+    frame = latest_->frame;
+    generation = latest_->generation;
+  }
+  return carrier_->waitFor(frame, generation);
 }
 
 SceneDesc SimulationThread::scene() const {
@@ -243,9 +267,9 @@ void SimulationThread::loop() {
       scene_ = next;
       build_ = report;
       solver_ = std::move(solver);
-      rest_ = solver_->particles();
-      strands_.reset();
-      strands_bound_ = 0;
+      rest_ = std::make_shared<const Particles>(solver_->particles());
+      built_scene_ = std::make_shared<const SceneDesc>(scene_);
+      built_report_ = std::make_shared<const BuildReport>(build_);
       ++generation_;
       live_head_.reset();
       head_target_.reset();
@@ -366,26 +390,33 @@ void SimulationThread::publish(double frame_ms) {
     strand_count = strand_count_;
     f->generation = generation_;
   }
-  if (strand_count > 0) {
-    // on this thread, from the particles as built (the rest state)
-    if (!strands_ || strands_bound_ != strand_count) {
-      try {
-        RenderStrandOptions so;
-        so.strands = strand_count;
-        strands_ = std::make_unique<StrandField>(bindSceneStrands(scene_, rest_, build_, so, solver_->threadCount()));
-        strands_bound_ = strand_count;
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> lk(mutex_);
-        error_ = std::string("strands: ") + e.what();
-        strand_count_ = 0;
-        strand_count = 0;
-        strands_.reset();
-      }
+  {
+    // handed to the carrier, which carries it when it is free (a binding
+    // that failed turns the strands off)
+    if (std::string failed = carrier_->takeError(); !failed.empty()) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      error_ = failed;
+      strand_count_ = strand_count = 0;
     }
-    if (strands_) {
-      strands_->deformWorld(*solver_, f->input.strand_points, solver_->threadCount());
-      f->input.strand_points_each = static_cast<int>(strands_->rest().pointCount(0));
+    CarryJob job;
+    job.frame = frame_;
+    job.generation = f->generation;
+    job.strands = strand_count;
+    if (strand_count > 0) {
+      std::lock_guard<std::mutex> lk(mutex_);
+      job.scene = built_scene_;
+      job.build = built_report_;
+      job.rest = rest_;
     }
+    if (strand_count > 0) {
+      job.position = solver_->particles().position;
+      job.direction = solver_->particles().direction;
+      job.bodies = solver_->placedBodyContacts();
+      const HeadPose pose = solver_->head().pose;
+      job.head_rotation = glm::mat3(pose.rotation);
+      job.head_center = glm::vec3(pose.center);
+    }
+    carrier_->submit(std::move(job));
   }
   if (air && f->wind) solver_->worldAirPositions(f->air);
   if (grid && f->grid_cell > 0) {

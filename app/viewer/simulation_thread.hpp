@@ -13,6 +13,7 @@
 #include "loosehair/scene.hpp"
 #include "loosehair/solver.hpp"
 #include "loosehair/strand_field.hpp"
+#include "viewer/strand_carrier.hpp"
 
 #include <condition_variable>
 #include <cstdint>
@@ -108,11 +109,18 @@ class SimulationThread {
   /// with each frame (debug views; copied only while asked for).
   void setPublishGrid(bool on);
   void setPublishAir(bool on);
-  /// Publishes the render strands the particles carry with each frame
-  /// (PublishedFrame::input.strand_points), about `count` of them: bound to
-  /// the scene's rest state the first time they are asked for (a second or
-  /// two), carried on the simulation thread. 0 stops them.
+  /// Carries about `count` render strands with the particles: each frame
+  /// is handed to a StrandCarrier, which binds them to the scene's rest
+  /// state the first time (a second or two) and carries the newest frame
+  /// on its own thread; latestStrands() has the newest. 0 stops them.
   void setPublishStrands(std::size_t count);
+  /// The newest carried strands (null when none are asked for or carried
+  /// yet); they may be a few frames behind latest().
+  std::shared_ptr<const CarriedStrands> latestStrands() const;
+  /// Waits until the strands of the newest published frame are carried
+  /// (for scripts and --frames: the picture of an exact frame). False if
+  /// strands are off or their binding failed.
+  bool waitForStrands() const;
 
   /// Waits until frame `n` has been published (for scripts and tests).
   /// False if the thread stopped or it is paused before reaching it.
@@ -126,9 +134,12 @@ class SimulationThread {
   SceneDesc scene_;
   BuildReport build_;
   std::unique_ptr<Solver> solver_;  // the simulation thread's only
-  Particles rest_;                  // the solver's particles as built, to bind strands to
-  std::unique_ptr<StrandField> strands_;  // bound on the simulation thread when asked for
-  std::size_t strand_count_ = 0, strands_bound_ = 0;
+  // the scene as built, for the carrier to bind strands to
+  std::shared_ptr<const SceneDesc> built_scene_;
+  std::shared_ptr<const BuildReport> built_report_;
+  std::shared_ptr<const Particles> rest_;
+  std::size_t strand_count_ = 0;
+  std::unique_ptr<StrandCarrier> carrier_;
   std::optional<LiveHead> live_head_;
   std::int64_t frame_ = 0;
 

@@ -1176,6 +1176,49 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t, std::vect
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
+BodyContacts Solver::placedBodyContacts() const {
+  std::vector<BodyFrame> frames;
+  HeadKinematics head;
+  placeBodies(time_, frames, head, true);
+  struct Placed {
+    std::shared_ptr<const Body> body;
+    glm::mat3 m;
+    glm::vec3 d;
+  };
+  std::vector<Placed> placed;
+  for (const BodyFrame& f : frames)
+    for (const WorldBody& wb : world_bodies_)
+      if (wb.body.get() == f.body) {
+        placed.push_back({wb.body, f.m, f.d});
+        break;
+      }
+  return [head_body = head_, placed = std::move(placed)](std::span<const glm::vec3> x, float limit, bool rough,
+                                                          std::span<float> phi, std::span<glm::vec3> normal) {
+    auto ask = [&](const Body& body, const glm::vec3* p, std::size_t count, float* out_phi, glm::vec3* out_normal) {
+      if (rough)
+        body.roughDistanceBelow(p, count, limit, out_phi, out_normal);
+      else
+        body.signedDistanceBelow(p, count, limit, out_phi, out_normal);
+    };
+    const std::size_t n = x.size();
+    ask(*head_body, x.data(), n, phi.data(), normal.data());
+    glm::vec3 q[kBodyBlock], nb[kBodyBlock];
+    float pb[kBodyBlock];
+    for (std::size_t b = 0; b < n; b += kBodyBlock) {
+      const std::size_t len = std::min(kBodyBlock, n - b);
+      for (const Placed& f : placed) {
+        for (std::size_t k = 0; k < len; ++k) q[k] = f.m * x[b + k] + f.d;
+        ask(*f.body, q, len, pb, nb);
+        for (std::size_t k = 0; k < len; ++k) {
+          if (!(pb[k] < phi[b + k])) continue;
+          phi[b + k] = pb[k];
+          normal[b + k] = glm::transpose(f.m) * nb[k];
+        }
+      }
+    }
+  };
+}
+
 void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit,
                           std::span<float> phi, std::span<glm::vec3> normal, bool rough) const {
   if (phi.size() < points.size() || normal.size() < points.size())

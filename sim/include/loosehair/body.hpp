@@ -8,10 +8,19 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace loosehair {
+
+/// Signed distances (negative inside) and outward normals of some placed
+/// bodies at `points`, exact where phi < limit (`rough`: the bodies' fast
+/// approximation there, Body::roughDistanceBelow); elsewhere phi is a lower
+/// bound >= limit.
+using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, bool rough,
+                                        std::span<float> phi, std::span<glm::vec3> normal)>;
 
 class Body {
  public:

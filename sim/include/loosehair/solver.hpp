@@ -178,6 +178,12 @@ class Solver {
   /// `rough`: by the bodies' fast approximation (Body::roughDistanceBelow).
   void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit,
                     std::span<float> phi, std::span<glm::vec3> normal, bool rough = false) const;
+  /// bodyContacts for head-frame points against the head and the world
+  /// bodies (obstacles too) placed as they are now, detached from the
+  /// solver: a thread of its own may keep and call it while the solver
+  /// steps on or is replaced (the bodies are shared and do not change).
+  /// Without surface velocities or the particles' hints; the same answers.
+  BodyContacts placedBodyContacts() const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay

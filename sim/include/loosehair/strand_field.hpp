@@ -17,6 +17,7 @@
 // No GL here: the renderer and the exporters take the points.
 #pragma once
 
+#include "loosehair/body.hpp"
 #include "loosehair/particles.hpp"
 #include "loosehair/style.hpp"
 
@@ -46,13 +47,6 @@ struct StrandFieldOptions {
   /// Points (roots excepted) are kept this far out of the bodies (m).
   float clearance = 5e-4f;
 };
-
-/// Signed distances (negative inside) and outward normals of the bodies at
-/// `points`, exact where phi < limit (`rough`: the bodies' fast
-/// approximation there, Body::roughDistanceBelow); elsewhere phi is a lower
-/// bound >= limit.
-using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, bool rough,
-                                        std::span<float> phi, std::span<glm::vec3> normal)>;
 
 /// The head and the world bodies of `solver` at its current time, for
 /// head-frame points.
