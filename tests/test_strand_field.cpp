@@ -165,7 +165,13 @@ TEST(StrandField, RenderStrandsAboveThePointLimitAreRefusedBeforeTheyAreMade) {
   RenderStrandOptions opt;
   opt.strands = 800;
   opt.points = 24;
-  EXPECT_EQ(growRenderStrands(scene, model, opt).size(), 800u);
+  const StrandSet serial = growRenderStrands(scene, model, opt);
+  EXPECT_EQ(serial.size(), 800u);
+  // grown on three threads: the same strands
+  const StrandSet threaded = growRenderStrands(scene, model, opt, 3);
+  ASSERT_EQ(serial.points.size(), threaded.points.size());
+  EXPECT_EQ(serial.first, threaded.first);
+  EXPECT_EQ(0, std::memcmp(serial.points.data(), threaded.points.data(), serial.points.size() * sizeof(glm::vec3)));
   // 2 million strands of 256 points (what the command line allows) would
   // take tens of gigabytes: refused by the scene's limit, naming the options
   opt.strands = 2'000'000;

@@ -148,6 +148,12 @@ TEST(StyleStrands, DeterministicForASeedAndDifferentForAnother) {
   const StrandSet a = buildMemberStrands(s, h), b = buildMemberStrands(s, h);
   ASSERT_EQ(a.points.size(), b.points.size());
   EXPECT_EQ(0, std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(glm::vec3)));
+  // the wisps grown on three threads: the same strands in the same order
+  const StrandSet t = buildMemberStrands(s, h, kStrandSpacing, {}, 3);
+  ASSERT_EQ(a.points.size(), t.points.size());
+  EXPECT_EQ(a.first, t.first);
+  EXPECT_EQ(a.wisp, t.wisp);
+  EXPECT_EQ(0, std::memcmp(a.points.data(), t.points.data(), a.points.size() * sizeof(glm::vec3)));
   s.wisps[0].params.seed = 99;
   const StrandSet c = buildMemberStrands(s, h);
   EXPECT_TRUE(c.points.size() != a.points.size() ||

@@ -470,7 +470,9 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
   const Style style = sceneStyle(scene, model, &rep);
-  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, scene.limits.style);
+  const int asked = scene.sim.threads;
+  const int threads = asked > 0 && asked <= parallel::kMaxThreads ? asked : parallel::availableThreads();
+  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, scene.limits.style, threads);
   if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
   rep.style_wisps = style.wisps.size();
   rep.style_strands = strands.size();

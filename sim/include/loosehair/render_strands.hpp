@@ -29,11 +29,12 @@ struct RenderStrandOptions {
 };
 
 /// The rest strands of `scene` on its head `model` (head frame), each with
-/// exactly options.points points, in a fixed order for the scene's seed.
-/// Throws SceneError (or StyleError) naming the scene and field, and
+/// exactly options.points points, in a fixed order for the scene's seed,
+/// grown on `threads` threads (the same strands for any count). Throws
+/// SceneError (or StyleError) naming the scene and field, and
 /// std::invalid_argument for options out of range.
 StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model,
-                            const RenderStrandOptions& options = {});
+                            const RenderStrandOptions& options = {}, int threads = 1);
 
 struct Particles;
 class StrandField;

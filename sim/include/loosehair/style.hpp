@@ -191,9 +191,10 @@ inline constexpr float kStrandSpacing = 0.004f;
 /// passes through; kept out of the head. `spacing` is the distance between
 /// polyline points (m). Deterministic for the wisps' seeds. Throws
 /// StyleError, naming the style and its largest wisp, when the strands or
-/// their points could exceed `budget` (StrandBudget, scene.hpp).
+/// their points could exceed `budget` (StrandBudget, scene.hpp). The wisps
+/// are grown on `threads` threads; the strands are the same for any count.
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing = kStrandSpacing,
-                             const StrandBudget& budget = {});
+                             const StrandBudget& budget = {}, int threads = 1);
 
 /// Re-roots every wisp on another head by (u, v): triangle regions become
 /// the (u, v) polygons of their triangles, and each key strand leaves its

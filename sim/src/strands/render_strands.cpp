@@ -6,6 +6,7 @@
 #include "loosehair/scene.hpp"
 #include "loosehair/solver.hpp"
 #include "loosehair/strand_field.hpp"
+#include "parallel.hpp"
 #include "random.hpp"
 
 #include <glm/geometric.hpp>
@@ -50,12 +51,12 @@ namespace {
 
 // A style's member strands, its wisps' densities scaled so that about
 // `target` strands grow (counted wisps, an imported groom's, stay as made).
-StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target) {
+StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target, int threads) {
   Style style = sceneStyle(scene, model);
   // counted with coarse polylines: the count does not depend on the spacing
   // of the points, and the coarse build costs a fraction of the real one
   constexpr float kCountingSpacing = 0.05f;
-  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing, scene.limits.style);
+  const StrandSet counting = buildMemberStrands(style, model, kCountingSpacing, scene.limits.style, threads);
   std::size_t counted = 0, dense = 0;
   for (std::size_t k = 0; k < counting.size(); ++k) {
     if (style.wisps[counting.wisp[k]].params.strands > 0)
@@ -68,13 +69,13 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
     for (Wisp& w : style.wisps)
       if (w.params.strands == 0) w.params.density *= scale;
   }
-  return buildMemberStrands(style, model, kStrandSpacing, scene.limits.style);
+  return buildMemberStrands(style, model, kStrandSpacing, scene.limits.style, threads);
 }
 
 // One strand per scalp sample, hung like the particles (SPEC §6.1):
 // samples uniform in area from the scene's seed.
 StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target, int points,
-                         float poisson_radius) {
+                         float poisson_radius, int threads) {
   const HangingHair hanging(scene, model);
   const ScalpSurface& scalp = model.scalp();
   // the particles' Poisson radius (or an estimate of it), for their
@@ -87,26 +88,32 @@ StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::si
   const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
   Random rng(scene.seed ^ 0x5bd1e995c0ffee11ULL);
   StrandSet out;
-  out.first.assign(1, 0);
-  for (std::size_t k = 0; k < target; ++k) {
-    const glm::vec2 uv = scalp.sampleByArea(rng);
+  // the roots in the seed's order, then each strand's cantilever on its
+  // own (most of the binding's time: exact body queries along each one)
+  out.root_uv.resize(target);
+  for (std::size_t k = 0; k < target; ++k) out.root_uv[k] = scalp.sampleByArea(rng);
+  const std::size_t per = static_cast<std::size_t>(points);
+  out.points.resize(target * per);
+  out.first.resize(target + 1);
+  for (std::size_t k = 0; k <= target; ++k) out.first[k] = static_cast<std::uint32_t>(k * per);
+  out.wisp.assign(target, 0);
+  parallel::forEachDynamic(threads, target, [&](std::size_t k) {
+    const glm::vec2 uv = out.root_uv[k];
     const int segments = std::max(8, static_cast<int>(std::ceil(hanging.length(uv) / (0.5f * rp))));
     const CantileverStrand strand = hanging.strand(uv, segments, clearance);
     const float length = strand.length();
+    glm::vec3* p = &out.points[k * per];
     for (int j = 0; j < points; ++j)
-      out.points.push_back(j == 0 ? scalp.point(uv)
-                                  : strand.position(length * static_cast<float>(j) /
-                                                    static_cast<float>(points - 1)));
-    out.first.push_back(static_cast<std::uint32_t>(out.points.size()));
-    out.wisp.push_back(0);
-    out.root_uv.push_back(uv);
-  }
+      p[j] = j == 0 ? scalp.point(uv)
+                    : strand.position(length * static_cast<float>(j) / static_cast<float>(points - 1));
+  });
   return out;
 }
 
 }  // namespace
 
-StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, const RenderStrandOptions& options) {
+StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, const RenderStrandOptions& options,
+                            int threads) {
   if (options.strands < 1 || options.strands > 2'000'000)
     throw std::invalid_argument("strands " + std::to_string(options.strands) + " is outside 1..2000000");
   if (options.points < 2 || options.points > 256)
@@ -125,12 +132,12 @@ StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, cons
   };
   const bool styled = scene.hair.style_data || !scene.hair.style.empty();
   if (styled) {
-    StrandSet grown = styleStrands(scene, model, options.strands);
+    StrandSet grown = styleStrands(scene, model, options.strands, threads);
     check(grown.size());
     return resampleStrands(grown, options.points);
   }
   check(options.strands);
-  return hangingStrands(scene, model, options.strands, options.points, options.poisson_radius);
+  return hangingStrands(scene, model, options.strands, options.points, options.poisson_radius, threads);
 }
 
 StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, const BuildReport& build,
@@ -139,7 +146,7 @@ StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, cons
   StrandFieldOptions field;
   field.support = 2.0f * std::max(build.mean_neighbor_distance, 1e-4f);
   if (options.poisson_radius <= 0.0f) options.poisson_radius = build.poisson_radius;
-  return StrandField(growRenderStrands(scene, model, options), rest, field, threads);
+  return StrandField(growRenderStrands(scene, model, options, threads), rest, field, threads);
 }
 
 }  // namespace loosehair

@@ -41,14 +41,14 @@ class CellIndex {
   template <class F>
   void forEachNear(glm::vec3 p, float radius, F&& f) const {
     const glm::ivec3 lo = cellOf(p - glm::vec3(radius)), hi = cellOf(p + glm::vec3(radius));
-    for (int z = lo.z; z <= hi.z; ++z)
-      for (int y = lo.y; y <= hi.y; ++y)
-        for (int xk = lo.x; xk <= hi.x; ++xk) {
-          const std::uint64_t k = key({xk, y, z});
-          auto it = std::lower_bound(entries_.begin(), entries_.end(), k,
-                                     [](const Entry& e, std::uint64_t v) { return e.key < v; });
-          for (; it != entries_.end() && it->key == k; ++it) f(it->index);
-        }
+    // the key orders cells by x, then y, then z: a run of z is one range
+    for (int xk = lo.x; xk <= hi.x; ++xk)
+      for (int y = lo.y; y <= hi.y; ++y) {
+        const std::uint64_t first = key({xk, y, lo.z}), last = key({xk, y, hi.z});
+        auto it = std::lower_bound(entries_.begin(), entries_.end(), first,
+                                   [](const Entry& e, std::uint64_t v) { return e.key < v; });
+        for (; it != entries_.end() && it->key <= last; ++it) f(it->index);
+      }
   }
 
  private:
@@ -76,10 +76,12 @@ struct Candidate {
 // particle leaving or joining the group does so with weight 0 (smooth),
 // normalised. Returns false if no weight is left.
 bool pickWeights(std::vector<Candidate>& c, int k, std::uint32_t* index, float* weight) {
-  std::sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) {
-    return a.weight != b.weight ? a.weight > b.weight : a.index < b.index;
-  });
   const std::size_t kk = static_cast<std::size_t>(k);
+  // the k + 1 heaviest in order (a total order: the same for any input order)
+  const auto heavier = [](const Candidate& a, const Candidate& b) {
+    return a.weight != b.weight ? a.weight > b.weight : a.index < b.index;
+  };
+  std::partial_sort(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(std::min(c.size(), kk + 1)), c.end(), heavier);
   const float floor_w = c.size() > kk ? c[kk].weight : 0.0f;
   double sum = 0;
   for (std::size_t j = 0; j < kk; ++j) {

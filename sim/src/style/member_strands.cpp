@@ -17,6 +17,7 @@
 // out of the head and torso.
 #include "init/mesh_scalp.hpp"
 #include "loosehair/style.hpp"
+#include "parallel.hpp"
 #include "random.hpp"
 #include "style/hair_tie.hpp"
 #include "style/rotation_minimizing_frame.hpp"
@@ -148,25 +149,27 @@ void checkBudget(const Style& style, const std::vector<double>& area, float spac
 
 }  // namespace
 
-StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget) {
+StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget,
+                             int threads) {
   spacing = std::max(spacing, 1e-4f);
   // each region's scalp area, once (a pass over the scalp each)
   std::vector<double> area(style.wisps.size(), 0.0);
   for (std::size_t wi = 0; wi < style.wisps.size(); ++wi)
     if (style.wisps[wi].key_strand.size() >= 2) area[wi] = regionArea(style.wisps[wi].region, head);
   checkBudget(style, area, spacing, budget);
-  StrandSet out;
-  out.first.push_back(0);
   const float clearance = 1e-3f;
-  for (std::size_t wi = 0; wi < style.wisps.size(); ++wi) {
+  // each wisp on its own (its own random streams), then in the wisps' order
+  std::vector<StrandSet> per_wisp(style.wisps.size());
+  parallel::forEachDynamic(threads, style.wisps.size(), [&](std::size_t wi) {
+    StrandSet& out = per_wisp[wi];
     const Wisp& w = style.wisps[wi];
     const WispParams& par = w.params;
-    if (w.key_strand.size() < 2) continue;
+    if (w.key_strand.size() < 2) return;
     const std::vector<glm::vec3> key = catmullRom(w.key_strand, pointsASegment(w, spacing));
     std::vector<float> sk(key.size(), 0.0f);
     for (std::size_t j = 1; j < key.size(); ++j) sk[j] = sk[j - 1] + glm::length(key[j] - key[j - 1]);
     const float length = sk.back();
-    if (!(length > 0.0f)) continue;
+    if (!(length > 0.0f)) return;
     const glm::vec2 root_uv = head.nearestScalpUv(key[0]);
     const std::vector<CurveFrame> frame = rotationMinimizingFrames(key, head.scalpTangentU(root_uv));
     // the first tie the key strand passes through
@@ -234,8 +237,17 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
       out.wisp.push_back(static_cast<std::uint32_t>(wi));
       out.root_uv.push_back(uv);
     }
+  });
+  StrandSet all;
+  all.first.push_back(0);
+  for (const StrandSet& part : per_wisp) {
+    const auto base = static_cast<std::uint32_t>(all.points.size());
+    all.points.insert(all.points.end(), part.points.begin(), part.points.end());
+    for (const std::uint32_t f : part.first) all.first.push_back(base + f);
+    all.wisp.insert(all.wisp.end(), part.wisp.begin(), part.wisp.end());
+    all.root_uv.insert(all.root_uv.end(), part.root_uv.begin(), part.root_uv.end());
   }
-  return out;
+  return all;
 }
 
 }  // namespace loosehair
