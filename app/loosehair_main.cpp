@@ -94,7 +94,8 @@ constexpr const char* kRenderUsage =
     "    --no-shadows     no self-shadowing (opacity shadow maps)\n"
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
     "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
-    "    --light X,Y,Z    direction towards the (parallel) light\n"
+    "    --light X,Y,Z    direction towards the (parallel) light (default: above, right\n"
+    "                     and in front of the camera, turning with it)\n"
     "    --hair H         strands (default: thin strands the particles carry) or\n"
     "                     billboards (one a particle, the LCP paper's picture)\n"
     "    --shading S      strands lit by kajiya-kay (default) or marschner\n"
@@ -431,6 +432,7 @@ loosehair::render::RenderSettings defaultRenderSettings() {
 }
 
 struct RenderOptions {
+  bool light_given = false;  // --light; otherwise the camera's key light
   std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter", style, motion;
   bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
@@ -493,6 +495,7 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
             !(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 1e-12f))
           throw UsageError{"--light needs a non-zero direction x,y,z, got '" + v + "'"};
         o.settings.light_direction = glm::vec3(c[0], c[1], c[2]);
+        o.light_given = true;
       }
       else if (a == "--size") {
         const std::string v = value();
@@ -553,6 +556,8 @@ int renderScene(const RenderOptions& o) {
   if (o.pitch) camera.pitch_deg = static_cast<float>(*o.pitch);
   if (o.distance) camera.distance = static_cast<float>(*o.distance);
   if (o.fov) camera.fov_deg = static_cast<float>(*o.fov);
+  render::RenderSettings settings = o.settings;
+  if (!o.light_given) settings.light_direction = camera.keyLight();  // lit from whichever side it is seen
   std::optional<StrandField> strands;
   if (o.settings.hair == render::HairGeometry::Strands) {
     RenderStrandOptions so;
@@ -586,7 +591,7 @@ int renderScene(const RenderOptions& o) {
       input.strand_points_each = o.strand_points;
       deform_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count();
     }
-    renderer.render(input, camera, o.settings, o.width, o.height);
+    renderer.render(input, camera, settings, o.width, o.height);
     const auto& t = renderer.lastTimes();
     sum.sort += t.sort;
     sum.upload += t.upload;

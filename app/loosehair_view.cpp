@@ -827,7 +827,7 @@ int run(const ViewOptions& o) {
       input = &with_strands;
     }
     viewer::ViewState& v = view;
-    v.settings.light_direction = v.light_from_camera ? glm::normalize(v.camera.eye() - v.camera.target)
+    v.settings.light_direction = v.light_from_camera ? v.camera.keyLight()
                                                      : viewer::directionFromAngles(v.light_yaw_deg, v.light_pitch_deg);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window.get(), &width, &height);

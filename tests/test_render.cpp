@@ -253,6 +253,49 @@ TEST(Render, StillFrameMatchesTheReferenceImage) {
   lhtest::expectMatchesReference(img.rgba, w, h, "render_hang_96x72.png");
 }
 
+// The default light turns with the camera (Camera::keyLight): from the
+// front it is RenderSettings' light, from every preset it comes from the
+// camera's side, and seen from the back the hair and body are half as
+// bright again as with the light fixed in front (nearly black then).
+TEST(Render, TheKeyLightTurnsWithTheCameraSoTheBackIsLit) {
+  const glm::vec3 fixed = glm::normalize(RenderSettings{}.light_direction);
+  EXPECT_LT(glm::length(Camera::preset("front").keyLight() - fixed), 1e-6f);
+  for (const char* name : {"front", "side", "back", "three-quarter"}) {
+    const Camera c = Camera::preset(name);
+    EXPECT_GT(glm::dot(c.keyLight(), glm::normalize(c.eye() - c.target)), 0.3f) << name;
+    EXPECT_NEAR(glm::length(c.keyLight()), 1.0f, 1e-5f) << name;
+  }
+  const HangScene& s = hang();
+  const int w = 120, h = 90;
+  app::HeadlessGL gl(w, h);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  RenderSettings st;
+  auto meanDrawn = [&](const Image& img) {  // mean brightness of what is not background
+    double sum = 0;
+    int n = 0;
+    for (int y = 0; y < img.h; ++y)
+      for (int x = 0; x < img.w; ++x) {
+        const glm::vec3 c = img.at(x, y);
+        if (glm::length(c - st.background) < 0.05f) continue;
+        sum += (c.r + c.g + c.b) / 3.0;
+        ++n;
+      }
+    return n ? sum / n : 0.0;
+  };
+  const Camera front = Camera::preset("front"), back = Camera::preset("back");
+  st.light_direction = front.keyLight();
+  const double lit_front = meanDrawn(draw(gl, r, in, front, st));
+  st.light_direction = back.keyLight();
+  const double lit_back = meanDrawn(draw(gl, r, in, back, st));
+  st.light_direction = fixed;
+  const double dark_back = meanDrawn(draw(gl, r, in, back, st));
+  std::printf("mean brightness: front %.3f, back with the key light %.3f, back lit from the front %.3f\n", lit_front,
+              lit_back, dark_back);
+  EXPECT_GT(lit_back, 1.5 * dark_back);
+}
+
 TEST(Render, DebugViewsDrawPointsAndLines) {
   const HangScene& s = hang();
   app::HeadlessGL gl(120, 90);

@@ -25,7 +25,7 @@ const char* const kShortcuts =
     "left drag: orbit the camera (styling: on the scalp, brush), scroll: zoom\n"
     "right drag: turn the head about the neck, Shift + right drag: move it\n"
     "space: play/pause, N or right arrow: one frame, R: restart\n"
-    "S: shadows, C: hair colour, D: debug view, L: light from the camera\n"
+    "S: shadows, C: hair colour, D: debug view, L: light turns with the camera\n"
     "1 2 3 4: front, side, back, three-quarter camera\n"
     "F2: styling mode or back to simulating\n"
     "styling: click a control point to select it, T/G/B: tangent, normal or\n"
@@ -340,7 +340,7 @@ void Panel::rendering() {
   if (ImGui::Combo("debug view", &d, views, 5)) view.settings.debug = static_cast<render::DebugView>(d);
   if (ImGui::Checkbox("neighbour grid cells", &view.show_grid)) c_.sim().setPublishGrid(view.show_grid);
   if (ImGui::Checkbox("air particles", &view.show_air)) c_.sim().setPublishAir(view.show_air);
-  ImGui::Checkbox("light from the camera", &view.light_from_camera);
+  ImGui::Checkbox("light turns with the camera", &view.light_from_camera);
   if (!view.light_from_camera) {
     ImGui::SliderFloat("light yaw", &view.light_yaw_deg, -180.0f, 180.0f, "%.0f deg", kClamp);
     ImGui::SliderFloat("light pitch", &view.light_pitch_deg, -10.0f, 90.0f, "%.0f deg", kClamp);

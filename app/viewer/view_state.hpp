@@ -15,7 +15,9 @@ namespace loosehair::viewer {
 struct ViewState {
   render::Camera camera;
   render::RenderSettings settings;
-  bool light_from_camera = false;
+  /// The light turns with the camera (Camera::keyLight), or stays where
+  /// light_yaw_deg and light_pitch_deg put it.
+  bool light_from_camera = true;
   float light_yaw_deg = 35.0f, light_pitch_deg = 50.0f;  // the fixed light
   bool show_panel = true;
   bool show_help = false;  // the shortcuts, in a window of their own (H)

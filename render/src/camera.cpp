@@ -28,6 +28,14 @@ glm::vec3 Camera::eye() const {
                                        std::cos(yaw) * std::cos(pitch));
 }
 
+glm::vec3 Camera::keyLight() const {
+  const float yaw = glm::radians(yaw_deg);
+  const glm::vec3 l = RenderSettings{}.light_direction;  // the front camera's
+  const float c = std::cos(yaw), s = std::sin(yaw);
+  // R_y(yaw) takes the front camera's eye direction (0, 0, 1) to eye()'s
+  return glm::normalize(glm::vec3(c * l.x + s * l.z, l.y, -s * l.x + c * l.z));
+}
+
 glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, glm::vec3(0, 1, 0)); }
 
 glm::mat4 Camera::projection(float aspect) const {

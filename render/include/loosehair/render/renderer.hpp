@@ -47,6 +47,11 @@ struct Camera {
   /// RenderError on anything else.
   static Camera preset(const std::string& name);
   glm::vec3 eye() const;
+  /// The default light for this camera: the front camera's key light
+  /// (above, to its right, in front: RenderSettings' default direction)
+  /// turned about the vertical with the camera's yaw, so that the hair is
+  /// lit, and its shadows fall behind it, from whichever side it is seen.
+  glm::vec3 keyLight() const;
   glm::mat4 view() const;
   glm::mat4 projection(float aspect) const;
   /// The ray from the eye through window pixel (x, y) of a `width` x
