@@ -37,6 +37,6 @@ vec3 shadeStrand(vec3 T, vec3 world, float strand, float light) {
   // times in a head of hair is added as a soft diffuse term.
   float cd = max(m.a, 0.2);
   float cos_i = sqrt(max(0.0, 1.0 - sin_i * sin_i));
-  vec3 multiple = base * (0.5 * u_kd * cos_i);
+  vec3 multiple = base * (u_kd * cos_i);
   return ambient + (multiple + u_marschner_gain * s * (cos_i / (cd * cd))) * light;
 }
