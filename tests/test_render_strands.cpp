@@ -153,15 +153,18 @@ TEST(RenderStrands, ShadowsDarkenTheHairAwayFromTheLight) {
       }
     }
   ASSERT_GT(hair, 2000);
-  // measured: 0.866 (0.847 with the explicit springs' hair, which hangs
-  // differently); without shadows it would be 1
+  // measured: 0.91 (0.866 before the slices started at the hair nearest
+  // the light, when the lit surface itself fell into later slices and
+  // darkened in bands); without shadows it would be 1
   std::printf("hair lit with shadows / without: %.3f\n", lit_on / lit_off);
-  EXPECT_LT(lit_on, 0.9 * lit_off) << "self-shadowed strands are darker";
+  EXPECT_LT(lit_on, 0.95 * lit_off) << "self-shadowed strands are darker";
   // (measured: 2.0 % of the skin's pixels, 109 of about 5,450, a tenth or
   // more darker; with the initial strands pushed out along the exact
   // normal the hair hangs a little differently than when this said 2 %)
+  // (0.8 % since the slices start at the nearest hair: hair lying on the
+  // scalp is thin there and lets more light through)
   std::printf("skin darkened by the hair's shadow: %d of %d pixels\n", darker_skin, skin);
-  EXPECT_GT(darker_skin, skin / 100) << "the strands shadow part of the head";
+  EXPECT_GT(darker_skin, skin / 200) << "the strands shadow part of the head";
 }
 
 TEST(RenderStrands, MarschnerAndKajiyaKayGiveDifferentImages) {

@@ -8,5 +8,5 @@ void main() {
   ivec2 size = textureSize(u_hair, v_level);
   float a = texelFetch(u_hair, min(ivec2(v_uv * vec2(size)), size - 1), v_level).a * v_alpha;
   if (a < 1e-4) discard;
-  writeSlices(a, v_light.z);
+  writeSlices(a, v_light);
 }

@@ -8,7 +8,18 @@ layout(location = 1) out vec4 o1;
 layout(location = 2) out vec4 o2;
 layout(location = 3) out vec4 o3;
 layout(location = 4) out vec4 o4;
-void writeSlices(float a, float zs) {
+// 1: the pass before, which keeps the depth of the hair nearest the light
+// (a MIN blend into one target); fragments nearly transparent do not count
+uniform int u_nearest_pass;
+// lc: the fragment's light coordinates (s, t, depth in slices)
+void writeSlices(float a, vec3 lc) {
+  if (u_nearest_pass == 1) {
+    if (a < 0.05) discard;
+    o0 = vec4(lc.z);
+    o1 = o2 = o3 = o4 = vec4(0.0);
+    return;
+  }
+  float zs = sliceOfDepth(lc.z - nearestHair(lc.xy));
   vec4 z = vec4(zs) - vec4(0.0, 1.0, 2.0, 3.0);
   o0 = a * clamp(0.0 - z, 0.0, 1.0);
   o1 = a * clamp(3.0 - z, 0.0, 1.0);

@@ -12,12 +12,13 @@ uniform float u_kappa;
 uniform int u_shadows;
 float transmittance(vec3 lc) {
   if (u_shadows == 0) return 1.0;
-  float z = clamp(lc.z, 0.0, 15.0);
+  float depth = lc.z - nearestHair(lc.xy);  // into the hair (deep opacity maps)
+  float z = clamp(sliceOfDepth(depth), 0.0, 15.0);
   int l = min(int(z) / 3, 4);
   vec4 a = texture(u_slices, vec3(lc.xy, float(l)));
   vec4 w = max(vec4(0.0), 1.0 - abs(z - (float(3 * l) + vec4(0.0, 1.0, 2.0, 3.0))));
   float omega = dot(a, w);
   // outside the maps (and in front of the first slice) nothing shadows
-  bool inside = all(greaterThanEqual(lc.xy, vec2(0.0))) && all(lessThanEqual(lc.xy, vec2(1.0))) && lc.z > 0.0;
+  bool inside = all(greaterThanEqual(lc.xy, vec2(0.0))) && all(lessThanEqual(lc.xy, vec2(1.0))) && depth > 0.0;
   return inside ? exp(-u_kappa * omega) : 1.0;
 }

@@ -167,6 +167,9 @@ struct Renderer::Impl {
   GLuint debug_vao = 0, debug_vbo = 0;
   GLuint shadow_fbo = 0;
   GLuint slice_tex = 0;  // 2-D array, 5 layers of RGBA8: the 16 slices
+  // the depth (slices) of the hair nearest the light per texel: where the
+  // slices start (deep opacity maps, render/shaders/nearest_hair.glsl)
+  GLuint nearest_fbo = 0, nearest_tex = 0;
   BodyMesh head, torso;
   std::vector<float> depth, quads, lines;
   std::vector<std::uint32_t> quad_indices;
@@ -182,6 +185,8 @@ struct Renderer::Impl {
     glDeleteTextures(1, &hair_tex);
     glDeleteTextures(1, &slice_tex);
     glDeleteFramebuffers(1, &shadow_fbo);
+    glDeleteTextures(1, &nearest_tex);
+    glDeleteFramebuffers(1, &nearest_fbo);
     glDeleteVertexArrays(1, &quad_vao);
     glDeleteBuffers(1, &quad_vbo);
     glDeleteBuffers(1, &quad_ibo);
@@ -235,13 +240,14 @@ Renderer::Renderer() {
   const std::string frag_head = "#version 330 core\n";
   r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
                             shaders::kajiya_kay_glsl + shaders::hair_shade_glsl + shaders::billboard_vert,
-                        frag_head + shaders::shadow_lookup_glsl + shaders::hair_frag);
+                        frag_head + shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::hair_frag);
   r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert,
-                           frag_head + shaders::opacity_slices_glsl + shaders::opacity_frag);
+                           frag_head + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl + shaders::opacity_frag);
   r.downsample_prog = program(shaders::fullscreen_vert, shaders::downsample_frag);
   r.strands = std::make_unique<StrandPass>();
   glGenVertexArrays(1, &r.empty_vao);
-  r.body_prog = program(shaders::body_vert, frag_head + shaders::shadow_lookup_glsl + shaders::body_frag);
+  r.body_prog = program(shaders::body_vert,
+                        frag_head + shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::body_frag);
   r.debug_prog = program(shaders::debug_vert, shaders::debug_frag);
 
   // The hair-strand texture, mipmapped (SPEC §7.1).
@@ -307,6 +313,22 @@ Renderer::Renderer() {
   glDrawBuffers(kSliceLayers, bufs);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw RenderError("the opacity-map framebuffer is incomplete");
+  glGenFramebuffers(1, &r.nearest_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, r.nearest_fbo);
+  glGenTextures(1, &r.nearest_tex);
+  glBindTexture(GL_TEXTURE_2D, r.nearest_tex);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, kShadowSize, kShadowSize, 0, GL_RED, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r.nearest_tex, 0);
+  {
+    const GLenum one = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &one);
+  }
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw RenderError("the nearest-hair framebuffer is incomplete");
   glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
 }
 
@@ -410,6 +432,9 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   const float pad = draw_strands ? 0.002f : 0.5f * bl;
   zmin -= pad;
   zmax += pad;
+  // the depth unit: a 15th of the hair's extent along the light (the
+  // slices start at the hair nearest the light in each texel and deepen
+  // with the square root of the depth: render/shaders/nearest_hair.glsl)
   const float dz = std::max(1e-4f, (zmax - zmin) / static_cast<float>(kSlices - 1));
 
   // ---- billboards: back-to-front order (SPEC §7.1) and upload ----
@@ -442,26 +467,33 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
     setI(p, "u_slices", 1);
+    glActiveTexture(GL_TEXTURE0 + StrandPass::kNearestUnit);
+    glBindTexture(GL_TEXTURE_2D, r.nearest_tex);
+    setI(p, "u_nearest", StrandPass::kNearestUnit);
     glActiveTexture(GL_TEXTURE0);
   };
 
-  // ---- pass 1: opacity slices from the light (SPEC §7.2) ----
+  // ---- pass 1: opacity slices from the light (SPEC §7.2), starting at
+  // the hair nearest the light in each texel (deep opacity maps): first
+  // that depth, by a MIN blend, then the slices behind it ----
   t0 = Clock::now();
-  glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
-  glViewport(0, 0, kShadowSize, kShadowSize);
-  glClearColor(0, 0, 0, 0);
-  glClear(GL_COLOR_BUFFER_BIT);
-  if (st.shadows && draw_strands) {
+  auto lightPass = [&](bool nearest_pass) {
+   if (st.shadows && draw_strands) {
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     r.strands->drawOpacity(light_proj * light_view, slice_coords, -light,
-                           static_cast<float>(kShadowSize) / (2.0f * radius), st.strand_radius, st.strand_opacity);
-  } else if (st.shadows && n > 0) {
+                           static_cast<float>(kShadowSize) / (2.0f * radius), st.strand_radius, st.strand_opacity,
+                           nearest_pass, r.nearest_tex);
+   } else if (st.shadows && n > 0) {
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     glUseProgram(r.opacity_prog);
+    setI(r.opacity_prog, "u_nearest_pass", nearest_pass ? 1 : 0);
+    glActiveTexture(GL_TEXTURE0 + StrandPass::kNearestUnit);
+    glBindTexture(GL_TEXTURE_2D, nearest_pass ? 0 : r.nearest_tex);  // never the target it draws into
+    setI(r.opacity_prog, "u_nearest", StrandPass::kNearestUnit);
     setMat(r.opacity_prog, "u_view_proj", light_proj * light_view);
     setMat(r.opacity_prog, "u_light_coords", slice_coords);
     setVec(r.opacity_prog, "u_proj_dir", -light);
@@ -473,7 +505,19 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setI(r.opacity_prog, "u_hair", 0);
     glBindVertexArray(r.quad_vao);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
-  }
+   }
+  };
+  glBindFramebuffer(GL_FRAMEBUFFER, r.nearest_fbo);
+  glViewport(0, 0, kShadowSize, kShadowSize);
+  glClearColor(1e6f, 1e6f, 1e6f, 1e6f);  // no hair: nothing nearer than far behind everything
+  glClear(GL_COLOR_BUFFER_BIT);
+  glBlendEquation(GL_MIN);
+  lightPass(true);
+  glBlendEquation(GL_FUNC_ADD);
+  glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  lightPass(false);
   glFinish();
   times_.light_pass = since(t0);
 
@@ -525,7 +569,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     sh.marschner = st.shading == HairShading::Marschner;
     sh.variation = st.strand_variation;
     r.strands->drawTransparent(r.target, cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa,
-                               st.shadows, r.slice_tex);
+                               st.shadows, r.slice_tex, r.nearest_tex);
     glFinish();
     times_.camera_pass = since(t0);
     t0 = Clock::now();

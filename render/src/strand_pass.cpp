@@ -18,12 +18,14 @@ constexpr std::size_t kLightStrands = 4000;
 StrandPass::StrandPass() {
   const std::string head = "#version 330 core\nuniform vec3 u_eye;\n";
   camera_prog_ = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
-                             shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl + shaders::strand_shade_glsl +
+                             shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl +
+                             shaders::strand_shade_glsl +
                              shaders::strand_vert,
                          std::string("#version 330 core\n") + shaders::strand_frag);
   composite_prog_ = program(shaders::fullscreen_vert, shaders::oit_composite_frag);
   opacity_prog_ = program(head + shaders::strand_vert,
-                          std::string("#version 330 core\n") + shaders::opacity_slices_glsl + shaders::strand_opacity_frag);
+                          std::string("#version 330 core\n") + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl +
+                              shaders::strand_opacity_frag);
   glGenVertexArrays(1, &vao_);  // no attributes: the vertex shader pulls the points
   glGenBuffers(1, &buffer_);
   glGenTextures(1, &buffer_tex_);
@@ -86,10 +88,15 @@ void StrandPass::drawStrips() {
 }
 
 void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
-                             float pixel_scale, float radius, float opacity) {
+                             float pixel_scale, float radius, float opacity, bool nearest_pass,
+                             GLuint nearest_tex) {
   if (segments_ == 0) return;
   const GLuint p = opacity_prog_;
   glUseProgram(p);
+  setI(p, "u_nearest_pass", nearest_pass ? 1 : 0);
+  glActiveTexture(GL_TEXTURE0 + kNearestUnit);
+  glBindTexture(GL_TEXTURE_2D, nearest_pass ? 0 : nearest_tex);  // never the target it draws into
+  setI(p, "u_nearest", kNearestUnit);
   setMat(p, "u_view_proj", view_proj);
   setMat(p, "u_light_coords", slice_coords);
   setVec(p, "u_proj_dir", proj_dir);
@@ -137,7 +144,7 @@ void StrandPass::updateTables(const StrandShading& sh) {
 
 void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& sh,
                                  float radius, float opacity, const glm::mat4& lookup_coords, float kappa,
-                                 bool shadows, GLuint slice_tex) {
+                                 bool shadows, GLuint slice_tex, GLuint nearest_tex) {
   target.bindTransparency();
   const GLfloat zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
@@ -186,6 +193,9 @@ void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   setI(p, "u_lut_m", 2);
   setI(p, "u_lut_n1", 3);
   setI(p, "u_lut_n2", 4);
+  glActiveTexture(GL_TEXTURE0 + kNearestUnit);
+  glBindTexture(GL_TEXTURE_2D, nearest_tex);
+  setI(p, "u_nearest", kNearestUnit);
   glActiveTexture(GL_TEXTURE0);
   drawStrips();
 }

@@ -38,8 +38,12 @@ class StrandPass {
 
   /// Opacity slices from the light (orthographic): `slice_coords` maps world
   /// to (s, t, slice), `pixel_scale` is light pixels per metre.
+  /// `nearest_pass`: the pass before, the depth of the nearest hair (a MIN
+  /// blend); otherwise the slices, from `nearest_tex` on.
   void drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
-                   float pixel_scale, float radius, float opacity);
+                   float pixel_scale, float radius, float opacity, bool nearest_pass, GLuint nearest_tex);
+  /// The texture unit of the nearest-hair depth in every program.
+  static constexpr int kNearestUnit = 5;
   /// From the camera, into weighted blended transparency sums.
   struct Camera {
     glm::mat4 view_proj{1.0f};
@@ -51,7 +55,7 @@ class StrandPass {
   /// (depth-tested against its opaque picture, not written).
   void drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading,
                        float radius, float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows,
-                       GLuint slice_tex);
+                       GLuint slice_tex, GLuint nearest_tex);
   /// The sums over the target's opaque picture (a full-screen triangle from
   /// the attribute-less `empty_vao`).
   void composite(const OffscreenTarget& target, GLuint empty_vao);
