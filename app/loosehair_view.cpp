@@ -728,6 +728,7 @@ int run(const ViewOptions& o) {
   glfwSetScrollCallback(window.get(), onScroll);
   ImGuiSession imgui(window.get());
   viewer::Panel panel(controller);
+  if (const GLubyte* name = glGetString(GL_RENDERER)) panel.gl_renderer = reinterpret_cast<const char*>(name);
   if (script) script->start = sim.latest()->input.position;
 
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),

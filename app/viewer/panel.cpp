@@ -205,6 +205,16 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   if (changed) sim.setSpeed(fastest_ ? 0.0 : static_cast<double>(speed_));
   ImGui::Text("t = %.2f s, frame %" PRId64 "%s", frame.time, frame.frame, frame.paused ? " (paused)" : "");
   ImGui::Text("%.2fx real time, window %.1f frames/s", frame.real_time_factor, fps);
+  {
+    // software rasterisers by name (Mesa's llvmpipe, softpipe, swrast)
+    const std::string& r = gl_renderer;
+    const bool software = r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos ||
+                          r.find("swrast") != std::string::npos || r.find("Software") != std::string::npos;
+    ImGui::TextWrapped("drawn by %s: %s", software ? "the CPU (software OpenGL)" : "the GPU",
+                       r.empty() ? "unknown" : r.c_str());
+  }
+  if (const auto strands = c_.sim().latestStrands())
+    ImGui::Text("strands of frame %" PRId64 " (%.0f ms a carry)", strands->frame, strands->carry_ms);
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);
   ImGui::Text("state hash %016" PRIx64, frame.state_hash);

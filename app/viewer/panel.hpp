@@ -25,6 +25,8 @@ class Panel {
 
   float shake_amplitude_deg = 35.0f, shake_frequency_hz = 1.0f;
   float move_step_mm = 10.0f;  // styling: one press of a move button
+  /// What draws the window (GL_RENDERER), shown with the frame rate.
+  std::string gl_renderer;
 
  private:
   void files();
