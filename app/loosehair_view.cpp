@@ -838,6 +838,7 @@ int run(const ViewOptions& o) {
     ImGui_ImplGlfw_NewFrame();
     hideViewPressesFromInterface(w);
     ImGui::NewFrame();
+    panel.legend = render::debugLegend(*input, v.settings);  // what the colours drawn below mean
     panel.draw(*frame, fps);
     ImGui::Render();
     // the hair in the middle of what the panel leaves free

@@ -358,6 +358,35 @@ TEST(Render, TheLitSurfaceOfACurvedHeadOfHairIsNotDarkenedBySlices) {
   }
 }
 
+// The debug views' legend gives the range the colours span, with its
+// unit; and hair drawn as points casts no shadow (its shadow streaked the
+// face while the hair was not drawn).
+TEST(Render, DebugViewsHaveALegendAndTheHairCastsNoShadowInThem) {
+  const HangScene& s = hang();
+  const FrameInput in = frameFromSolver(*s.solver, s.build.mean_neighbor_distance);
+  RenderSettings st;
+  EXPECT_FALSE(debugLegend(in, st).shown) << "no legend for the hair itself";
+  st.debug = DebugView::Density;
+  const DebugLegend d = debugLegend(in, st);
+  ASSERT_TRUE(d.shown);
+  EXPECT_EQ(d.low, *std::min_element(in.density.begin(), in.density.end()));
+  EXPECT_EQ(d.high, *std::max_element(in.density.begin(), in.density.end()));
+  EXPECT_STREQ(d.unit, "kg/m^3");
+  st.debug = DebugView::Speed;
+  EXPECT_STREQ(debugLegend(in, st).unit, "m/s");
+  EXPECT_EQ(debugLegend(in, st).high, *std::max_element(in.speed.begin(), in.speed.end()));
+  EXPECT_GT(debugRamp(0.0f).b, 0.8f);  // blue
+  EXPECT_GT(debugRamp(1.0f).r, 0.8f);  // red
+  app::HeadlessGL gl(120, 90);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  st.debug = DebugView::Density;
+  RenderSettings off = st;
+  off.shadows = false;
+  const Image a = draw(gl, r, in, Camera::preset("front"), st), b = draw(gl, r, in, Camera::preset("front"), off);
+  EXPECT_EQ(a.rgba, b.rgba) << "the points' shadows fell on the bodies";
+}
+
 TEST(Render, DebugViewsDrawPointsAndLines) {
   const HangScene& s = hang();
   app::HeadlessGL gl(120, 90);

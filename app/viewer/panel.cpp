@@ -57,6 +57,7 @@ void Panel::draw(const PublishedFrame& frame, double fps) {
   const ImVec2 display = ImGui::GetIO().DisplaySize;
   statusWindow(view, display);
   helpWindow(view, display);
+  legendWindow(view, display);
   if (!view.show_panel) return;
   // the panel stands at the left, as tall as the window; its width is the
   // user's (dragging its right edge)
@@ -118,6 +119,35 @@ void Panel::statusWindow(ViewState& view, ImVec2 display) {
   ImGui::PopTextWrapPos();
   ImGui::PopStyleColor();
   if (ImGui::SmallButton("dismiss")) view.message.clear();
+  ImGui::End();
+}
+
+// What the density and speed views' colours mean: the ramp from the
+// frame's least to its greatest value, with the unit, at the view's top
+// right.
+void Panel::legendWindow(ViewState& view, ImVec2 display) {
+  if (!legend.shown || view.settings.debug != legend.view) return;
+  ImGui::SetNextWindowPos(ImVec2(display.x - 8, 8), ImGuiCond_Always, ImVec2(1, 0));
+  ImGui::Begin("##legend", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
+  remember(view);
+  ImGui::Text("%s (%s)", legend.view == render::DebugView::Density ? "density" : "speed", legend.unit);
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  const float w = 220.0f, h = 14.0f;
+  constexpr int kSteps = 32;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  for (int k = 0; k < kSteps; ++k) {
+    const glm::vec3 a = render::debugRamp(static_cast<float>(k) / kSteps),
+                    b = render::debugRamp(static_cast<float>(k + 1) / kSteps);
+    const ImU32 ca = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f)), cb = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
+    draw->AddRectFilledMultiColor(ImVec2(at.x + w * k / kSteps, at.y), ImVec2(at.x + w * (k + 1) / kSteps, at.y + h), ca,
+                                  cb, cb, ca);
+  }
+  ImGui::Dummy(ImVec2(w, h));
+  ImGui::Text("%-10.3g", static_cast<double>(legend.low));
+  ImGui::SameLine(w - ImGui::CalcTextSize("0000000000").x + 8);
+  ImGui::Text("%10.3g", static_cast<double>(legend.high));
   ImGui::End();
 }
 

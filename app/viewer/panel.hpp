@@ -27,6 +27,8 @@ class Panel {
   float move_step_mm = 10.0f;  // styling: one press of a move button
   /// What draws the window (GL_RENDERER), shown with the frame rate.
   std::string gl_renderer;
+  /// The last drawn frame's debug-view colours, for the legend.
+  render::DebugLegend legend;
 
  private:
   void files();
@@ -39,6 +41,7 @@ class Panel {
   void styling();
   void statusWindow(ViewState& view, ImVec2 display);
   void helpWindow(ViewState& view, ImVec2 display);
+  void legendWindow(ViewState& view, ImVec2 display);
   static void remember(ViewState& view);
 
   Controller& c_;

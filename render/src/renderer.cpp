@@ -62,6 +62,32 @@ struct BodyMesh {
 
 }  // namespace
 
+glm::vec3 debugRamp(float t) {
+  t = std::clamp(t, 0.0f, 1.0f);
+  return t < 0.5f ? glm::mix(glm::vec3(0.1f, 0.2f, 0.9f), glm::vec3(0.1f, 0.9f, 0.9f), t * 2.0f)
+                  : glm::mix(glm::vec3(0.95f, 0.9f, 0.1f), glm::vec3(0.9f, 0.1f, 0.1f), t * 2.0f - 1.0f);
+}
+
+DebugLegend debugLegend(const FrameInput& in, const RenderSettings& st) {
+  DebugLegend legend;
+  if (st.debug != DebugView::Density && st.debug != DebugView::Speed) return legend;
+  const auto& values = st.debug == DebugView::Density ? in.density : in.speed;
+  const std::size_t n = in.position.size();
+  if (n == 0) return legend;
+  float vmin = INFINITY, vmax = -INFINITY;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float v = i < values.size() ? values[i] : 0.0f;  // as drawn
+    vmin = std::min(vmin, v);
+    vmax = std::max(vmax, v);
+  }
+  legend.shown = true;
+  legend.view = st.debug;
+  legend.low = vmin;
+  legend.high = vmax;
+  legend.unit = st.debug == DebugView::Density ? "kg/m^3" : "m/s";
+  return legend;
+}
+
 // ---- camera -------------------------------------------------------------------
 HairColor parseHairColor(const std::string& n) {
   if (n == "black") return HairColor::Black;
@@ -477,15 +503,18 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   // the hair nearest the light in each texel (deep opacity maps): first
   // that depth, by a MIN blend, then the slices behind it ----
   t0 = Clock::now();
+  // in the debug views the hair is drawn as points or lines: it casts no
+  // shadow (its shadow streaked the face while the hair was not there)
+  const bool hair_shadows = st.shadows && st.debug == DebugView::None;
   auto lightPass = [&](bool nearest_pass) {
-   if (st.shadows && draw_strands) {
+   if (hair_shadows && draw_strands) {
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     r.strands->drawOpacity(light_proj * light_view, slice_coords, -light,
                            static_cast<float>(kShadowSize) / (2.0f * radius), st.strand_radius, st.strand_opacity,
                            nearest_pass, r.nearest_tex);
-   } else if (st.shadows && n > 0) {
+   } else if (hair_shadows && n > 0) {
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
@@ -612,14 +641,12 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     GLenum mode = GL_POINTS;
     if (st.debug == DebugView::Density || st.debug == DebugView::Speed) {
       const auto& values = st.debug == DebugView::Density ? in.density : in.speed;
-      float vmin = INFINITY, vmax = -INFINITY;
       for (std::size_t i = 0; i < n; ++i) {
         const float v = i < values.size() ? values[i] : 0.0f;
-        vmin = std::min(vmin, v);
-        vmax = std::max(vmax, v);
         r.lines.insert(r.lines.end(), {in.position[i].x, in.position[i].y, in.position[i].z, v});
       }
-      glUniform2f(loc(r.debug_prog, "u_range"), vmin, vmax);
+      const DebugLegend legend = debugLegend(in, st);
+      glUniform2f(loc(r.debug_prog, "u_range"), legend.low, legend.high);
       setI(r.debug_prog, "u_use_flat", 0);
       setF(r.debug_prog, "u_point_size", 3.0f);
       glEnable(GL_PROGRAM_POINT_SIZE);

@@ -127,6 +127,23 @@ struct FrameTimes {
   double resolve = 0;  // transparency composite and supersampling filter
 };
 
+/// What the density and speed debug views' colours mean: the value range
+/// of a frame drawn in one (blue at `low`, red at `high`).
+struct DebugLegend {
+  bool shown = false;     // drawn in the density or speed view
+  DebugView view = DebugView::None;
+  float low = 0, high = 0;
+  const char* unit = "";  // "kg/m^3" or "m/s"
+};
+
+/// The debug views' colour for t in [0, 1]: blue, cyan, yellow, red (the
+/// ramp of render/shaders/debug.frag, for legends).
+glm::vec3 debugRamp(float t);
+
+/// The legend of `frame` drawn with `settings` (shown only in the density
+/// and speed views): the range the renderer colours by.
+DebugLegend debugLegend(const FrameInput& frame, const RenderSettings& settings);
+
 class Renderer {
  public:
   /// Needs a current OpenGL 3.3 core context; throws RenderError if shaders
