@@ -76,7 +76,7 @@ constexpr const char* kRenderUsage =
     "usage: loosehair render SCENE [--frames N] [--size WxH] [--camera PRESET] [--out DIR]\n"
     "                              [--overwrite] [--video FILE.mp4] [--threads T] [--seed S]\n"
     "                              [--color C] [--no-shadows] [--debug VIEW] [--yaw D]\n"
-    "                              [--pitch D] [--distance M] [--fov D] [--light X,Y,Z]\n"
+    "                              [--pitch D] [--distance M] [--fov D] [--light X,Y,Z] [--no-lod]\n"
     "                              [--style STYLE.json] [--no-shape-keeping]\n"
     "                              [--hair strands|billboards] [--shading kajiya-kay|marschner]\n"
     "                              [--supersample N] [--strands N] [--strand-points P]\n"
@@ -94,6 +94,7 @@ constexpr const char* kRenderUsage =
     "    --no-shadows     no self-shadowing (opacity shadow maps)\n"
     "    --debug VIEW     density, speed (points), connections or directions (lines)\n"
     "    --yaw, --pitch, --distance, --fov   orbit the preset camera (degrees, metres)\n"
+    "    --no-lod         draw every strand however small the hair is in the picture\n"
     "    --light X,Y,Z    direction towards the (parallel) light (default: above, right\n"
     "                     and in front of the camera, turning with it)\n"
     "    --hair H         strands (default: thin strands the particles carry) or\n"
@@ -488,6 +489,7 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       else if (a == "--pitch") o.pitch = parseReal(a, value(), -89, 89);
       else if (a == "--distance") o.distance = parseReal(a, value(), 0.05, 100);
       else if (a == "--fov") o.fov = parseReal(a, value(), 5, 150);
+      else if (a == "--no-lod") o.settings.strand_lod = false;
       else if (a == "--light") {
         const std::string v = value();
         float c[3];
@@ -598,6 +600,7 @@ int renderScene(const RenderOptions& o) {
     sum.light_pass += t.light_pass;
     sum.camera_pass += t.camera_pass;
     sum.resolve += t.resolve;
+    sum.strands_drawn = t.strands_drawn;
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05d.png", f);
     app::writePng((std::filesystem::path(o.out_dir) / name).string(), gl.pixels(), o.width, o.height);
@@ -610,6 +613,9 @@ int renderScene(const RenderOptions& o) {
               frames, wall, frames / wall, 1e3 * sim_seconds / frames, 1e3 * deform_seconds / frames,
               1e3 * sum.sort / frames, 1e3 * sum.upload / frames, 1e3 * sum.light_pass / frames,
               1e3 * sum.camera_pass / frames, 1e3 * sum.resolve / frames);
+  if (strands)
+    std::printf("strands: %zu of %zu drawn from the camera in the last frame (level of detail%s)\n",
+                sum.strands_drawn, strands->strandCount(), settings.strand_lod ? "" : " off");
   std::printf("frames: %s/frame_00001.png ... frame_%05d.png\n", o.out_dir.c_str(), frames);
   if (!o.video.empty()) {
     loosehair::app::encodeVideo(ffmpeg, o.out_dir, o.video, scene.frame_rate);

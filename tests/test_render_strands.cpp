@@ -230,6 +230,38 @@ TEST(RenderStrands, MarschnerGivesTheSameHairColourAsKajiyaKay) {
   }
 }
 
+// Level of detail: hair small in the picture draws every k-th strand, k
+// times as opaque; the picture stays the same to within a fraction of a
+// grey level, the camera pass draws half the strands or fewer; hair large
+// in the picture draws them all.
+TEST(RenderStrands, SmallHairDrawsFewerStrandsAndLooksTheSame) {
+  EXPECT_EQ(strandLevelOfDetail(12000, 0.25f, 1.5e-4f, 0.3f, 0.75f, 1300.0f), 1u) << "large on screen";
+  const std::size_t far = strandLevelOfDetail(12000, 0.25f, 1.5e-4f, 0.3f, 3.0f, 1300.0f);
+  const std::size_t farther = strandLevelOfDetail(12000, 0.25f, 1.5e-4f, 0.3f, 6.0f, 1300.0f);
+  EXPECT_GT(far, 1u);
+  EXPECT_GT(farther, far) << "smaller on screen, fewer strands";
+  EXPECT_EQ(strandLevelOfDetail(0, 0.25f, 1.5e-4f, 0.3f, 6.0f, 1300.0f), 1u);
+  const HangStrands& s = hang();
+  const int w = 200, h = 150;
+  const Camera cam = Camera::preset("three-quarter");
+  RenderSettings lod = strands(), all = strands();
+  all.strand_lod = false;
+  app::HeadlessGL gl(w, h);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  r.render(s.input, cam, all, w, h);
+  const Image full{w, h, gl.pixels()};
+  const std::size_t drawn_all = r.lastTimes().strands_drawn;
+  r.render(s.input, cam, lod, w, h);
+  const Image thinned{w, h, gl.pixels()};
+  const std::size_t drawn_lod = r.lastTimes().strands_drawn;
+  const double diff = meanDifference(full, thinned);
+  std::printf("strands drawn: %zu of %zu; mean difference %.2f grey levels\n", drawn_lod, drawn_all, diff);
+  EXPECT_EQ(drawn_all, s.field->strandCount());
+  EXPECT_LE(2 * drawn_lod, drawn_all + 1);
+  EXPECT_LT(diff, 1.0);
+}
+
 TEST(RenderStrands, SupersamplingComesNearerAFinerReference) {
   const Camera cam = Camera::preset("three-quarter");
   RenderSettings st = strands();

@@ -400,6 +400,8 @@ void Panel::rendering() {
     if (ImGui::Combo("shading", &sh, shadings, 2))
       view.settings.shading = sh == 1 ? render::HairShading::Marschner : render::HairShading::KajiyaKay;
     ImGui::SliderInt("supersampling", &view.settings.supersample, 1, 3, "%dx", kClamp);
+    ImGui::Checkbox("fewer strands when the hair is small", &view.settings.strand_lod);
+    tooltip("level of detail: every k-th strand, k times as opaque, where they overlap more than 8 deep");
   }
   ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing", kClamp);
   ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing", kClamp);

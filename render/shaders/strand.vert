@@ -53,7 +53,10 @@ void main() {
   // fades over the last tenth of the strand (tips are thin)
   float s = float(i) / float(per);
   float tip = clamp((1.0 - s) * 10.0, 0.0, 1.0);
-  v_alpha = u_opacity * (u_radius / r) * (0.35 + 0.65 * tip);
+  // at most opaque (a strand drawn for several, by the level of detail, or
+  // for many in the light pass, may stand for more than full coverage there)
+  v_alpha = u_ortho == 1 ? u_opacity * (u_radius / r) * (0.35 + 0.65 * tip)
+                         : min(1.0, u_opacity * (u_radius / r) * (0.35 + 0.65 * tip));
   v_world = w;
   v_light = (u_light_coords * vec4(w, 1.0)).xyz;
 #ifdef SHADE

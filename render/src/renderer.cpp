@@ -68,6 +68,17 @@ glm::vec3 debugRamp(float t) {
                   : glm::mix(glm::vec3(0.95f, 0.9f, 0.1f), glm::vec3(0.9f, 0.1f, 0.1f), t * 2.0f - 1.0f);
 }
 
+std::size_t strandLevelOfDetail(std::size_t strands, float mean_length, float radius, float hair_radius,
+                                float depth, float pixel_scale) {
+  if (strands == 0 || !(depth > 0.0f) || !(pixel_scale > 0.0f) || !(hair_radius > 0.0f)) return 1;
+  const float per_metre = pixel_scale / depth;  // pixels a metre at the hair
+  const float width = std::max(1.0f, 2.0f * radius * per_metre);  // drawn at least a pixel wide
+  const float area = 3.14159265f * (hair_radius * per_metre) * (hair_radius * per_metre);
+  const float layers = static_cast<float>(strands) * mean_length * per_metre * width / std::max(area, 1.0f);
+  if (!(layers > kStrandLayers)) return 1;
+  return std::min(strands, static_cast<std::size_t>(layers / kStrandLayers));
+}
+
 DebugLegend debugLegend(const FrameInput& in, const RenderSettings& st) {
   DebugLegend legend;
   if (st.debug != DebugView::Density && st.debug != DebugView::Speed) return legend;
@@ -597,8 +608,13 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     sh.spec = pal.spec;
     sh.marschner = st.shading == HairShading::Marschner;
     sh.variation = st.strand_variation;
+    const std::size_t stride =
+        st.strand_lod ? strandLevelOfDetail(r.strands->strands(), r.strands->meanLength(), st.strand_radius,
+                                            box_radius, to_centre, cam.pixel_scale)
+                      : 1;
+    times_.strands_drawn = (r.strands->strands() + stride - 1) / stride;
     r.strands->drawTransparent(r.target, cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa,
-                               st.shadows, r.slice_tex, r.nearest_tex);
+                               st.shadows, r.slice_tex, r.nearest_tex, stride);
     glFinish();
     times_.camera_pass = since(t0);
     t0 = Clock::now();

@@ -75,6 +75,10 @@ void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
   glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer_);
   glBindBuffer(GL_TEXTURE_BUFFER, 0);
   const std::size_t strands = points.size() / static_cast<std::size_t>(per_strand);
+  double length = 0;
+  for (std::size_t q = 0; q + 1 < points.size(); ++q)
+    if ((q + 1) % static_cast<std::size_t>(per_strand) != 0) length += glm::length(points[q + 1] - points[q]);
+  mean_length_ = strands > 0 ? static_cast<float>(length / static_cast<double>(strands)) : 0.0f;
   strip_first_.resize(strands);
   strip_count_.assign(strands, 2 * per_strand);
   for (std::size_t k = 0; k < strands; ++k) strip_first_[k] = static_cast<GLint>(2 * k * static_cast<std::size_t>(per_strand));
@@ -113,13 +117,17 @@ void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_
   const std::size_t strands = strip_first_.size();
   const std::size_t stride = std::max<std::size_t>(1, strands / kLightStrands);
   setF(p, "u_opacity", opacity * static_cast<float>(stride));
-  if (stride == 1) {
+  drawEvery(stride);
+}
+
+void StrandPass::drawEvery(std::size_t stride) {
+  if (stride <= 1) {
     drawStrips();
     return;
   }
   light_first_.clear();
   light_count_.clear();
-  for (std::size_t k = 0; k < strands; k += stride) {
+  for (std::size_t k = 0; k < strip_first_.size(); k += stride) {
     light_first_.push_back(strip_first_[k]);
     light_count_.push_back(strip_count_[k]);
   }
@@ -144,7 +152,7 @@ void StrandPass::updateTables(const StrandShading& sh) {
 
 void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& sh,
                                  float radius, float opacity, const glm::mat4& lookup_coords, float kappa,
-                                 bool shadows, GLuint slice_tex, GLuint nearest_tex) {
+                                 bool shadows, GLuint slice_tex, GLuint nearest_tex, std::size_t stride) {
   target.bindTransparency();
   const GLfloat zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
@@ -161,7 +169,7 @@ void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   setI(p, "u_ortho", 0);
   setF(p, "u_pixel_scale", cam.pixel_scale);
   setF(p, "u_radius", radius);
-  setF(p, "u_opacity", opacity);
+  setF(p, "u_opacity", opacity * static_cast<float>(stride));  // the strands left stand for the others
   setI(p, "u_points_per_strand", per_strand_);
   setMat(p, "u_light_coords", lookup_coords);
   setF(p, "u_kappa", kappa);
@@ -197,7 +205,7 @@ void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   glBindTexture(GL_TEXTURE_2D, nearest_tex);
   setI(p, "u_nearest", kNearestUnit);
   glActiveTexture(GL_TEXTURE0);
-  drawStrips();
+  drawEvery(stride);
 }
 
 void StrandPass::composite(const OffscreenTarget& target, GLuint empty_vao) {

@@ -35,6 +35,9 @@ class StrandPass {
   /// The strands to draw: `count` strands of `per_strand` points each.
   void upload(const std::vector<glm::vec3>& points, int per_strand);
   std::size_t segments() const { return segments_; }
+  std::size_t strands() const { return strip_first_.size(); }
+  /// The mean length of the uploaded strands (m).
+  float meanLength() const { return mean_length_; }
 
   /// Opacity slices from the light (orthographic): `slice_coords` maps world
   /// to (s, t, slice), `pixel_scale` is light pixels per metre.
@@ -55,7 +58,7 @@ class StrandPass {
   /// (depth-tested against its opaque picture, not written).
   void drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading,
                        float radius, float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows,
-                       GLuint slice_tex, GLuint nearest_tex);
+                       GLuint slice_tex, GLuint nearest_tex, std::size_t stride = 1);
   /// The sums over the target's opaque picture (a full-screen triangle from
   /// the attribute-less `empty_vao`).
   void composite(const OffscreenTarget& target, GLuint empty_vao);
@@ -72,6 +75,8 @@ class StrandPass {
   GLuint lut_[3] = {0, 0, 0};
   glm::vec3 lut_color_{-1.0f};
   std::size_t segments_ = 0;
+  float mean_length_ = 0.0f;
+  void drawEvery(std::size_t stride);  // every stride-th strand
   int per_strand_ = 2;
   std::vector<float> staging_;
 };

@@ -105,7 +105,22 @@ struct RenderSettings {
   float strand_variation = 0.15f;
   /// Supersampling: draw at factor x factor the size and filter down (1..4).
   int supersample = 1;
+  /// Level of detail: where the strands overlap more than
+  /// kStrandLayers deep on screen (hair small in the picture), every k-th
+  /// strand is drawn, k times as opaque (strandLevelOfDetail).
+  bool strand_lod = true;
 };
+
+/// How many strands overlap on screen, on average over the hair's area,
+/// before the level of detail thins them.
+inline constexpr float kStrandLayers = 8.0f;
+/// The level of detail's stride: every k-th of `strands` strands of mean
+/// length `mean_length` (m) and half-width `radius` (m), in hair of
+/// bounding radius `hair_radius` (m) at `depth` (m) from the eye, seen at
+/// `pixel_scale` pixels per metre at unit depth, so that about
+/// kStrandLayers of them overlap (at least 1: all of them).
+std::size_t strandLevelOfDetail(std::size_t strands, float mean_length, float radius, float hair_radius,
+                                float depth, float pixel_scale);
 
 /// What one frame shows, in world coordinates.
 struct FrameInput {
@@ -125,6 +140,7 @@ struct FrameInput {
 struct FrameTimes {
   double sort = 0, light_pass = 0, camera_pass = 0, upload = 0;
   double resolve = 0;  // transparency composite and supersampling filter
+  std::size_t strands_drawn = 0;  // from the camera (the level of detail's choice)
 };
 
 /// What the density and speed debug views' colours mean: the value range
