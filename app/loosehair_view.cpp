@@ -229,6 +229,10 @@ struct Window {
   bool view_holds[GLFW_MOUSE_BUTTON_LAST + 1] = {};
   double last_x = 0, last_y = 0;
   int width = 1, height = 1;  // of the framebuffer
+  // input to picture: the first head move not yet on screen (when, and the
+  // newest simulated frame then: it lands in a later one)
+  std::optional<std::chrono::steady_clock::time_point> input_at;
+  std::int64_t input_frame = -1;
 };
 
 Window& of(GLFWwindow* w) { return *static_cast<Window*>(glfwGetWindowUserPointer(w)); }
@@ -333,6 +337,10 @@ void cursor(Window& w, double x, double y) {
   if (w.turning) {
     c.head().drag(dx, dy, w.shift, cam);
     c.sim().setHeadTarget(c.head().pose());
+    if (!w.input_at) {
+      w.input_at = std::chrono::steady_clock::now();
+      w.input_frame = c.sim().latest()->frame;
+    }
   }
 }
 
@@ -744,6 +752,8 @@ int run(const ViewOptions& o) {
   const auto started = std::chrono::steady_clock::now();
   const double started_sim = sim.latest()->time;
   std::int64_t last_carried = -1;  // the strands shown: how many frames carried, how late
+  int latency_count = 0;           // input to picture (Window::input_at)
+  double latency_sum = 0, latency_max = 0;
   int carried_shown = 0, strand_frames = 0;
   double carry_ms_sum = 0, strand_lag_sum = 0;
   std::uint64_t generation = 0;
@@ -814,7 +824,9 @@ int run(const ViewOptions& o) {
     // or two behind it: the carry runs on its own thread)
     render::FrameInput with_strands;
     const render::FrameInput* input = &frame->input;
+    std::int64_t shown_frame = frame->frame;  // the simulated frame the hair on screen is from
     if (const auto strands = sim.latestStrands()) {
+      shown_frame = strands->frame;
       if (strands->frame != last_carried) {
         last_carried = strands->frame;
         ++carried_shown;
@@ -893,6 +905,14 @@ int run(const ViewOptions& o) {
       v.screenshot_path.clear();
     }
     glfwSwapBuffers(window.get());
+    if (w.input_at && shown_frame > w.input_frame) {  // the head's move is on screen
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *w.input_at).count();
+      ++latency_count;
+      latency_sum += ms;
+      latency_max = std::max(latency_max, ms);
+      w.input_at.reset();
+    }
     ++frames_since;
     const auto now = std::chrono::steady_clock::now();
     const double span = std::chrono::duration<double>(now - last_count).count();
@@ -911,6 +931,10 @@ int run(const ViewOptions& o) {
       std::printf("strands: %d simulated frames carried and shown (%.0f ms a carry), drawn %.1f frames behind the "
                   "simulation on average\n",
                   carried_shown, carry_ms_sum / std::max(1, carried_shown), strand_lag_sum / strand_frames);
+    if (latency_count > 0)
+      std::printf("input to picture: %d head moves, %.0f ms on average, %.0f ms at most (from a move to the "
+                  "first frame drawn with hair simulated after it)\n",
+                  latency_count, latency_sum / latency_count, latency_max);
   }
   controller.stopRecording();
   const std::shared_ptr<const viewer::PublishedFrame> last = sim.latest();
