@@ -218,6 +218,7 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
   s.seed = static_cast<std::uint64_t>(top.integer("seed", 1, 0, INT64_MAX));
   s.frames = static_cast<int>(top.integer("frames", s.frames, 1, 10000000));
   s.frame_rate = top.number("frame_rate", s.frame_rate, 0.0, 10000.0, true);
+  s.settle = top.number("settle", 0.0, 0.0, 10.0);
   if (top.has("substeps") && top.at("substeps").is_string()) {
     if (top.at("substeps").get<std::string>() != "auto")
       top.fail("substeps", "must be a positive integer or \"auto\", got " + show(top.at("substeps")));
@@ -872,6 +873,11 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   if (scene.substeps == 0) {
     substeps = std::max(1, static_cast<int>(needed));
     solver.setTimeStep(frame_time / substeps);
+  }
+  // the hair comes to rest before the first frame (as grown, it fans out)
+  if (scene.settle > 0.0) {
+    rep.grown = std::make_shared<const Particles>(solver.particles());
+    solver.settle(static_cast<int>(std::lround(scene.settle * scene.frame_rate * substeps)));
   }
   if (report) {
     rep.poisson_radius = rp;

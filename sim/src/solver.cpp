@@ -1955,6 +1955,15 @@ std::size_t Solver::updateDirections(Scratch& s) {
   return broken;
 }
 
+void Solver::settle(int steps) {
+  if (steps < 0) throw std::invalid_argument("settle: " + std::to_string(steps) + " steps");
+  const double now = time_;
+  for (int k = 0; k < steps; ++k) {
+    step();
+    time_ = now;  // the head, the bodies and the wind stay as they are now
+  }
+}
+
 // ---- the step ---------------------------------------------------------------
 void Solver::step() {
   if (!fingerprint_taken_) (void)sceneFingerprint();

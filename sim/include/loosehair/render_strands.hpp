@@ -41,7 +41,8 @@ class StrandField;
 struct StrandFieldOptions;
 struct BuildReport;
 /// The render strands of `scene` bound to its particles' rest state `rest`
-/// (Solver::particles() right after buildSolver(scene, &build)), with a
+/// (Solver::particles() right after buildSolver(scene, &build); where the
+/// scene settles, BuildReport::grown, the state before it), with a
 /// binding radius of twice the mean particle spacing. Builds the scene's
 /// head again. Throws as growRenderStrands.
 StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, const BuildReport& build,

@@ -120,6 +120,10 @@ struct SceneDesc : HeadDesc {
   int frames = 90;
   double frame_rate = 30.0;  // output frames per simulated second
   int substeps = 0;          // solver steps per frame; 0 = choose from the stable step
+  /// Seconds of simulation with the head still before the first frame, so
+  /// that the hair starts at rest rather than fanned out in the shape it
+  /// was grown in (0..10; Solver::settle).
+  double settle = 0.0;
   std::vector<ObstacleSpec> obstacles;
   bool has_wind = false;
   WindParams wind;
@@ -195,6 +199,9 @@ struct BuildReport {
   std::size_t style_wisps = 0, style_strands = 0, style_points = 0;
   std::size_t tied_particles = 0;  // held by a tie
   float shape_keeping = 0;         // Hz, the strength used
+  /// The particles as grown, before the scene's settle (null without one):
+  /// render strands are grown in that shape, so they are bound to it.
+  std::shared_ptr<const Particles> grown;
 };
 
 /// Grows the hair of `scene` and returns a solver ready to step. Throws

@@ -107,6 +107,11 @@ class Solver {
   void advance(int steps) {
     for (int k = 0; k < steps; ++k) step();
   }
+  /// Lets the hair settle from the shape it was grown in: `steps` steps
+  /// with the clock held at time() (the head, the bodies and the wind as
+  /// they are now), so the hair hangs at rest when the motion starts
+  /// (scene "settle"). Throws std::invalid_argument for steps < 0.
+  void settle(int steps);
 
   /// Changes the parameters of a running simulation (the viewer's panel):
   /// those ParamInfo marks live take effect from the next step, and

@@ -146,7 +146,10 @@ StrandField bindSceneStrands(const SceneDesc& scene, const Particles& rest, cons
   StrandFieldOptions field;
   field.support = 2.0f * std::max(build.mean_neighbor_distance, 1e-4f);
   if (options.poisson_radius <= 0.0f) options.poisson_radius = build.poisson_radius;
-  return StrandField(growRenderStrands(scene, model, options, threads), rest, field, threads);
+  // strands are grown in the shape the particles were grown in: bound to
+  // that state where the scene settled the hair before its first frame
+  return StrandField(growRenderStrands(scene, model, options, threads), build.grown ? *build.grown : rest, field,
+                     threads);
 }
 
 }  // namespace loosehair
