@@ -385,6 +385,16 @@ TEST(Render, DebugViewsHaveALegendAndTheHairCastsNoShadowInThem) {
   off.shadows = false;
   const Image a = draw(gl, r, in, Camera::preset("front"), st), b = draw(gl, r, in, Camera::preset("front"), off);
   EXPECT_EQ(a.rgba, b.rgba) << "the points' shadows fell on the bodies";
+  // the points are drawn in the legend's colours
+  int on_ramp = 0;
+  for (int y = 0; y < a.h; ++y)
+    for (int x = 0; x < a.w; ++x) {
+      const glm::vec3 c = a.at(x, y);
+      bool near = false;
+      for (int k = 0; k <= 20 && !near; ++k) near = glm::length(c - debugRamp(0.05f * static_cast<float>(k))) < 0.06f;
+      on_ramp += near ? 1 : 0;
+    }
+  EXPECT_GT(on_ramp, 50) << "no pixel has a colour of the legend's ramp";
 }
 
 TEST(Render, DebugViewsDrawPointsAndLines) {

@@ -190,7 +190,7 @@ TEST(RenderStrands, MarschnerAndKajiyaKayGiveDifferentImages) {
 // Marschner looked olive: its light scattered many times was half of
 // Kajiya-Kay's diffuse): over the hair seen from the back, the mean
 // colour's hue within 6 degrees, its saturation within 0.06 and its value
-// within 15 %, for every preset colour.
+// within 10 %, for every preset colour.
 TEST(RenderStrands, MarschnerGivesTheSameHairColourAsKajiyaKay) {
   const Camera cam = Camera::preset("back");
   auto hsv = [](glm::vec3 c) {
@@ -226,7 +226,9 @@ TEST(RenderStrands, MarschnerGivesTheSameHairColourAsKajiyaKay) {
                 static_cast<int>(colour), ha.x, ha.y, ha.z, hb.x, hb.y, hb.z);
     EXPECT_NEAR(ha.x, hb.x, 6.0f);
     EXPECT_NEAR(ha.y, hb.y, 0.06f);
-    EXPECT_NEAR(hb.z / ha.z, 1.0f, 0.15f);
+    // (measured 1.03-1.08; with the multiple scattering at half of
+    // Kajiya-Kay's diffuse, 0.86-0.99, blonde the darkest)
+    EXPECT_NEAR(hb.z / ha.z, 1.0f, 0.10f);
   }
 }
 

@@ -138,11 +138,10 @@ void Panel::legendWindow(ViewState& view, ImVec2 display) {
   constexpr int kSteps = 32;
   ImDrawList* draw = ImGui::GetWindowDrawList();
   for (int k = 0; k < kSteps; ++k) {
-    const glm::vec3 a = render::debugRamp(static_cast<float>(k) / kSteps),
-                    b = render::debugRamp(static_cast<float>(k + 1) / kSteps);
+    const float t0 = static_cast<float>(k) / kSteps, t1 = static_cast<float>(k + 1) / kSteps;
+    const glm::vec3 a = render::debugRamp(t0), b = render::debugRamp(t1);
     const ImU32 ca = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f)), cb = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
-    draw->AddRectFilledMultiColor(ImVec2(at.x + w * k / kSteps, at.y), ImVec2(at.x + w * (k + 1) / kSteps, at.y + h), ca,
-                                  cb, cb, ca);
+    draw->AddRectFilledMultiColor(ImVec2(at.x + w * t0, at.y), ImVec2(at.x + w * t1, at.y + h), ca, cb, cb, ca);
   }
   ImGui::Dummy(ImVec2(w, h));
   ImGui::Text("%-10.3g", static_cast<double>(legend.low));

@@ -390,25 +390,26 @@ void SimulationThread::publish(double frame_ms) {
     strand_count = strand_count_;
     f->generation = generation_;
   }
-  {
-    // handed to the carrier, which carries it when it is free (a binding
-    // that failed turns the strands off)
-    if (std::string failed = carrier_->takeError(); !failed.empty()) {
-      std::lock_guard<std::mutex> lk(mutex_);
-      error_ = failed;
-      strand_count_ = strand_count = 0;
-    }
+  // the frame handed to the carrier, which carries it when it is free; a
+  // binding that failed turns the strands off, and strands turned off are
+  // handed over once, so that it lets its field go
+  if (std::string failed = carrier_->takeError(); !failed.empty()) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    error_ = failed;
+    strand_count_ = strand_count = 0;
+  }
+  if (strand_count > 0 || handed_strands_ > 0) {
     CarryJob job;
     job.frame = frame_;
     job.generation = f->generation;
     job.strands = strand_count;
     if (strand_count > 0) {
-      std::lock_guard<std::mutex> lk(mutex_);
-      job.scene = built_scene_;
-      job.build = built_report_;
-      job.rest = rest_;
-    }
-    if (strand_count > 0) {
+      {
+        std::lock_guard<std::mutex> lk(mutex_);
+        job.scene = built_scene_;
+        job.build = built_report_;
+        job.rest = rest_;
+      }
       job.position = solver_->particles().position;
       job.direction = solver_->particles().direction;
       job.bodies = solver_->placedBodyContacts();
@@ -417,6 +418,7 @@ void SimulationThread::publish(double frame_ms) {
       job.head_center = glm::vec3(pose.center);
     }
     carrier_->submit(std::move(job));
+    handed_strands_ = strand_count;
   }
   if (air && f->wind) solver_->worldAirPositions(f->air);
   if (grid && f->grid_cell > 0) {

@@ -139,6 +139,7 @@ class SimulationThread {
   std::shared_ptr<const BuildReport> built_report_;
   std::shared_ptr<const Particles> rest_;
   std::size_t strand_count_ = 0;
+  std::size_t handed_strands_ = 0;  // the count last handed to the carrier (simulation thread's)
   std::unique_ptr<StrandCarrier> carrier_;
   std::optional<LiveHead> live_head_;
   std::int64_t frame_ = 0;

@@ -62,10 +62,16 @@ struct BodyMesh {
 
 }  // namespace
 
+namespace {
+// The debug views' ramp: blue to cyan over the lower half, yellow to red
+// over the upper (render/shaders/debug.frag gets it as u_ramp)
+constexpr float kDebugRamp[4][3] = {{0.1f, 0.2f, 0.9f}, {0.1f, 0.9f, 0.9f}, {0.95f, 0.9f, 0.1f}, {0.9f, 0.1f, 0.1f}};
+glm::vec3 rampStop(int k) { return glm::vec3(kDebugRamp[k][0], kDebugRamp[k][1], kDebugRamp[k][2]); }
+}  // namespace
+
 glm::vec3 debugRamp(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
-  return t < 0.5f ? glm::mix(glm::vec3(0.1f, 0.2f, 0.9f), glm::vec3(0.1f, 0.9f, 0.9f), t * 2.0f)
-                  : glm::mix(glm::vec3(0.95f, 0.9f, 0.1f), glm::vec3(0.9f, 0.1f, 0.1f), t * 2.0f - 1.0f);
+  return t < 0.5f ? glm::mix(rampStop(0), rampStop(1), t * 2.0f) : glm::mix(rampStop(2), rampStop(3), t * 2.0f - 1.0f);
 }
 
 std::size_t strandLevelOfDetail(std::size_t strands, float mean_length, float radius, float hair_radius,
@@ -518,34 +524,32 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   // shadow (its shadow streaked the face while the hair was not there)
   const bool hair_shadows = st.shadows && st.debug == DebugView::None;
   auto lightPass = [&](bool nearest_pass) {
-   if (hair_shadows && draw_strands) {
+    if (!hair_shadows) return;
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
-    r.strands->drawOpacity(light_proj * light_view, slice_coords, -light,
-                           static_cast<float>(kShadowSize) / (2.0f * radius), st.strand_radius, st.strand_opacity,
-                           nearest_pass, r.nearest_tex);
-   } else if (hair_shadows && n > 0) {
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glUseProgram(r.opacity_prog);
-    setI(r.opacity_prog, "u_nearest_pass", nearest_pass ? 1 : 0);
-    glActiveTexture(GL_TEXTURE0 + StrandPass::kNearestUnit);
-    glBindTexture(GL_TEXTURE_2D, nearest_pass ? 0 : r.nearest_tex);  // never the target it draws into
-    setI(r.opacity_prog, "u_nearest", StrandPass::kNearestUnit);
-    setMat(r.opacity_prog, "u_view_proj", light_proj * light_view);
-    setMat(r.opacity_prog, "u_light_coords", slice_coords);
-    setVec(r.opacity_prog, "u_proj_dir", -light);
-    setI(r.opacity_prog, "u_ortho", 1);
-    setF(r.opacity_prog, "u_pixel_scale", static_cast<float>(kShadowSize) / (2.0f * radius));
-    billboardUniforms(r.opacity_prog);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, r.hair_tex);
-    setI(r.opacity_prog, "u_hair", 0);
-    glBindVertexArray(r.quad_vao);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
-   }
+    if (draw_strands) {
+      r.strands->drawOpacity(light_proj * light_view, slice_coords, -light,
+                             static_cast<float>(kShadowSize) / (2.0f * radius), st.strand_radius, st.strand_opacity,
+                             nearest_pass, r.nearest_tex);
+    } else if (n > 0) {
+      glUseProgram(r.opacity_prog);
+      setI(r.opacity_prog, "u_nearest_pass", nearest_pass ? 1 : 0);
+      glActiveTexture(GL_TEXTURE0 + StrandPass::kNearestUnit);
+      glBindTexture(GL_TEXTURE_2D, nearest_pass ? 0 : r.nearest_tex);  // never the target it draws into
+      setI(r.opacity_prog, "u_nearest", StrandPass::kNearestUnit);
+      setMat(r.opacity_prog, "u_view_proj", light_proj * light_view);
+      setMat(r.opacity_prog, "u_light_coords", slice_coords);
+      setVec(r.opacity_prog, "u_proj_dir", -light);
+      setI(r.opacity_prog, "u_ortho", 1);
+      setF(r.opacity_prog, "u_pixel_scale", static_cast<float>(kShadowSize) / (2.0f * radius));
+      billboardUniforms(r.opacity_prog);
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, r.hair_tex);
+      setI(r.opacity_prog, "u_hair", 0);
+      glBindVertexArray(r.quad_vao);
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
+    }
   };
   glBindFramebuffer(GL_FRAMEBUFFER, r.nearest_fbo);
   glViewport(0, 0, kShadowSize, kShadowSize);
@@ -663,6 +667,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
       }
       const DebugLegend legend = debugLegend(in, st);
       glUniform2f(loc(r.debug_prog, "u_range"), legend.low, legend.high);
+      glUniform3fv(loc(r.debug_prog, "u_ramp"), 4, &kDebugRamp[0][0]);
       setI(r.debug_prog, "u_use_flat", 0);
       setF(r.debug_prog, "u_point_size", 3.0f);
       glEnable(GL_PROGRAM_POINT_SIZE);

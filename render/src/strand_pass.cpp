@@ -125,15 +125,15 @@ void StrandPass::drawEvery(std::size_t stride) {
     drawStrips();
     return;
   }
-  light_first_.clear();
-  light_count_.clear();
+  subset_first_.clear();
+  subset_count_.clear();
   for (std::size_t k = 0; k < strip_first_.size(); k += stride) {
-    light_first_.push_back(strip_first_[k]);
-    light_count_.push_back(strip_count_[k]);
+    subset_first_.push_back(strip_first_[k]);
+    subset_count_.push_back(strip_count_[k]);
   }
   glBindVertexArray(vao_);
-  glMultiDrawArrays(GL_TRIANGLE_STRIP, light_first_.data(), light_count_.data(),
-                    static_cast<GLsizei>(light_first_.size()));
+  glMultiDrawArrays(GL_TRIANGLE_STRIP, subset_first_.data(), subset_count_.data(),
+                    static_cast<GLsizei>(subset_first_.size()));
   glBindVertexArray(0);
 }
 

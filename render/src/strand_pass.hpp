@@ -66,17 +66,17 @@ class StrandPass {
  private:
   void updateTables(const StrandShading& shading);
   void drawStrips();
+  void drawEvery(std::size_t stride);  // every stride-th strand
   std::vector<GLint> strip_first_;
   std::vector<GLsizei> strip_count_;
-  std::vector<GLint> light_first_;
-  std::vector<GLsizei> light_count_;
+  std::vector<GLint> subset_first_;    // drawEvery's strips
+  std::vector<GLsizei> subset_count_;
   GLuint camera_prog_ = 0, opacity_prog_ = 0, composite_prog_ = 0;
   GLuint vao_ = 0, buffer_ = 0, buffer_tex_ = 0;
   GLuint lut_[3] = {0, 0, 0};
   glm::vec3 lut_color_{-1.0f};
   std::size_t segments_ = 0;
   float mean_length_ = 0.0f;
-  void drawEvery(std::size_t stride);  // every stride-th strand
   int per_strand_ = 2;
   std::vector<float> staging_;
 };

@@ -285,6 +285,14 @@ namespace {
 // per cent at this step (docs/design.md "Implicit springs", measured).
 constexpr double kAccurateStep = 1.0 / 90.0;
 
+// The threads the scene's build runs on: solver.threads where it is in
+// range (one out of range is refused with the other solver parameters
+// once the particles are made: until then, the default), else all.
+int buildThreads(const SceneDesc& scene) {
+  const int asked = scene.sim.threads;
+  return asked > 0 && asked <= parallel::kMaxThreads ? asked : parallel::availableThreads();
+}
+
 // Particles that hang on something: in order of arc length, each must have
 // a kept particle nearer the root within `reach`. One that has none, but a
 // kept particle nearer the root within `pull` (> reach), is moved along the
@@ -471,9 +479,7 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
   const Style style = sceneStyle(scene, model, &rep);
-  const int asked = scene.sim.threads;
-  const int threads = asked > 0 && asked <= parallel::kMaxThreads ? asked : parallel::availableThreads();
-  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, scene.limits.style, threads);
+  const StrandSet strands = buildMemberStrands(style, model, kStrandSpacing, scene.limits.style, buildThreads(scene));
   if (strands.size() == 0) throw SceneError(scene.source + ": hair.style: the style grows no strands");
   rep.style_wisps = style.wisps.size();
   rep.style_strands = strands.size();
@@ -569,11 +575,7 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
   // pieces beyond do not change the ones before): the particles are
   // independent, so they are shared among the threads (the same bits on
   // any count). The bodies' queries and the scalp's are read-only.
-  // (a count out of range is refused with the other solver parameters
-  // after the particles are made: until then, the default)
-  const int asked = scene.sim.threads;
-  const int threads = asked > 0 && asked <= parallel::kMaxThreads ? asked : parallel::availableThreads();
-  parallel::forEachDynamic(threads, (n + kStrandBatch - 1) / kStrandBatch, [&](std::size_t batch) {
+  parallel::forEachDynamic(buildThreads(scene), (n + kStrandBatch - 1) / kStrandBatch, [&](std::size_t batch) {
     for (std::size_t k = batch * kStrandBatch, e = std::min(n, k + kStrandBatch); k < e; ++k) {
       const PillarSample& smp = pillar.samples[k];
       p.uv[k] = smp.uv;

@@ -38,9 +38,6 @@ CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, f
   points_.reserve(static_cast<std::size_t>(grown) + 1);
   points_.push_back(root);
   glm::vec3 p = root, tau = dir;
-  // the nearest triangle of the last query: the next one starts from it
-  // (faster; the same answers)
-  std::int32_t hint = -1;
   for (int k = 0; k < grown; ++k) {
     const float s = (static_cast<float>(k) + 0.5f) * ds_;
     const float cos_psi = std::clamp(glm::dot(tau, g), -1.0f, 1.0f);
@@ -68,7 +65,7 @@ CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, f
         // exact below the clearance: several centimetres out, beyond a
         // mesh's narrow band, its grid's normal was any direction (straight
         // up beside a jaw), and turned long strands back up into loops
-        body->signedDistanceBelowHinted(&next, 1, keep_out, &phi, &n, &hint);
+        body->signedDistanceBelow(&next, 1, keep_out, &phi, &n);
         if (phi >= keep_out) break;
         next += (keep_out - phi) * n;
         tau = glm::normalize(next - p);

@@ -11,8 +11,8 @@
 #include <glm/matrix.hpp>
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 

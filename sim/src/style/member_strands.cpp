@@ -158,7 +158,9 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
     if (style.wisps[wi].key_strand.size() >= 2) area[wi] = regionArea(style.wisps[wi].region, head);
   checkBudget(style, area, spacing, budget);
   const float clearance = 1e-3f;
-  // each wisp on its own (its own random streams), then in the wisps' order
+  // each wisp on its own (its own random streams), then in the wisps' order;
+  // a wisp's `first` holds only its strands' ends (the leading 0 is the
+  // whole set's)
   std::vector<StrandSet> per_wisp(style.wisps.size());
   parallel::forEachDynamic(threads, style.wisps.size(), [&](std::size_t wi) {
     StrandSet& out = per_wisp[wi];

@@ -153,7 +153,7 @@ struct DebugLegend {
 };
 
 /// The debug views' colour for t in [0, 1]: blue, cyan, yellow, red (the
-/// ramp of render/shaders/debug.frag, for legends).
+/// ramp render/shaders/debug.frag is given, for legends).
 glm::vec3 debugRamp(float t);
 
 /// The legend of `frame` drawn with `settings` (shown only in the density
