@@ -14,6 +14,7 @@
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/gl_loader.hpp"
 #include "loosehair/render/renderer.hpp"
+#include "loosehair/render/strand_carry_gpu.hpp"
 #include "cli_args.hpp"
 #include "png.hpp"
 #include "scene_bodies.hpp"
@@ -55,6 +56,7 @@ constexpr const char* kUsage =
     "usage: loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
     "                              [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
     "                              [--script FILE] [--seconds S] [--no-shadows] [--hair H]\n"
+    "                              [--strand-carry auto|cpu|gpu]\n"
     "\n"
     "Plays SCENE (default: the bundled data/scenes/hang.json) in a window with a\n"
     "panel, in real time at most (the panel sets the speed).\n"
@@ -67,6 +69,9 @@ constexpr const char* kUsage =
     "  --no-shadows        start without self-shadowing\n"
     "  --hair H            billboards (default: interactive on software OpenGL) or\n"
     "                      strands (thin strands the particles carry; the panel switches)\n"
+    "  --strand-carry C    where the strands are carried: auto (default: the GPU where\n"
+    "                      the window is drawn by one, else the CPU), cpu, or gpu\n"
+    "                      (OpenGL 4.3 compute shaders; software OpenGL runs them too)\n"
     "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
     "  --screenshot FILE   with --frames: save that frame as a PNG\n"
     "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
@@ -95,6 +100,7 @@ struct ViewOptions {
   std::string script;
   std::optional<double> seconds;
   bool allow_expensive = false;
+  std::string strand_carry = "auto";
 };
 
 long long parseInteger(const std::string& what, const std::string& text, long long lo, long long hi) {
@@ -147,6 +153,10 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.settings.shadows = false;
       } else if (a == "--hair") {
         o.settings.hair = render::parseHairGeometry(value());
+      } else if (a == "--strand-carry") {
+        o.strand_carry = value();
+        if (o.strand_carry != "auto" && o.strand_carry != "cpu" && o.strand_carry != "gpu")
+          throw UsageError{"--strand-carry must be auto, cpu or gpu, got '" + o.strand_carry + "'"};
       } else if (a == "--allow-expensive") {
         o.allow_expensive = true;
       } else if (a == "--paused") {
@@ -737,6 +747,23 @@ int run(const ViewOptions& o) {
   ImGuiSession imgui(window.get());
   viewer::Panel panel(controller);
   if (const GLubyte* name = glGetString(GL_RENDERER)) panel.gl_renderer = reinterpret_cast<const char*>(name);
+  // the strands carried on the GPU where one draws the window (on software
+  // OpenGL the carry thread is as fast and leaves the drawing alone)
+  {
+    std::string why;
+    const bool can = render::gpuStrandCarrySupported(&why);
+    if (o.strand_carry == "gpu" && !can) {
+      std::fprintf(stderr, "loosehair-view: --strand-carry gpu: %s\n", why.c_str());
+      return 2;
+    }
+    sim.setStrandsOnGpu(o.strand_carry == "gpu" ||
+                        (o.strand_carry == "auto" && can && !render::softwareRenderer(panel.gl_renderer)));
+  }
+  std::unique_ptr<render::GpuStrandCarry> gpu_carry;  // for gpu_field, in this window's context
+  std::shared_ptr<const StrandField> gpu_field;
+  std::int64_t gpu_frame = -1;
+  std::uint64_t gpu_generation = 0;
+  bool gpu_failed = false;  // then on the CPU (strands handed for the GPU before are not drawn)
   if (script) script->start = sim.latest()->input.position;
 
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),
@@ -835,8 +862,39 @@ int run(const ViewOptions& o) {
       ++strand_frames;
       strand_lag_sum += static_cast<double>(frame->frame - strands->frame);
       with_strands = frame->input;
-      with_strands.strand_points = strands->points;
-      with_strands.strand_points_each = strands->points_each;
+      if (strands->field && !gpu_failed) {  // carried here, on the GPU
+        try {
+          if (gpu_field != strands->field) {
+            gpu_carry.reset();
+            gpu_carry = std::make_unique<render::GpuStrandCarry>(*strands->field);
+            gpu_field = strands->field;
+            gpu_frame = -1;
+          }
+          if (strands->frame != gpu_frame || strands->generation != gpu_generation) {
+            const auto t0 = std::chrono::steady_clock::now();
+            gpu_carry->carry(strands->position, strands->direction, strands->bodies, strands->head_to_world);
+            panel.gpu_carry_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            carry_ms_sum += panel.gpu_carry_ms;
+            gpu_frame = strands->frame;
+            gpu_generation = strands->generation;
+          }
+          with_strands.strand_buffer = gpu_carry->buffer();
+          with_strands.strand_buffer_points = gpu_carry->points();
+          with_strands.strand_mean_length = gpu_carry->meanLength();
+          with_strands.strand_points_each = gpu_carry->pointsPerStrand();
+        } catch (const std::exception& x) {  // a body without a box, ...: on the CPU from now on
+          std::fprintf(stderr, "loosehair-view: %s; the strands are carried on the CPU instead\n", x.what());
+          sim.setStrandsOnGpu(false);
+          gpu_failed = true;
+          gpu_carry.reset();
+          gpu_field.reset();
+        }
+      } else if (strands->field) {
+        with_strands.strand_points_each = 0;  // until the CPU's strands come
+      } else {
+        with_strands.strand_points = strands->points;
+        with_strands.strand_points_each = strands->points_each;
+      }
       input = &with_strands;
     }
     viewer::ViewState& v = view;

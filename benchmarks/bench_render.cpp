@@ -10,6 +10,7 @@
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
+#include "loosehair/render/strand_carry_gpu.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -111,10 +112,46 @@ StrandScene& strandScene(std::size_t strands) {
   return *slot;
 }
 
+glm::mat4 headToWorld(const Solver& solver) {
+  const HeadPose pose = solver.head().pose;
+  glm::mat4 m(glm::mat3(pose.rotation));
+  m[3] = glm::vec4(glm::vec3(pose.center), 1.0f);
+  return m;
+}
+
+// The strands carried by a compute shader (render::GpuStrandCarry) out of
+// the head and the torso, as the viewer does where it can: the particles'
+// motions on the CPU, the rest on this machine's OpenGL, waited for.
+// volume_s: sampling the bodies' distance volumes (once).
+void BM_CarryStrandsGpu(benchmark::State& state) {
+  StrandScene& s = strandScene(static_cast<std::size_t>(state.range(0)));
+  const auto provider = state.range(1) ? app::GLProvider::EGL : app::GLProvider::OSMesa;
+  app::HeadlessGL gl(64, 64, provider);
+  render::GpuStrandCarry gpu(*s.field, {}, 2);
+  const auto bodies = s.solver->bodyPlacements();
+  const glm::mat4 to_world = headToWorld(*s.solver);
+  const Particles& p = s.solver->particles();
+  gpu.carry(p.position, p.direction, bodies, to_world, 2);
+  gpu.wait();
+  for (auto _ : state) {
+    gpu.carry(p.position, p.direction, bodies, to_world, 2);
+    gpu.wait();
+  }
+  state.counters["volume_s"] = gpu.volumeSeconds();
+  state.SetLabel(gl.renderer());
+}
+BENCHMARK(BM_CarryStrandsGpu)
+    ->ArgNames({"strands", "egl"})
+    ->ArgsProduct({{12000, 50000, 100000}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// gpu: carried by GpuStrandCarry (carry_ms then counts its work, waited for)
 void BM_RenderStrands(benchmark::State& state) {
   StrandScene& s = strandScene(static_cast<std::size_t>(state.range(0)));
   const int w = static_cast<int>(state.range(1)), h = static_cast<int>(state.range(2));
   const auto provider = state.range(3) ? app::GLProvider::EGL : app::GLProvider::OSMesa;
+  const bool on_gpu = state.range(4) != 0;
   app::HeadlessGL gl(w, h, provider);
   render::Renderer renderer;
   renderer.setBodies(&s.head, &s.torso);
@@ -122,15 +159,34 @@ void BM_RenderStrands(benchmark::State& state) {
   render::RenderSettings settings;
   settings.hair = render::HairGeometry::Strands;
   settings.supersample = 2;
-  s.field->deformWorld(*s.solver, s.frame.strand_points, 2);
-  renderer.render(s.frame, camera, settings, w, h);
+  std::unique_ptr<render::GpuStrandCarry> gpu;
+  const auto bodies = s.solver->bodyPlacements();
+  const glm::mat4 to_world = headToWorld(*s.solver);
+  const Particles& particles = s.solver->particles();
+  render::FrameInput frame = s.frame;
+  auto carryOnce = [&] {
+    if (!on_gpu) {
+      s.field->deformWorld(*s.solver, frame.strand_points, 2);
+      return;
+    }
+    gpu->carry(particles.position, particles.direction, bodies, to_world, 2);
+    gpu->wait();
+  };
+  if (on_gpu) {
+    gpu = std::make_unique<render::GpuStrandCarry>(*s.field, DistanceVolumeOptions{}, 2);
+    frame.strand_buffer = gpu->buffer();
+    frame.strand_buffer_points = gpu->points();
+    frame.strand_mean_length = gpu->meanLength();
+  }
+  carryOnce();
+  renderer.render(frame, camera, settings, w, h);
   render::FrameTimes sum;
   double carry = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    s.field->deformWorld(*s.solver, s.frame.strand_points, 2);
+    carryOnce();
     carry += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    renderer.render(s.frame, camera, settings, w, h);
+    renderer.render(frame, camera, settings, w, h);
     const auto& t = renderer.lastTimes();
     sum.upload += t.upload;
     sum.light_pass += t.light_pass;
@@ -146,9 +202,10 @@ void BM_RenderStrands(benchmark::State& state) {
   state.SetLabel(gl.renderer());
 }
 BENCHMARK(BM_RenderStrands)
-    ->ArgNames({"strands", "w", "h", "egl"})
-    ->ArgsProduct({{10000, 50000}, {640}, {480}, {0, 1}})
-    ->ArgsProduct({{10000, 50000}, {1280}, {720}, {0, 1}})
+    ->ArgNames({"strands", "w", "h", "egl", "gpu"})
+    ->ArgsProduct({{10000, 50000}, {640}, {480}, {0, 1}, {0, 1}})
+    ->ArgsProduct({{10000, 50000}, {1280}, {720}, {0, 1}, {0, 1}})
+    ->ArgsProduct({{100000}, {1920}, {1080}, {1}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

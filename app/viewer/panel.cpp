@@ -1,4 +1,6 @@
 #include "viewer/panel.hpp"
+
+#include "loosehair/render/gl_loader.hpp"
 #include "viewer/viewer_values.hpp"
 
 #include "loosehair/param_table.hpp"
@@ -237,13 +239,14 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   {
     // software rasterisers by name (Mesa's llvmpipe, softpipe, swrast)
     const std::string& r = gl_renderer;
-    const bool software = r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos ||
-                          r.find("swrast") != std::string::npos || r.find("Software") != std::string::npos;
-    ImGui::TextWrapped("drawn by %s: %s", software ? "the CPU (software OpenGL)" : "the GPU",
+    ImGui::TextWrapped("drawn by %s: %s", render::softwareRenderer(r) ? "the CPU (software OpenGL)" : "the GPU",
                        r.empty() ? "unknown" : r.c_str());
   }
-  if (const auto strands = c_.sim().latestStrands())
-    ImGui::Text("strands of frame %" PRId64 " (%.0f ms a carry)", strands->frame, strands->carry_ms);
+  if (const auto strands = c_.sim().latestStrands()) {
+    const bool gpu = strands->field != nullptr;
+    ImGui::Text("strands of frame %" PRId64 ", carried on the %s (%.1f ms a carry)", strands->frame,
+                gpu ? "GPU" : "CPU", gpu ? gpu_carry_ms : strands->carry_ms);
+  }
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);
   ImGui::Text("state hash %016" PRIx64, frame.state_hash);

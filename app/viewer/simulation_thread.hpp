@@ -114,6 +114,9 @@ class SimulationThread {
   /// state the first time (a second or two) and carries the newest frame
   /// on its own thread; latestStrands() has the newest. 0 stops them.
   void setPublishStrands(std::size_t count);
+  /// The strands are carried on the GPU by the window (the carrier only
+  /// binds them: CarriedStrands::field), or on the carrier's thread.
+  void setStrandsOnGpu(bool on) { carrier_->setOnGpu(on); }
   /// The newest carried strands (null when none are asked for or carried
   /// yet); they may be a few frames behind latest().
   std::shared_ptr<const CarriedStrands> latestStrands() const;

@@ -42,6 +42,11 @@ bool StrandCarrier::waitFor(std::int64_t frame, std::uint64_t generation) const 
   return there();
 }
 
+void StrandCarrier::setOnGpu(bool on) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  on_gpu_ = on;
+}
+
 std::string StrandCarrier::takeError() {
   std::lock_guard<std::mutex> lk(mutex_);
   return std::exchange(error_, std::string());
@@ -55,6 +60,7 @@ void StrandCarrier::loop() {
     CarryJob job = std::move(*pending_);
     pending_.reset();
     busy_ = true;
+    const bool on_gpu = on_gpu_;
     lk.unlock();
     std::shared_ptr<CarriedStrands> carried;
     std::string failure;
@@ -69,13 +75,23 @@ void StrandCarrier::loop() {
           field_.reset();
           RenderStrandOptions so;
           so.strands = job.strands;
-          field_ = std::make_unique<StrandField>(bindSceneStrands(*job.scene, *job.rest, *job.build, so, threads_));
+          field_ = std::make_shared<const StrandField>(
+              bindSceneStrands(*job.scene, *job.rest, *job.build, so, threads_));
           bound_strands_ = job.strands;
           bound_generation_ = job.generation;
         }
         carried = std::make_shared<CarriedStrands>();
-        field_->deform(job.position, job.direction, &job.bodies, carried->points, threads_);
-        for (glm::vec3& p : carried->points) p = job.head_rotation * p + job.head_center;
+        if (on_gpu) {
+          carried->field = field_;
+          carried->position = std::move(job.position);
+          carried->direction = std::move(job.direction);
+          carried->bodies = std::move(job.placements);
+          carried->head_to_world = glm::mat4(job.head_rotation);
+          carried->head_to_world[3] = glm::vec4(job.head_center, 1.0f);
+        } else {
+          field_->deform(job.position, job.direction, &job.bodies, carried->points, threads_);
+          for (glm::vec3& p : carried->points) p = job.head_rotation * p + job.head_center;
+        }
         carried->points_each = static_cast<int>(field_->rest().pointCount(0));
         carried->frame = job.frame;
         carried->generation = job.generation;

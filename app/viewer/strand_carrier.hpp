@@ -10,9 +10,11 @@
 
 #include "loosehair/particles.hpp"
 #include "loosehair/scene.hpp"
+#include "loosehair/solver.hpp"
 #include "loosehair/strand_field.hpp"
 
 #include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include <condition_variable>
@@ -33,6 +35,13 @@ struct CarriedStrands {
   std::int64_t frame = 0;        // the simulated frame they were carried for
   std::uint64_t generation = 0;  // the simulation's restart count then
   double carry_ms = 0;           // wall time of the carry
+  // Carried on the GPU instead (StrandCarrier::setOnGpu): `points` is
+  // empty and the window's context carries these with
+  // render::GpuStrandCarry.
+  std::shared_ptr<const StrandField> field;
+  std::vector<glm::vec3> position, direction;  // head frame
+  std::vector<Solver::BodyPlacement> bodies;
+  glm::mat4 head_to_world{1.0f};
 };
 
 /// What the simulation hands over after a frame.
@@ -46,6 +55,7 @@ struct CarryJob {
   std::shared_ptr<const Particles> rest;
   std::vector<glm::vec3> position, direction;  // head frame
   BodyContacts bodies;                         // placed at the frame's time
+  std::vector<Solver::BodyPlacement> placements;  // the same, for the GPU
   glm::mat3 head_rotation{1.0f};
   glm::vec3 head_center{0.0f};
 };
@@ -65,6 +75,9 @@ class StrandCarrier {
   /// Waits until strands for frame `frame` (or later) of `generation` are
   /// carried, or until nothing that could bring them is pending. False then.
   bool waitFor(std::int64_t frame, std::uint64_t generation) const;
+  /// Only binds, and hands the window what to carry on the GPU
+  /// (CarriedStrands::field) instead of the points.
+  void setOnGpu(bool on);
   /// The message of the last binding that failed ("" if none), and clears it.
   std::string takeError();
 
@@ -79,7 +92,8 @@ class StrandCarrier {
   std::shared_ptr<const CarriedStrands> latest_;
   std::string error_;
   // the carry thread's own
-  std::unique_ptr<StrandField> field_;
+  std::shared_ptr<const StrandField> field_;
+  bool on_gpu_ = false;  // under mutex_
   std::size_t bound_strands_ = 0;
   std::uint64_t bound_generation_ = ~std::uint64_t{0};
   std::thread thread_;

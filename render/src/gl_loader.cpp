@@ -22,4 +22,9 @@ void loadGL(GetProcAddress get) {
 
 bool openGLLoaded() { return loaded; }
 
+bool softwareRenderer(const std::string& r) {
+  return r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos ||
+         r.find("swrast") != std::string::npos || r.find("Software") != std::string::npos;
+}
+
 }  // namespace loosehair::render

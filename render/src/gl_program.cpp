@@ -5,6 +5,8 @@
 
 #include "loosehair/render/renderer.hpp"
 
+#include <initializer_list>
+
 namespace loosehair::render {
 
 GLuint compile(GLenum type, const std::string& src) {
@@ -23,14 +25,12 @@ GLuint compile(GLenum type, const std::string& src) {
   return s;
 }
 
-GLuint program(const std::string& vs, const std::string& fs) {
-  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  const GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
+namespace {
+// links `p` from the shaders attached to it (deleted after), or throws
+GLuint link(GLuint p, std::initializer_list<GLuint> shaders) {
+  for (GLuint s : shaders) glAttachShader(p, s);
   glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
+  for (GLuint s : shaders) glDeleteShader(s);
   GLint ok = 0;
   glGetProgramiv(p, GL_LINK_STATUS, &ok);
   if (!ok) {
@@ -41,6 +41,14 @@ GLuint program(const std::string& vs, const std::string& fs) {
   }
   return p;
 }
+}  // namespace
+
+GLuint program(const std::string& vs, const std::string& fs) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  return link(glCreateProgram(), {v, f});
+}
+
+GLuint computeProgram(const std::string& cs) { return link(glCreateProgram(), {compile(GL_COMPUTE_SHADER, cs)}); }
 
 GLint loc(GLuint p, const char* name) { return glGetUniformLocation(p, name); }
 void setMat(GLuint p, const char* n, const glm::mat4& m) { glUniformMatrix4fv(loc(p, n), 1, GL_FALSE, glm::value_ptr(m)); }

@@ -12,6 +12,7 @@ namespace loosehair::render {
 
 GLuint compile(GLenum type, const std::string& src);
 GLuint program(const std::string& vs, const std::string& fs);
+GLuint computeProgram(const std::string& cs);  // OpenGL 4.3
 
 // Uniforms of the program in use, by name.
 GLint loc(GLuint p, const char* name);

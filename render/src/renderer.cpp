@@ -432,8 +432,9 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   GLint target_fbo = 0;
   glGetIntegerv(GL_FRAMEBUFFER_BINDING, &target_fbo);
   const int out_width = width, out_height = height;
+  const bool gpu_strands = in.strand_buffer != 0 && in.strand_buffer_points > 0 && in.strand_points.empty();
   const bool draw_strands = st.hair == HairGeometry::Strands && st.debug == DebugView::None &&
-                            in.strand_points_each >= 2 && !in.strand_points.empty();
+                            in.strand_points_each >= 2 && (!in.strand_points.empty() || gpu_strands);
   if (st.supersample < 1 || st.supersample > 4)
     throw RenderError("supersampling " + std::to_string(st.supersample) + " is outside 1..4");
   const int ss = st.supersample;
@@ -443,7 +444,10 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   if (offscreen) r.target.resize(width, height, draw_strands);
   if (draw_strands) {
     auto t_up = Clock::now();
-    r.strands->upload(in.strand_points, in.strand_points_each);
+    if (gpu_strands)
+      r.strands->useBuffer(in.strand_buffer, in.strand_buffer_points, in.strand_points_each, in.strand_mean_length);
+    else
+      r.strands->upload(in.strand_points, in.strand_points_each);
     times_.upload += since(t_up);
   }
   const float aspect = static_cast<float>(width) / static_cast<float>(std::max(1, height));
@@ -454,14 +458,18 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
 
   // ---- the light's frame: orthographic along -light around the hair ----
   glm::vec3 lo(INFINITY), hi(-INFINITY);
-  const std::vector<glm::vec3>& hair_points = draw_strands ? in.strand_points : in.position;
+  // (strands on the GPU: their particles, as far out as a strand point
+  // may lie from its carriers)
+  const bool strands_on_cpu = draw_strands && !gpu_strands;
+  const std::vector<glm::vec3>& hair_points = strands_on_cpu ? in.strand_points : in.position;
+  const float widen = draw_strands && gpu_strands ? 2.0f * in.spacing : 0.0f;
   for (const auto& p : hair_points) {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
   if (hair_points.empty()) lo = hi = camera.target;
   const glm::vec3 centre = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo) + bl;
+  const float radius = 0.5f * glm::length(hi - lo) + bl + widen;
   const glm::vec3 up = std::abs(light.y) < 0.95f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
   const glm::mat4 light_view = glm::lookAt(centre + light * (radius + 1.0f), centre, up);
   const glm::mat4 light_proj = glm::ortho(-radius, radius, -radius, radius, 0.01f, 2.0f * radius + 2.0f);
@@ -472,7 +480,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     zmax = std::max(zmax, z);
   }
   if (hair_points.empty()) zmin = zmax = 1.0f;
-  const float pad = draw_strands ? 0.002f : 0.5f * bl;
+  const float pad = draw_strands ? 0.002f + widen : 0.5f * bl;
   zmin -= pad;
   zmax += pad;
   // the depth unit: a 15th of the hair's extent along the light (the

@@ -49,18 +49,39 @@ StrandPass::~StrandPass() {
   glDeleteTextures(3, lut_);
 }
 
-void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
+namespace {
+void checkStrands(std::size_t points, int per_strand) {
   if (per_strand < 2) throw RenderError("strands need at least 2 points each");
-  if (points.size() % static_cast<std::size_t>(per_strand) != 0)
-    throw RenderError(std::to_string(points.size()) + " strand points are not strands of " +
-                      std::to_string(per_strand));
+  if (points % static_cast<std::size_t>(per_strand) != 0)
+    throw RenderError(std::to_string(points) + " strand points are not strands of " + std::to_string(per_strand));
   GLint max_texels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
-  if (points.size() > static_cast<std::size_t>(max_texels))
-    throw RenderError(std::to_string(points.size()) + " strand points are more than this OpenGL holds (" +
+  if (points > static_cast<std::size_t>(max_texels))
+    throw RenderError(std::to_string(points) + " strand points are more than this OpenGL holds (" +
                       std::to_string(max_texels) + "); draw fewer strands");
+}
+}  // namespace
+
+void StrandPass::setStrips(std::size_t points, int per_strand) {
   per_strand_ = per_strand;
-  segments_ = points.size() / static_cast<std::size_t>(per_strand) * static_cast<std::size_t>(per_strand - 1);
+  segments_ = points / static_cast<std::size_t>(per_strand) * static_cast<std::size_t>(per_strand - 1);
+  const std::size_t strands = points / static_cast<std::size_t>(per_strand);
+  strip_first_.resize(strands);
+  strip_count_.assign(strands, 2 * per_strand);
+  for (std::size_t k = 0; k < strands; ++k) strip_first_[k] = static_cast<GLint>(2 * k * static_cast<std::size_t>(per_strand));
+}
+
+void StrandPass::useBuffer(GLuint buffer, std::size_t points, int per_strand, float mean_length) {
+  checkStrands(points, per_strand);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer);
+  glBindTexture(GL_TEXTURE_BUFFER, 0);
+  mean_length_ = mean_length;
+  setStrips(points, per_strand);
+}
+
+void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
+  checkStrands(points.size(), per_strand);
   staging_.resize(points.size() * 4);
   for (std::size_t q = 0; q < points.size(); ++q) {
     staging_[4 * q + 0] = points[q].x;
@@ -79,9 +100,7 @@ void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
   for (std::size_t q = 0; q + 1 < points.size(); ++q)
     if ((q + 1) % static_cast<std::size_t>(per_strand) != 0) length += glm::length(points[q + 1] - points[q]);
   mean_length_ = strands > 0 ? static_cast<float>(length / static_cast<double>(strands)) : 0.0f;
-  strip_first_.resize(strands);
-  strip_count_.assign(strands, 2 * per_strand);
-  for (std::size_t k = 0; k < strands; ++k) strip_first_[k] = static_cast<GLint>(2 * k * static_cast<std::size_t>(per_strand));
+  setStrips(points.size(), per_strand);
 }
 
 void StrandPass::drawStrips() {

@@ -34,6 +34,9 @@ class StrandPass {
 
   /// The strands to draw: `count` strands of `per_strand` points each.
   void upload(const std::vector<glm::vec3>& points, int per_strand);
+  /// Or strands already in `buffer` (points RGBA32F texels, world xyz;
+  /// GpuStrandCarry::buffer()), of `mean_length` on average.
+  void useBuffer(GLuint buffer, std::size_t points, int per_strand, float mean_length);
   std::size_t segments() const { return segments_; }
   std::size_t strands() const { return strip_first_.size(); }
   /// The mean length of the uploaded strands (m).
@@ -64,6 +67,7 @@ class StrandPass {
   void composite(const OffscreenTarget& target, GLuint empty_vao);
 
  private:
+  void setStrips(std::size_t points, int per_strand);  // the strips of points / per_strand strands
   void updateTables(const StrandShading& shading);
   void drawStrips();
   void drawEvery(std::size_t stride);  // every stride-th strand

@@ -1,5 +1,6 @@
 #include "loosehair/body.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -22,6 +23,12 @@ void SphereBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
   }
 }
 
+bool SphereBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
+  lower = center_ - glm::vec3(radius_);
+  upper = center_ + glm::vec3(radius_);
+  return true;
+}
+
 CapsuleBody::CapsuleBody(glm::vec3 a, glm::vec3 b, float radius) : a_(a), b_(b), radius_(radius) {
   if (!(radius > 0.0f) || !std::isfinite(radius)) throw std::invalid_argument("capsule radius must be positive");
 }
@@ -37,6 +44,12 @@ void CapsuleBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
     phi[k] = r - radius_;
     normal[k] = r > 0.0f ? d / r : glm::vec3(0.0f, 1.0f, 0.0f);
   }
+}
+
+bool CapsuleBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
+  lower = glm::min(a_, b_) - glm::vec3(radius_);
+  upper = glm::max(a_, b_) + glm::vec3(radius_);
+  return true;
 }
 
 namespace {
@@ -123,6 +136,19 @@ float UnionBody::roughError() const {
     most = std::max(most, e);
   }
   return most;
+}
+
+bool UnionBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
+  if (parts_.empty()) return false;
+  lower = glm::vec3(INFINITY);
+  upper = glm::vec3(-INFINITY);
+  for (const auto& part : parts_) {
+    glm::vec3 lo, hi;
+    if (!part->bounds(lo, hi)) return false;
+    lower = glm::min(lower, lo);
+    upper = glm::max(upper, hi);
+  }
+  return true;
 }
 
 }  // namespace loosehair

@@ -6,6 +6,7 @@
 
 #include "exact_distance.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -24,6 +25,19 @@ MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> 
   // over the distance (the bake keeps it below GridSdfBody::kFarAllowance)
   static_assert(GridSdfBody::kFarAllowance < 0.8660254f);
   grid_error_ = 1.7321f * grid_->voxelSize() * 1.001f + 1e-7f;
+  lower_ = glm::vec3(INFINITY);
+  upper_ = glm::vec3(-INFINITY);
+  for (const glm::vec3& v : mesh.vertices) {
+    lower_ = glm::min(lower_, v);
+    upper_ = glm::max(upper_, v);
+  }
+}
+
+bool MeshBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
+  if (!(lower_.x <= upper_.x)) return false;
+  lower = lower_;
+  upper = upper_;
+  return true;
 }
 
 MeshBody::~MeshBody() = default;

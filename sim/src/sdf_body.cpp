@@ -281,6 +281,13 @@ inline void GridSdfBody::sample(const glm::vec3& p, const glm::ivec3& c, const g
   normal = gl > 0.0f ? grad / gl : glm::vec3(0.0f, 1.0f, 0.0f);
 }
 
+bool GridSdfBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
+  if (values_.empty()) return false;
+  lower = lower_;
+  upper = lower_ + voxel_ * glm::vec3(dims_ - 1);
+  return true;
+}
+
 GridSdfBody::Cell GridSdfBody::cell(const glm::vec3& p) const {
   const glm::vec3 top = lower_ + voxel_ * glm::vec3(dims_ - 1);
   glm::ivec3 c;

@@ -1176,24 +1176,23 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t, std::vect
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
-BodyContacts Solver::placedBodyContacts() const {
+std::vector<Solver::BodyPlacement> Solver::bodyPlacements() const {
   std::vector<BodyFrame> frames;
   HeadKinematics head;
   placeBodies(time_, frames, head, true);
-  struct Placed {
-    std::shared_ptr<const Body> body;
-    glm::mat3 m;
-    glm::vec3 d;
-  };
-  std::vector<Placed> placed;
+  std::vector<BodyPlacement> placed{{head_, glm::mat3(1.0f), glm::vec3(0.0f)}};
   for (const BodyFrame& f : frames)
     for (const WorldBody& wb : world_bodies_)
       if (wb.body.get() == f.body) {
         placed.push_back({wb.body, f.m, f.d});
         break;
       }
-  return [head_body = head_, placed = std::move(placed)](std::span<const glm::vec3> x, float limit, bool rough,
-                                                          std::span<float> phi, std::span<glm::vec3> normal) {
+  return placed;
+}
+
+BodyContacts Solver::placedBodyContacts() const {
+  return [placed = bodyPlacements()](std::span<const glm::vec3> x, float limit, bool rough, std::span<float> phi,
+                                     std::span<glm::vec3> normal) {
     auto ask = [&](const Body& body, const glm::vec3* p, std::size_t count, float* out_phi, glm::vec3* out_normal) {
       if (rough)
         body.roughDistanceBelow(p, count, limit, out_phi, out_normal);
@@ -1201,18 +1200,19 @@ BodyContacts Solver::placedBodyContacts() const {
         body.signedDistanceBelow(p, count, limit, out_phi, out_normal);
     };
     const std::size_t n = x.size();
-    ask(*head_body, x.data(), n, phi.data(), normal.data());
+    ask(*placed[0].body, x.data(), n, phi.data(), normal.data());  // the head, in its own frame
     glm::vec3 q[kBodyBlock], nb[kBodyBlock];
     float pb[kBodyBlock];
     for (std::size_t b = 0; b < n; b += kBodyBlock) {
       const std::size_t len = std::min(kBodyBlock, n - b);
-      for (const Placed& f : placed) {
-        for (std::size_t k = 0; k < len; ++k) q[k] = f.m * x[b + k] + f.d;
-        ask(*f.body, q, len, pb, nb);
+      for (std::size_t f = 1; f < placed.size(); ++f) {
+        const BodyPlacement& pl = placed[f];
+        for (std::size_t k = 0; k < len; ++k) q[k] = pl.m * x[b + k] + pl.d;
+        ask(*pl.body, q, len, pb, nb);
         for (std::size_t k = 0; k < len; ++k) {
           if (!(pb[k] < phi[b + k])) continue;
           phi[b + k] = pb[k];
-          normal[b + k] = glm::transpose(f.m) * nb[k];
+          normal[b + k] = glm::transpose(pl.m) * nb[k];
         }
       }
     }

@@ -63,6 +63,15 @@ class Body {
   /// particle is clear of the body without asking again). Negative: no
   /// such bound (the default; the solver then asks about every particle).
   virtual float roughError() const { return -1.0f; }
+  /// A box (body frame) outside which the signed distance is positive:
+  /// the body lies in [lower, upper]. False where the body has none (the
+  /// default); then no distance volume can be sampled around it
+  /// (loosehair/distance_volume.hpp).
+  virtual bool bounds(glm::vec3& lower, glm::vec3& upper) const {
+    (void)lower;
+    (void)upper;
+    return false;
+  }
 };
 
 /// An analytic sphere.
@@ -72,6 +81,7 @@ class SphereBody final : public Body {
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
   float roughError() const override { return 0.0f; }  // exact
+  bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
   glm::vec3 center() const { return center_; }
   float radius() const { return radius_; }
 
@@ -87,6 +97,7 @@ class CapsuleBody final : public Body {
   void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
                       glm::vec3* normal) const override;
   float roughError() const override { return 0.0f; }  // exact
+  bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
 
  private:
   glm::vec3 a_, b_;
@@ -118,6 +129,8 @@ class UnionBody final : public Body {
   /// distance: exact, or a MeshBody's grid beyond its band); negative if
   /// any part has none.
   float roughError() const override;
+  /// The parts' boxes together; false if any part has none (or there are none).
+  bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
 
  private:
   // the least over the parts of query(part, points, count, phi, normal)
@@ -172,6 +185,8 @@ class GridSdfBody final : public Body {
     std::int32_t triangle[kMaxTriangles];
   };
   Cell cell(const glm::vec3& p) const;
+  /// The grid's box (the mesh lies inside it, a margin in).
+  bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
   float voxelSize() const { return voxel_; }
   glm::vec3 lower() const { return lower_; }
   glm::ivec3 dims() const { return dims_; }
@@ -246,6 +261,8 @@ class MeshBody final : public Body {
   /// Its grid's error: the rough answers (and signedDistance's beyond its
   /// band) are within it of the exact distance, which decides the sign.
   float roughError() const override { return grid_error_; }
+  /// The mesh's bounding box.
+  bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
   const GridSdfBody& grid() const { return *grid_; }
   /// The grid's worst error (m): a Lipschitz bound, sqrt(3) voxels.
   float gridError() const { return grid_error_; }
@@ -260,6 +277,7 @@ class MeshBody final : public Body {
   std::shared_ptr<const GridSdfBody> grid_;
   std::unique_ptr<ExactDistance> exact_;
   float grid_error_ = 0.0f;
+  glm::vec3 lower_{0.0f}, upper_{0.0f};
 };
 
 }  // namespace loosehair

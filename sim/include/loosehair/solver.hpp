@@ -189,6 +189,15 @@ class Solver {
   /// steps on or is replaced (the bodies are shared and do not change).
   /// Without surface velocities or the particles' hints; the same answers.
   BodyContacts placedBodyContacts() const;
+  /// The bodies placedBodyContacts asks, each with the map from the head
+  /// frame into its own frame (q = m p + d): the head first (identity),
+  /// then the world bodies (obstacles too) active now.
+  struct BodyPlacement {
+    std::shared_ptr<const Body> body;
+    glm::mat3 m{1.0f};
+    glm::vec3 d{0.0f};
+  };
+  std::vector<BodyPlacement> bodyPlacements() const;
 
   /// Replaces positions, velocities and directions (head frame), for
   /// resets, user interaction and tests, roots included (roots then stay

@@ -73,6 +73,26 @@ class StrandField {
   /// pose now), for drawing and export.
   void deformWorld(const Solver& solver, std::vector<glm::vec3>& out, int threads = 1) const;
 
+  /// Each particle's rigid motion now, the first stage of deform: the
+  /// rotation R_k and shift y_k that carry its neighbourhood from rest to
+  /// `positions` (one each per particle). For a carry elsewhere (the GPU:
+  /// render/shaders/strand_carry.comp) from the bindings below.
+  void particleMotions(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
+                       std::vector<glm::mat3>& rot, std::vector<glm::vec3>& shift, int threads = 1) const;
+  /// Particles carrying each point (carriersPerPoint() a point: indices
+  /// and weights, point after point).
+  int carriersPerPoint() const { return k_; }
+  std::span<const std::uint32_t> bindIndices() const { return bind_index_; }
+  std::span<const float> bindWeights() const { return bind_weight_; }
+  /// Each rest point less its rest strand smoothed (the detail the carried
+  /// frame puts back after the smoothing along the strand, kSmoothTaps).
+  std::span<const glm::vec3> restDetail() const { return detail_; }
+  /// The smoothing along a strand: taps[0] at the point, taps[d] d points
+  /// away, for d up to smoothingHalfWidth() (cut at the ends, renormalised,
+  /// the root not moved).
+  static int smoothingHalfWidth();
+  static std::span<const float> smoothingTaps();
+
   const StrandSet& rest() const { return rest_; }
   std::size_t strandCount() const { return rest_.size(); }
   /// Rest length of segment j of the whole point list (from point j to j+1;
@@ -81,10 +101,6 @@ class StrandField {
   const StrandFieldOptions& options() const { return options_; }
 
  private:
-  // each particle neighbourhood's rigid motion (rotation, shift)
-  void particleMotions(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-                       std::vector<glm::mat3>& rot, std::vector<glm::vec3>& shift, int threads) const;
-
   StrandSet rest_;
   StrandFieldOptions options_;
   int k_ = 4;

@@ -272,9 +272,16 @@ StrandField::StrandField(StrandSet rest, const Particles& particles, const Stran
   });
 }
 
+int StrandField::smoothingHalfWidth() { return kSmoothHalf; }
+std::span<const float> StrandField::smoothingTaps() { return kSmoothTaps; }
+
 void StrandField::particleMotions(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
                                   std::vector<glm::mat3>& rot, std::vector<glm::vec3>& shift,
                                   int threads) const {
+  if (x.size() != particles_ || t.size() != particles_)
+    throw std::invalid_argument("StrandField::particleMotions: " + std::to_string(x.size()) + " positions and " +
+                                std::to_string(t.size()) + " directions for " + std::to_string(particles_) +
+                                " particles");
   rot.resize(particles_);
   shift.resize(particles_);
   parallel::forEach(threads, particles_, [&](std::size_t i) {

@@ -5,6 +5,8 @@
 // is current, before creating a Renderer or an OverlayRenderer.
 #pragma once
 
+#include <string>
+
 namespace loosehair::render {
 
 using GetProcAddress = void* (*)(const char* name);
@@ -14,5 +16,8 @@ using GetProcAddress = void* (*)(const char* name);
 void loadGL(GetProcAddress get);
 /// Whether loadGL has succeeded.
 bool openGLLoaded();
+/// Whether a GL_RENDERER string names a software rasteriser (Mesa's
+/// llvmpipe, softpipe, swrast, or one that says "Software").
+bool softwareRenderer(const std::string& gl_renderer);
 
 }  // namespace loosehair::render

@@ -133,6 +133,14 @@ struct FrameInput {
   /// strand_points_each points (loosehair::StrandField::deformWorld).
   std::vector<glm::vec3> strand_points;
   int strand_points_each = 0;
+  /// Or strands already on the GPU, in a buffer of the renderer's context
+  /// (GpuStrandCarry::buffer(): RGBA32F texels, world xyz) of
+  /// strand_buffer_points points, strand_points_each a strand, of
+  /// strand_mean_length (m) on average; strand_points is then empty. The
+  /// light's frame is fitted to the particles, widened by twice `spacing`.
+  unsigned strand_buffer = 0;
+  std::size_t strand_buffer_points = 0;
+  float strand_mean_length = 0.0f;
   glm::mat4 head_pose{1.0f};  // head frame -> world for the head mesh
 };
 
