@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Renders the pictures of README.md and docs/ from the bundled scenes and
 # styles: each style on the bundled head as styled (frame 1) and after 3 s of
-# simulation on a still head (frame 90). Needs a build (scripts/build.sh).
+# simulation on a still head (frame 90) from four sides. Needs a build (scripts/build.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin="${LOOSEHAIR:-build/release/app/loosehair}"
@@ -9,14 +9,15 @@ bin="${LOOSEHAIR:-build/release/app/loosehair}"
 out=docs/images
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+# and after 3 s from the front, the side, the back and three-quarters
 for style in long-straight bob side-swept swept-back wavy ponytail; do
-  camera=three-quarter
-  [ "$style" = ponytail ] && camera=side
-  "$bin" render data/scenes/hang.json --style "data/styles/$style.json" --frames 90 --size 320x320 \
-    --camera "$camera" --out "$work/$style" >/dev/null
-  cp "$work/$style/frame_00001.png" "$out/style-$style-styled.png"
-  cp "$work/$style/frame_00090.png" "$out/style-$style-3s.png"
-  echo "$out/style-$style-styled.png, $out/style-$style-3s.png"
+  for camera in three-quarter front side back; do
+    "$bin" render data/scenes/hang.json --style "data/styles/$style.json" --frames 90 --size 320x320 \
+      --camera "$camera" --out "$work/$style-$camera" >/dev/null
+    cp "$work/$style-$camera/frame_00090.png" "$out/style-$style-3s-$camera.png"
+  done
+  cp "$work/$style-three-quarter/frame_00001.png" "$out/style-$style-styled.png"
+  echo "$out/style-$style-styled.png, $out/style-$style-3s-{three-quarter,front,side,back}.png"
 done
 # the same frame (hang.json after 3 s) as billboards and as strands, front
 # and side, with and without shadows, and with Marschner shading

@@ -309,14 +309,14 @@ TEST(Mesh, HolesAreClosedSoTheBodyHasAnInside) {
   TriangleMesh open;
   open.vertices = head.vertices;
   for (const auto& t : head.triangles)
-    if (!(head.vertices[t.x].y < -0.25f && head.vertices[t.y].y < -0.25f && head.vertices[t.z].y < -0.25f))
+    if (!(head.vertices[t.x].y < -0.20f && head.vertices[t.y].y < -0.20f && head.vertices[t.z].y < -0.20f))
       open.triangles.push_back(t);
   const MeshReport r = checkMesh(open, "open-neck");
   EXPECT_GT(r.boundary_edges, 20u);
   EXPECT_EQ(r.holes_filled, 1u);
   MeshTest::expectClosed(open);
   const auto body = GridSdfBody::bake(open, {});
-  const glm::vec3 inside[] = {{0, 0.03f, 0}, {0, -0.2f, -0.006f}};
+  const glm::vec3 inside[] = {{0, 0.03f, 0}, {0, -0.17f, -0.014f}};
   for (const auto& p : inside) {
     float phi;
     glm::vec3 n;

@@ -45,11 +45,11 @@ TriangleMesh openNeck() {
 
 // shoulders and arms, closed boxes under the neck of the same mesh, each
 // part reaching 1 cm into the next, as parts modelled apart often do (the
-// neck, down to y = -0.30, into the chest; the arms into its sides)
+// neck, down to y = -0.25, into the chest; the arms into its sides)
 TriangleMesh bustWithArms() {
   TriangleMesh h = bundledHead();
   const auto box = [&](glm::vec3 lo, glm::vec3 hi) { lhtest::addBox(h, lo, hi); };
-  box({-0.21f, -0.45f, -0.10f}, {0.21f, -0.29f, 0.10f});   // shoulders and chest
+  box({-0.21f, -0.45f, -0.10f}, {0.21f, -0.24f, 0.10f});   // shoulders and chest
   box({-0.27f, -0.75f, -0.05f}, {-0.20f, -0.30f, 0.05f});  // arms, 1 cm into the chest
   box({0.20f, -0.75f, -0.05f}, {0.27f, -0.30f, 0.05f});
   return h;

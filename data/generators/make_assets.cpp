@@ -58,18 +58,42 @@ double smin(double a, double b, double k) {
 }
 double smax(double a, double b, double k) { return -smin(-a, -b, k); }
 
+// A mannequin's head (as wig makers use), adult proportions: 23 cm from
+// chin to crown, 15 cm across, 19 cm deep; the eyes halfway down, in
+// sockets under a brow; the nose's tip a third of the way from the brows to
+// the chin, the mouth a third of the way from the nose to the chin; the
+// ears between the brows' and the nose tip's heights, just behind the
+// middle of the head; a jaw narrowing to the chin; a neck that goes down
+// into the torso with the torso's own neck just inside it, so no seam
+// shows where they meet.
 double head(dvec3 p) {
   double d = ellipsoid(p, {0, 0.045, -0.012}, {0.074, 0.088, 0.096});           // cranium
-  d = smin(d, ellipsoid(p, {0, -0.02, 0.028}, {0.060, 0.075, 0.072}), 0.02);      // face
-  d = smin(d, ellipsoid(p, {0, -0.066, 0.048}, {0.034, 0.029, 0.038}), 0.02);     // chin
-  d = smin(d, ellipsoid(p, {0, 0.052, 0.060}, {0.058, 0.03, 0.03}), 0.015);       // brow
-  d = smin(d, capsule(p, {0, 0.014, 0.090}, {0, -0.020, 0.106}, 0.011), 0.02);    // nose
+  d = smin(d, ellipsoid(p, {0, 0.000, 0.030}, {0.062, 0.080, 0.068}), 0.025);     // face
   for (double s : {-1.0, 1.0}) {
-    d = smin(d, ellipsoid(p, {s * 0.074, -0.004, -0.006}, {0.011, 0.030, 0.018}), 0.008);  // ears
-    d = smax(d, -ellipsoid(p, {s * 0.030, 0.016, 0.095}, {0.016, 0.011, 0.012}), 0.008);   // eyes
-    d = smin(d, ellipsoid(p, {s * 0.038, -0.030, 0.070}, {0.024, 0.022, 0.018}), 0.02);    // cheeks
+    d = smin(d, capsule(p, {s * 0.047, -0.050, -0.004}, {s * 0.014, -0.088, 0.066}, 0.011), 0.022);  // jaw
+    d = smin(d, ellipsoid(p, {s * 0.046, 0.008, 0.066}, {0.016, 0.013, 0.014}), 0.015);             // cheekbones
+    d = smin(d, ellipsoid(p, {s * 0.038, -0.020, 0.064}, {0.018, 0.019, 0.015}), 0.018);            // cheeks
+    d = smin(d, ellipsoid(p, {s * 0.071, 0.000, -0.010}, {0.011, 0.030, 0.019}), 0.006);            // ears
   }
-  d = smin(d, capsule(p, {0, -0.02, -0.006}, {0, -0.25, -0.006}, 0.052), 0.03);   // neck
+  d = smin(d, ellipsoid(p, {0, -0.086, 0.072}, {0.021, 0.015, 0.016}), 0.015);    // chin
+  d = smin(d, ellipsoid(p, {0, 0.046, 0.078}, {0.054, 0.012, 0.016}), 0.015);     // brow
+  for (double s : {-1.0, 1.0}) {
+    d = smax(d, -ellipsoid(p, {s * 0.031, 0.026, 0.095}, {0.017, 0.011, 0.012}), 0.006);  // eye sockets
+    d = smin(d, ellipsoid(p, {s * 0.031, 0.025, 0.077}, {0.0122, 0.0115, 0.0122}), 0.003);  // eyes, lids half shut
+  }
+  d = smin(d, capsule(p, {0, 0.032, 0.096}, {0, -0.010, 0.111}, 0.0075), 0.012);  // nose bridge
+  d = smin(d, ellipsoid(p, {0, -0.015, 0.110}, {0.012, 0.010, 0.011}), 0.006);    // nose tip
+  for (double s : {-1.0, 1.0})
+    d = smin(d, ellipsoid(p, {s * 0.012, -0.019, 0.101}, {0.008, 0.007, 0.008}), 0.005);  // nostril wings
+  d = smin(d, ellipsoid(p, {0, -0.038, 0.066}, {0.032, 0.030, 0.024}), 0.02);    // between nose and chin
+  d = smin(d, ellipsoid(p, {0, -0.043, 0.090}, {0.020, 0.0060, 0.008}), 0.006);   // upper lip
+  d = smin(d, ellipsoid(p, {0, -0.0535, 0.088}, {0.017, 0.0065, 0.008}), 0.006);  // lower lip
+  d = smax(d, -ellipsoid(p, {0, -0.0485, 0.096}, {0.016, 0.0008, 0.006}), 0.0015); // mouth
+  // the neck ends inside the shoulders (its tip 2 cm above the bust's
+  // bottom edge would be too low: cut flat there, the bust let hair in
+  // under it onto the neck's tip), and a shorter neck swings less through
+  // the torso when the head nods
+  d = smin(d, capsule(p, {0, -0.03, -0.014}, {0, -0.20, -0.014}, 0.051), 0.03);   // neck
   return d;
 }
 
@@ -78,7 +102,7 @@ double torso(dvec3 p) {
   d = smin(d, ellipsoid(p, {0, -0.34, -0.012}, {0.16, 0.13, 0.10}), 0.06);        // rib cage
   for (double s : {-1.0, 1.0})                                                     // shoulders
     d = smin(d, capsule(p, {s * 0.05, -0.205, -0.015}, {s * 0.165, -0.245, -0.015}, 0.05), 0.05);
-  d = smin(d, capsule(p, {0, -0.20, -0.02}, {0, -0.28, -0.02}, 0.062), 0.05);     // base of the neck
+  d = smin(d, capsule(p, {0, -0.17, -0.014}, {0, -0.28, -0.014}, 0.048), 0.07);   // base of the neck, inside the head's
   return d;
 }
 

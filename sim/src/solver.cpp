@@ -100,7 +100,7 @@ inline float ownWeight(bool owner_root, bool partner_root) {
 constexpr float kRootFactor = -1.0f;
 
 constexpr std::size_t kBodyBlock = 256;
-constexpr float kSkin = 1e-6f;  // m: how far out of a body a pushed particle is put
+using tether::kSkin;
 // m: what a particle's clearance must exceed to skip the exact query, room
 // for the rounding of positions and body placements (~1e-7 m) many times over
 constexpr float kClearMargin = 2e-5f;

@@ -13,6 +13,10 @@
 
 namespace loosehair::tether {
 
+/// How far out of a body a pushed particle is put (m), so that rounding
+/// does not leave it a hair's breadth inside.
+inline constexpr float kSkin = 1e-6f;
+
 /// A pushed-out particle farther from its root than (1 + slack) s_i +
 /// kTrappedExcess L (L the longest hair's arc length) is caught where the
 /// tether and the body disagree (Solver::freeTrappedHair). In units of L,
