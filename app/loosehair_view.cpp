@@ -67,11 +67,13 @@ constexpr const char* kUsage =
     "  --seed S            sampling seed (default: the scene's)\n"
     "  --paused            start paused\n"
     "  --no-shadows        start without self-shadowing\n"
-    "  --hair H            billboards (default: interactive on software OpenGL) or\n"
-    "                      strands (thin strands the particles carry; the panel switches)\n"
-    "  --strand-carry C    where the strands are carried: auto (default: the GPU where\n"
-    "                      the window is drawn by one, else the CPU), cpu, or gpu\n"
-    "                      (OpenGL 4.3 compute shaders; software OpenGL runs them too)\n"
+    "  --hair H            strands (thin strands the particles carry; the default where\n"
+    "                      a GPU draws the window) or billboards (the default on software\n"
+    "                      OpenGL, where strands draw at a few frames a second); the\n"
+    "                      panel switches\n"
+    "  --strand-carry C    where the strands are carried: auto (default: by a compute\n"
+    "                      shader where OpenGL has them, 4.3 or later, software OpenGL\n"
+    "                      too; else on a thread of the CPU), cpu, or gpu\n"
     "  --frames N          simulate N frames, draw the last and close (scripts, tests)\n"
     "  --screenshot FILE   with --frames: save that frame as a PNG\n"
     "  --script FILE       play FILE's timed input events and exit (docs/viewer-scripts.md)\n"
@@ -101,6 +103,7 @@ struct ViewOptions {
   std::optional<double> seconds;
   bool allow_expensive = false;
   std::string strand_carry = "auto";
+  bool hair_given = false;  // --hair
 };
 
 long long parseInteger(const std::string& what, const std::string& text, long long lo, long long hi) {
@@ -153,6 +156,7 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.settings.shadows = false;
       } else if (a == "--hair") {
         o.settings.hair = render::parseHairGeometry(value());
+        o.hair_given = true;
       } else if (a == "--strand-carry") {
         o.strand_carry = value();
         if (o.strand_carry != "auto" && o.strand_carry != "cpu" && o.strand_carry != "gpu")
@@ -730,6 +734,13 @@ int run(const ViewOptions& o) {
   controller.pending().sim = sim.latest()->params;
   view.camera = render::Camera::preset(o.camera);
   view.settings = o.settings;
+  // strands by default where a GPU draws them (software OpenGL draws them at
+  // a few frames a second: billboards there)
+  {
+    const GLubyte* name = glGetString(GL_RENDERER);
+    const bool software = !name || render::softwareRenderer(reinterpret_cast<const char*>(name));
+    if (!o.hair_given) view.settings.hair = software ? render::HairGeometry::Billboards : render::HairGeometry::Strands;
+  }
   if (view.settings.hair == render::HairGeometry::Strands) controller.setHair(render::HairGeometry::Strands);
   {
     const glm::vec3 l = glm::normalize(o.settings.light_direction);
@@ -747,8 +758,10 @@ int run(const ViewOptions& o) {
   ImGuiSession imgui(window.get());
   viewer::Panel panel(controller);
   if (const GLubyte* name = glGetString(GL_RENDERER)) panel.gl_renderer = reinterpret_cast<const char*>(name);
-  // the strands carried on the GPU where one draws the window (on software
-  // OpenGL the carry thread is as fast and leaves the drawing alone)
+  // the strands carried by a compute shader wherever OpenGL runs one: on
+  // a GPU it costs next to nothing, and even on llvmpipe the window showed
+  // current strands (0 frames behind, against 15 from the carry thread,
+  // which competes with the simulation for the cores) at the same rate
   {
     std::string why;
     const bool can = render::gpuStrandCarrySupported(&why);
@@ -756,8 +769,7 @@ int run(const ViewOptions& o) {
       std::fprintf(stderr, "loosehair-view: --strand-carry gpu: %s\n", why.c_str());
       return 2;
     }
-    sim.setStrandsOnGpu(o.strand_carry == "gpu" ||
-                        (o.strand_carry == "auto" && can && !render::softwareRenderer(panel.gl_renderer)));
+    sim.setStrandsOnGpu(o.strand_carry == "gpu" || (o.strand_carry == "auto" && can));
   }
   std::unique_ptr<render::GpuStrandCarry> gpu_carry;  // for gpu_field, in this window's context
   std::shared_ptr<const StrandField> gpu_field;
