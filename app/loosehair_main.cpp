@@ -19,6 +19,7 @@
 #include "loosehair/strand_files.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
+#include "loosehair/render/strand_carry_gpu.hpp"
 
 #include <unistd.h>
 
@@ -80,7 +81,7 @@ constexpr const char* kRenderUsage =
     "                              [--style STYLE.json] [--no-shape-keeping]\n"
     "                              [--hair strands|billboards] [--shading kajiya-kay|marschner]\n"
     "                              [--supersample N] [--strands N] [--strand-points P]\n"
-    "                              [--gl osmesa|egl] [--motion FILE]\n"
+    "                              [--gl osmesa|egl] [--strand-carry cpu|gpu] [--motion FILE]\n"
     "\n"
     "  Simulates SCENE and draws every frame to DIR/frame_00001.png ... with\n"
     "  software OpenGL (OSMesa: no display, no GPU).\n"
@@ -105,6 +106,9 @@ constexpr const char* kRenderUsage =
     "    --strands N      about N strands (default 12000); --strand-points P, 2..256\n"
     "    --gl P           osmesa (default: software, llvmpipe) or egl (a GPU where\n"
     "                     there is one, else Mesa's surfaceless platform); no X server\n"
+    "    --strand-carry C cpu (default: exact contacts) or gpu (a compute shader and\n"
+    "                     the bodies' sampled distances: for speed on a GPU; within\n"
+    "                     a few mm of the CPU's, docs/design.md)\n"
     "    --frames, --threads, --seed, --allow-expensive, --style,\n"
     "    --no-shape-keeping, --motion   as for simulate\n"
     "  Options may also be written --flag=value.\n";
@@ -434,6 +438,7 @@ loosehair::render::RenderSettings defaultRenderSettings() {
 
 struct RenderOptions {
   bool light_given = false;  // --light; otherwise the camera's key light
+  bool strands_on_gpu = false;  // --strand-carry gpu
   std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter", style, motion;
   bool overwrite = false, allow_expensive = false, no_shape_keeping = false;
@@ -490,6 +495,11 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       else if (a == "--distance") o.distance = parseReal(a, value(), 0.05, 100);
       else if (a == "--fov") o.fov = parseReal(a, value(), 5, 150);
       else if (a == "--no-lod") o.settings.strand_lod = false;
+      else if (a == "--strand-carry") {
+        const std::string v = value();
+        if (v != "cpu" && v != "gpu") throw UsageError{"--strand-carry must be cpu or gpu, got '" + v + "'", kRenderUsage};
+        o.strands_on_gpu = v == "gpu";
+      }
       else if (a == "--light") {
         const std::string v = value();
         float c[3];
@@ -567,11 +577,17 @@ int renderScene(const RenderOptions& o) {
     so.points = o.strand_points;
     strands.emplace(bindSceneStrands(scene, solver.particles(), build, so, solver.threadCount()));
   }
+  std::unique_ptr<render::GpuStrandCarry> gpu_carry;
+  if (strands && o.strands_on_gpu) {
+    std::string why;
+    if (!render::gpuStrandCarrySupported(&why)) throw std::runtime_error("--strand-carry gpu: " + why);
+    gpu_carry = std::make_unique<render::GpuStrandCarry>(*strands, DistanceVolumeOptions{}, solver.threadCount());
+  }
   std::printf("scene: %s, %zu particles, %d frames of %dx%d, camera %s, %s\n", scene.name.c_str(),
               solver.particles().size(), frames, o.width, o.height, o.camera.c_str(), gl.renderer().c_str());
   if (strands)
-    std::printf("hair: %zu strands of %d points carried by the particles, %s shading, %dx%d supersampling\n",
-                strands->strandCount(), o.strand_points,
+    std::printf("hair: %zu strands of %d points carried by the particles%s, %s shading, %dx%d supersampling\n",
+                strands->strandCount(), o.strand_points, gpu_carry ? " (by a compute shader)" : "",
                 o.settings.shading == render::HairShading::Marschner ? "Marschner" : "Kajiya-Kay",
                 o.settings.supersample, o.settings.supersample);
   else
@@ -589,7 +605,19 @@ int renderScene(const RenderOptions& o) {
     render::FrameInput input = render::frameFromSolver(solver, build.mean_neighbor_distance);
     if (strands) {
       const auto td = std::chrono::steady_clock::now();
-      strands->deformWorld(solver, input.strand_points, solver.threadCount());
+      if (gpu_carry) {
+        const HeadPose pose = solver.head().pose;
+        glm::mat4 to_world(glm::mat3(pose.rotation));
+        to_world[3] = glm::vec4(glm::vec3(pose.center), 1.0f);
+        gpu_carry->carry(solver.particles().position, solver.particles().direction, solver.bodyPlacements(), to_world,
+                         solver.threadCount());
+        gpu_carry->wait();  // for the timing
+        input.strand_buffer = gpu_carry->buffer();
+        input.strand_buffer_points = gpu_carry->points();
+        input.strand_mean_length = gpu_carry->meanLength();
+      } else {
+        strands->deformWorld(solver, input.strand_points, solver.threadCount());
+      }
       input.strand_points_each = o.strand_points;
       deform_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count();
     }
