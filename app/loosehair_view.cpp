@@ -993,7 +993,7 @@ int run(const ViewOptions& o) {
     }
     if (o.seconds && std::chrono::duration<double>(now - started).count() >= *o.seconds) done = true;
   }
-  if (o.seconds) {
+  if (o.seconds || script) {  // measuring, or a script's report of what it drew
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::printf("measured: %d frames drawn in %.2f s = %.1f frames/s (%dx%d), simulation %.2fx real time\n", shown,
                 wall, shown / wall, w.width, w.height, (sim.latest()->time - started_sim) / wall);

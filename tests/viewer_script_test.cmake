@@ -1,7 +1,7 @@
 # Scripted viewer runs (loosehair-view --script) under a virtual X server,
 # checked against the headless program and the library.
 # -DVIEW= -DLOOSEHAIR= -DXVFB_RUN= -DSCRIPTS=<tests/viewer> -DDATA=<tests/data>
-# -DCHECK=<loosehair_style_session_check> -DOUT=<dir> -DCASE=drag|parameter|styling|bad-file
+# -DCHECK=<loosehair_style_session_check> -DOUT=<dir> -DCASE=drag|parameter|styling|bad-file|strands|strands-drag|...
 file(REMOVE_RECURSE "${OUT}")
 file(MAKE_DIRECTORY "${OUT}")
 set(size 1100x650)
@@ -113,6 +113,22 @@ elseif(CASE STREQUAL "strands")
     message(FATAL_ERROR "drawing strands changed the simulation: ${viewed}, the CLI's ${cli}")
   endif()
   message(STATUS "strands: three pictures differ; state-hash ${viewed} = CLI")
+elseif(CASE STREQUAL "strands-drag")
+  # strands on and the head dragged: the run reports the frames drawn, the
+  # strands carried and the input-to-picture latency of the head's moves
+  view("${DATA}/tiny.json" "${SCRIPTS}/strands-drag.json" out)
+  drawn("${out}" strands-dragged.png 10)
+  if(NOT out MATCHES "measured: [0-9]+ frames drawn in [0-9.]+ s")
+    message(FATAL_ERROR "no frame count in the report:\n${out}")
+  endif()
+  if(NOT out MATCHES "strands: [1-9][0-9]* simulated frames carried and shown")
+    message(FATAL_ERROR "no strands carried in the report:\n${out}")
+  endif()
+  string(REGEX MATCH "input to picture: ([0-9]+) head moves, ([0-9]+) ms on average" m "${out}")
+  if(NOT m OR CMAKE_MATCH_1 LESS 2)
+    message(FATAL_ERROR "no input-to-picture latency for the two drags in the report:\n${out}")
+  endif()
+  message(STATUS "strands-drag: ${CMAKE_MATCH_1} head moves shown, ${CMAKE_MATCH_2} ms from move to picture")
 elseif(CASE STREQUAL "bad-file")
   file(WRITE "${OUT}/broken-scene.json" "{\"name\": \"broken\", \"head\": {\"type\": \"sphere\", \"radius\": -1}}")
   view("${DATA}/tiny.json" "${SCRIPTS}/bad-file.json" out)

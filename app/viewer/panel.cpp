@@ -244,8 +244,8 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   }
   if (const auto strands = c_.sim().latestStrands()) {
     const bool gpu = strands->field != nullptr;
-    ImGui::Text("strands of frame %" PRId64 ", carried on the %s (%.1f ms a carry)", strands->frame,
-                gpu ? "GPU" : "CPU", gpu ? gpu_carry_ms : strands->carry_ms);
+    ImGui::Text("strands of frame %" PRId64 ", carried %s (%.1f ms a carry)", strands->frame,
+                gpu ? "by a compute shader" : "on the CPU", gpu ? gpu_carry_ms : strands->carry_ms);
   }
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);
