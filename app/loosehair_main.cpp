@@ -581,7 +581,7 @@ int renderScene(const RenderOptions& o) {
   if (strands && o.strands_on_gpu) {
     std::string why;
     if (!render::gpuStrandCarrySupported(&why)) throw std::runtime_error("--strand-carry gpu: " + why);
-    gpu_carry = std::make_unique<render::GpuStrandCarry>(*strands, DistanceVolumeOptions{}, solver.threadCount());
+    gpu_carry = std::make_unique<render::GpuStrandCarry>(*strands);
   }
   std::printf("scene: %s, %zu particles, %d frames of %dx%d, camera %s, %s\n", scene.name.c_str(),
               solver.particles().size(), frames, o.width, o.height, o.camera.c_str(), gl.renderer().c_str());
@@ -606,11 +606,8 @@ int renderScene(const RenderOptions& o) {
     if (strands) {
       const auto td = std::chrono::steady_clock::now();
       if (gpu_carry) {
-        const HeadPose pose = solver.head().pose;
-        glm::mat4 to_world(glm::mat3(pose.rotation));
-        to_world[3] = glm::vec4(glm::vec3(pose.center), 1.0f);
-        gpu_carry->carry(solver.particles().position, solver.particles().direction, solver.bodyPlacements(), to_world,
-                         solver.threadCount());
+        gpu_carry->carry(solver.particles().position, solver.particles().direction, solver.bodyPlacements(),
+                         render::headToWorld(solver.head().pose), solver.threadCount());
         gpu_carry->wait();  // for the timing
         input.strand_buffer = gpu_carry->buffer();
         input.strand_buffer_points = gpu_carry->points();

@@ -14,7 +14,6 @@
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/gl_loader.hpp"
 #include "loosehair/render/renderer.hpp"
-#include "loosehair/render/strand_carry_gpu.hpp"
 #include "cli_args.hpp"
 #include "png.hpp"
 #include "scene_bodies.hpp"
@@ -25,6 +24,7 @@
 #include "viewer/script.hpp"
 #include "viewer/simulation_thread.hpp"
 #include "viewer/viewer_values.hpp"
+#include "viewer/window_strands.hpp"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -734,13 +734,13 @@ int run(const ViewOptions& o) {
   controller.pending().sim = sim.latest()->params;
   view.camera = render::Camera::preset(o.camera);
   view.settings = o.settings;
+  const GLubyte* gl_name = glGetString(GL_RENDERER);
+  const std::string gl_renderer = gl_name ? reinterpret_cast<const char*>(gl_name) : "";
   // strands by default where a GPU draws them (software OpenGL draws them at
   // a few frames a second: billboards there)
-  {
-    const GLubyte* name = glGetString(GL_RENDERER);
-    const bool software = !name || render::softwareRenderer(reinterpret_cast<const char*>(name));
-    if (!o.hair_given) view.settings.hair = software ? render::HairGeometry::Billboards : render::HairGeometry::Strands;
-  }
+  if (!o.hair_given)
+    view.settings.hair = gl_renderer.empty() || render::softwareRenderer(gl_renderer) ? render::HairGeometry::Billboards
+                                                                                     : render::HairGeometry::Strands;
   if (view.settings.hair == render::HairGeometry::Strands) controller.setHair(render::HairGeometry::Strands);
   {
     const glm::vec3 l = glm::normalize(o.settings.light_direction);
@@ -757,7 +757,7 @@ int run(const ViewOptions& o) {
   glfwSetScrollCallback(window.get(), onScroll);
   ImGuiSession imgui(window.get());
   viewer::Panel panel(controller);
-  if (const GLubyte* name = glGetString(GL_RENDERER)) panel.gl_renderer = reinterpret_cast<const char*>(name);
+  panel.gl_renderer = gl_renderer;
   // the strands carried by a compute shader wherever OpenGL runs one: on
   // a GPU it costs next to nothing, and even on llvmpipe the window showed
   // current strands (0 frames behind, against 15 from the carry thread,
@@ -771,16 +771,12 @@ int run(const ViewOptions& o) {
     }
     sim.setStrandsOnGpu(o.strand_carry == "gpu" || (o.strand_carry == "auto" && can));
   }
-  std::unique_ptr<render::GpuStrandCarry> gpu_carry;  // for gpu_field, in this window's context
-  std::shared_ptr<const StrandField> gpu_field;
-  std::int64_t gpu_frame = -1;
-  std::uint64_t gpu_generation = 0;
-  bool gpu_failed = false;  // then on the CPU (strands handed for the GPU before are not drawn)
+  viewer::WindowStrands window_strands;  // in this window's context
   if (script) script->start = sim.latest()->input.position;
 
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),
               sim.latest()->particles, sim.buildReport().substeps, scene.frame_rate,
-              reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+              gl_renderer.c_str());
   std::printf("press H in the window for the shortcuts\n");
 
   int shown = 0, shots = 0;
@@ -874,38 +870,11 @@ int run(const ViewOptions& o) {
       ++strand_frames;
       strand_lag_sum += static_cast<double>(frame->frame - strands->frame);
       with_strands = frame->input;
-      if (strands->field && !gpu_failed) {  // carried here, on the GPU
-        try {
-          if (gpu_field != strands->field) {
-            gpu_carry.reset();
-            gpu_carry = std::make_unique<render::GpuStrandCarry>(*strands->field);
-            gpu_field = strands->field;
-            gpu_frame = -1;
-          }
-          if (strands->frame != gpu_frame || strands->generation != gpu_generation) {
-            const auto t0 = std::chrono::steady_clock::now();
-            gpu_carry->carry(strands->position, strands->direction, strands->bodies, strands->head_to_world);
-            panel.gpu_carry_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            carry_ms_sum += panel.gpu_carry_ms;
-            gpu_frame = strands->frame;
-            gpu_generation = strands->generation;
-          }
-          with_strands.strand_buffer = gpu_carry->buffer();
-          with_strands.strand_buffer_points = gpu_carry->points();
-          with_strands.strand_mean_length = gpu_carry->meanLength();
-          with_strands.strand_points_each = gpu_carry->pointsPerStrand();
-        } catch (const std::exception& x) {  // a body without a box, ...: on the CPU from now on
-          std::fprintf(stderr, "loosehair-view: %s; the strands are carried on the CPU instead\n", x.what());
-          sim.setStrandsOnGpu(false);
-          gpu_failed = true;
-          gpu_carry.reset();
-          gpu_field.reset();
-        }
-      } else if (strands->field) {
-        with_strands.strand_points_each = 0;  // until the CPU's strands come
-      } else {
-        with_strands.strand_points = strands->points;
-        with_strands.strand_points_each = strands->points_each;
+      double gpu_ms = 0.0;
+      window_strands.add(*strands, sim, with_strands, gpu_ms);
+      if (gpu_ms > 0.0) {
+        panel.gpu_carry_ms = gpu_ms;
+        carry_ms_sum += gpu_ms;
       }
       input = &with_strands;
     }

@@ -112,12 +112,6 @@ StrandScene& strandScene(std::size_t strands) {
   return *slot;
 }
 
-glm::mat4 headToWorld(const Solver& solver) {
-  const HeadPose pose = solver.head().pose;
-  glm::mat4 m(glm::mat3(pose.rotation));
-  m[3] = glm::vec4(glm::vec3(pose.center), 1.0f);
-  return m;
-}
 
 // The strands carried by a compute shader (render::GpuStrandCarry) out of
 // the head and the torso, as the viewer does where it can: the particles'
@@ -127,9 +121,9 @@ void BM_CarryStrandsGpu(benchmark::State& state) {
   StrandScene& s = strandScene(static_cast<std::size_t>(state.range(0)));
   const auto provider = state.range(1) ? app::GLProvider::EGL : app::GLProvider::OSMesa;
   app::HeadlessGL gl(64, 64, provider);
-  render::GpuStrandCarry gpu(*s.field, {}, 2);
+  render::GpuStrandCarry gpu(*s.field);
   const auto bodies = s.solver->bodyPlacements();
-  const glm::mat4 to_world = headToWorld(*s.solver);
+  const glm::mat4 to_world = render::headToWorld(s.solver->head().pose);
   const Particles& p = s.solver->particles();
   gpu.carry(p.position, p.direction, bodies, to_world, 2);
   gpu.wait();
@@ -161,7 +155,7 @@ void BM_RenderStrands(benchmark::State& state) {
   settings.supersample = 2;
   std::unique_ptr<render::GpuStrandCarry> gpu;
   const auto bodies = s.solver->bodyPlacements();
-  const glm::mat4 to_world = headToWorld(*s.solver);
+  const glm::mat4 to_world = render::headToWorld(s.solver->head().pose);
   const Particles& particles = s.solver->particles();
   render::FrameInput frame = s.frame;
   auto carryOnce = [&] {
@@ -173,7 +167,7 @@ void BM_RenderStrands(benchmark::State& state) {
     gpu->wait();
   };
   if (on_gpu) {
-    gpu = std::make_unique<render::GpuStrandCarry>(*s.field, DistanceVolumeOptions{}, 2);
+    gpu = std::make_unique<render::GpuStrandCarry>(*s.field);
     frame.strand_buffer = gpu->buffer();
     frame.strand_buffer_points = gpu->points();
     frame.strand_mean_length = gpu->meanLength();

@@ -124,8 +124,9 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
     // nearest particle of any region is already 20 mm, h1 12 mm)
     EXPECT_LT(a.region_gap, a.support) << name << ": a particle away from its root region's hair";
     // On the mannequin head a small tuft at the whorl stays after the
-    // violent turn and nod, 4 of 3000 strands, at rest a second later and
-    // two (docs/design.md): allowed, one in 500.
+    // violent turn and nod: 4 of 3000 strands, one second and two seconds
+    // after it, the hair at rest by then (docs/design.md). Allowed: one
+    // in 500.
     EXPECT_LE(a.loops, a.strands / 500) << name << ": render strands looping off the crown";
   }
 }

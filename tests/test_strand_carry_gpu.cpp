@@ -51,12 +51,6 @@ const ShakenHang& shaken() {
   return s;
 }
 
-glm::mat4 headToWorld(const Solver& solver) {
-  const HeadPose pose = solver.head().pose;
-  glm::mat4 m(glm::mat3(pose.rotation));
-  m[3] = glm::vec4(glm::vec3(pose.center), 1.0f);
-  return m;
-}
 
 // mean absolute channel difference (0..255)
 double meanDifference(const lhtest::Image& a, const lhtest::Image& b) {
@@ -94,7 +88,7 @@ TEST(StrandCarryGpu, WithBodiesItAgreesWithTheCpuCarryWithinTheStatedTolerance) 
   app::HeadlessGL gl(8, 8);
   GpuStrandCarry gpu(*s.field);
   const Particles& p = s.solver->particles();
-  const glm::mat4 to_world = headToWorld(*s.solver);
+  const glm::mat4 to_world = render::headToWorld(s.solver->head().pose);
   gpu.carry(p.position, p.direction, s.solver->bodyPlacements(), to_world, 2);
   std::vector<glm::vec3> on_gpu, on_cpu;
   gpu.readBack(on_gpu);
@@ -156,7 +150,7 @@ TEST(StrandCarryGpu, TheRendererDrawsTheGpuStrandsAsItDrawsTheCpuStrands) {
     app::HeadlessGL gl(w, h);
     GpuStrandCarry gpu(*s.field);
     const Particles& p = s.solver->particles();
-    gpu.carry(p.position, p.direction, s.solver->bodyPlacements(), headToWorld(*s.solver), 2);
+    gpu.carry(p.position, p.direction, s.solver->bodyPlacements(), render::headToWorld(s.solver->head().pose), 2);
     gpu_in.strand_buffer = gpu.buffer();
     gpu_in.strand_buffer_points = gpu.points();
     gpu_in.strand_mean_length = gpu.meanLength();

@@ -220,3 +220,41 @@ TEST(ParticleRotation, AnIllConditionedNeighbourhoodGetsTheNearestRotation) {
   for (int c = 0; c < 3; ++c) diff = std::max(diff, glm::length(turned[c] - (g * r)[c]));
   EXPECT_LT(diff, 1e-4f);
 }
+
+// The bodies handed to another thread (the viewer's strand carrier) answer
+// as the solver itself does: the head and a torso that has moved in the
+// head's frame, exact near the skin, with the same bits.
+TEST(StrandField, PlacedBodiesAnswerAsTheSolverDoes) {
+  SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/head-shake.json");
+  scene.hair.particles = 800;
+  scene.settle = 0.0;
+  BuildReport build;
+  Solver solver = buildSolver(scene, &build);
+  solver.advance(20 * build.substeps);  // the head has turned: the torso moved in its frame
+  const std::vector<BodyPlacement> placed = solver.bodyPlacements();
+  ASSERT_EQ(placed.size(), 2u) << "the head, then the torso";
+  EXPECT_NE(placed[1].m, glm::mat3(1.0f));
+  const BodyContacts contacts = placedBodyContacts(placed);
+  // points around the particles, some inside the bodies
+  std::vector<glm::vec3> pts;
+  for (std::size_t i = 0; i < solver.particles().size(); i += 3)
+    for (float dy : {-0.01f, 0.0f, 0.01f}) pts.push_back(solver.particles().position[i] + glm::vec3(0.0f, dy, 0.004f));
+  const float limit = 0.01f;
+  std::vector<float> phi_a(pts.size()), phi_b(pts.size());
+  std::vector<glm::vec3> n_a(pts.size()), n_b(pts.size());
+  contacts(pts, limit, false, phi_a, n_a);
+  solver.bodyContacts(pts, solver.time(), limit, phi_b, n_b);
+  std::size_t near = 0, inside = 0;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    if (!(phi_b[k] < limit)) {
+      EXPECT_GE(phi_a[k], limit) << k;
+      continue;
+    }
+    ++near;
+    inside += phi_b[k] < 0.0f;
+    EXPECT_EQ(phi_a[k], phi_b[k]) << k;
+    EXPECT_EQ(n_a[k], n_b[k]) << k;
+  }
+  EXPECT_GT(near, 100u);
+  EXPECT_GT(inside, 0u);
+}

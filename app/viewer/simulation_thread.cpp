@@ -412,11 +412,8 @@ void SimulationThread::publish(double frame_ms) {
       }
       job.position = solver_->particles().position;
       job.direction = solver_->particles().direction;
-      job.bodies = solver_->placedBodyContacts();
-      job.placements = solver_->bodyPlacements();
-      const HeadPose pose = solver_->head().pose;
-      job.head_rotation = glm::mat3(pose.rotation);
-      job.head_center = glm::vec3(pose.center);
+      job.bodies = solver_->bodyPlacements();
+      job.head_to_world = render::headToWorld(solver_->head().pose);
     }
     carrier_->submit(std::move(job));
     handed_strands_ = strand_count;

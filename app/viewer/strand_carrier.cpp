@@ -85,12 +85,14 @@ void StrandCarrier::loop() {
           carried->field = field_;
           carried->position = std::move(job.position);
           carried->direction = std::move(job.direction);
-          carried->bodies = std::move(job.placements);
-          carried->head_to_world = glm::mat4(job.head_rotation);
-          carried->head_to_world[3] = glm::vec4(job.head_center, 1.0f);
+          carried->bodies = std::move(job.bodies);
+          carried->head_to_world = job.head_to_world;
         } else {
-          field_->deform(job.position, job.direction, &job.bodies, carried->points, threads_);
-          for (glm::vec3& p : carried->points) p = job.head_rotation * p + job.head_center;
+          const BodyContacts bodies = placedBodyContacts(std::move(job.bodies));
+          field_->deform(job.position, job.direction, &bodies, carried->points, threads_);
+          const glm::mat3 rotation(job.head_to_world);
+          const glm::vec3 centre(job.head_to_world[3]);
+          for (glm::vec3& p : carried->points) p = rotation * p + centre;
         }
         carried->points_each = static_cast<int>(field_->rest().pointCount(0));
         carried->frame = job.frame;

@@ -10,7 +10,7 @@
 
 #include "loosehair/particles.hpp"
 #include "loosehair/scene.hpp"
-#include "loosehair/solver.hpp"
+#include "loosehair/body.hpp"
 #include "loosehair/strand_field.hpp"
 
 #include <glm/mat3x3.hpp>
@@ -40,7 +40,7 @@ struct CarriedStrands {
   // render::GpuStrandCarry.
   std::shared_ptr<const StrandField> field;
   std::vector<glm::vec3> position, direction;  // head frame
-  std::vector<Solver::BodyPlacement> bodies;
+  std::vector<BodyPlacement> bodies;
   glm::mat4 head_to_world{1.0f};
 };
 
@@ -54,10 +54,8 @@ struct CarryJob {
   std::shared_ptr<const BuildReport> build;
   std::shared_ptr<const Particles> rest;
   std::vector<glm::vec3> position, direction;  // head frame
-  BodyContacts bodies;                         // placed at the frame's time
-  std::vector<Solver::BodyPlacement> placements;  // the same, for the GPU
-  glm::mat3 head_rotation{1.0f};
-  glm::vec3 head_center{0.0f};
+  std::vector<BodyPlacement> bodies;           // placed at the frame's time (Solver::bodyPlacements)
+  glm::mat4 head_to_world{1.0f};  // render::headToWorld of the frame's head pose
 };
 
 class StrandCarrier {

@@ -24,13 +24,16 @@ FrameInput frameFromSolver(const Solver& solver, float spacing) {
       if (glm::dot(d, d) < reach2) f.connections.insert(f.connections.end(), {static_cast<std::uint32_t>(i), j});
     }
   f.spacing = spacing;
-  const HeadPose pose = solver.trajectory().pose(solver.time());
+  f.head_pose = headToWorld(solver.trajectory().pose(solver.time()));
+  return f;
+}
+
+glm::mat4 headToWorld(const HeadPose& pose) {
   glm::mat4 m(1.0f);
   for (int col = 0; col < 3; ++col)
     for (int row = 0; row < 3; ++row) m[col][row] = static_cast<float>(pose.rotation[col][row]);
   m[3] = glm::vec4(glm::vec3(pose.center), 1.0f);
-  f.head_pose = m;
-  return f;
+  return m;
 }
 
 }  // namespace loosehair::render

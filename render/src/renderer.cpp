@@ -468,8 +468,10 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     hi = glm::max(hi, p);
   }
   if (hair_points.empty()) lo = hi = camera.target;
+  lo -= glm::vec3(widen);
+  hi += glm::vec3(widen);
   const glm::vec3 centre = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo) + bl + widen;
+  const float radius = 0.5f * glm::length(hi - lo) + bl;
   const glm::vec3 up = std::abs(light.y) < 0.95f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
   const glm::mat4 light_view = glm::lookAt(centre + light * (radius + 1.0f), centre, up);
   const glm::mat4 light_proj = glm::ortho(-radius, radius, -radius, radius, 0.01f, 2.0f * radius + 2.0f);
@@ -499,6 +501,14 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setF(p, "u_opacity", st.hair_opacity);
     setF(p, "u_strand_width", static_cast<float>(kStrandWidth));
     setF(p, "u_strand_max_level", static_cast<float>(kStrandLevels));
+  };
+  // the sorted billboards with program p (its other uniforms set)
+  auto drawBillboards = [&](GLuint p) {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, r.hair_tex);
+    setI(p, "u_hair", 0);
+    glBindVertexArray(r.quad_vao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
   };
   // world -> (s, t, depth in slices - offset) for the lookups, and without
   // the offset for the light pass: one affine map (the light is orthographic)
@@ -552,11 +562,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
       setI(r.opacity_prog, "u_ortho", 1);
       setF(r.opacity_prog, "u_pixel_scale", static_cast<float>(kShadowSize) / (2.0f * radius));
       billboardUniforms(r.opacity_prog);
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, r.hair_tex);
-      setI(r.opacity_prog, "u_hair", 0);
-      glBindVertexArray(r.quad_vao);
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
+      drawBillboards(r.opacity_prog);
     }
   };
   glBindFramebuffer(GL_FRAMEBUFFER, r.nearest_fbo);
@@ -654,11 +660,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     setF(r.hair_prog, "u_transmit", 0.45f);
     setF(r.hair_prog, "u_ambient", 0.22f);
     shadowUniforms(r.hair_prog);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, r.hair_tex);
-    setI(r.hair_prog, "u_hair", 0);
-    glBindVertexArray(r.quad_vao);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
+    drawBillboards(r.hair_prog);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   } else {

@@ -2,6 +2,7 @@
 #include "loosehair/render/strand_carry_gpu.hpp"
 
 #include "gl_program.hpp"
+#include "strand_pass.hpp"
 #include "loosehair/render/renderer.hpp"
 #include "loosehair/render/shaders.hpp"
 
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 
 namespace loosehair::render {
@@ -21,11 +23,15 @@ namespace loosehair::render {
 namespace {
 
 constexpr GLuint kLocalSize = 64;  // strand_carry.comp's local_size_x
+// the storage buffers, by their binding points in strand_carry.comp
+enum Buffer : GLuint {
+  kMotions, kBindIndex, kBindWeight, kRestPoints, kDetail, kStrandFirst, kOutPoints, kScratch, kVolumes, kBuffers
+};
 // rounds of (push out, length limit), as the CPU carry's rough rounds
 constexpr int kPushRounds = 3;
 
 template <class T>
-void storage(GLuint buffer, const std::vector<T>& data, GLenum usage) {
+void storage(GLuint buffer, std::span<const T> data, GLenum usage) {
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
   glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, data.size()) * sizeof(T)),
                data.empty() ? nullptr : data.data(), usage);
@@ -52,7 +58,7 @@ bool gpuStrandCarrySupported(std::string* why) {
 struct GpuStrandCarry::Impl {
   const StrandField* field = nullptr;
   GLuint program = 0;
-  GLuint buffers[9] = {};  // motions, bind index, bind weight, rest, detail, first, out, scratch, volumes
+  GLuint buffers[kBuffers] = {};
   std::size_t strands = 0, points = 0;
   int per_strand = 0;
   float mean_length = 0.0f;
@@ -65,7 +71,7 @@ struct GpuStrandCarry::Impl {
     glm::ivec3 dims{0};
   };
   std::unordered_map<const Body*, Volume> volumes;
-  std::vector<float> values;  // every volume's, uploaded to buffers[8]
+  std::vector<float> values;  // every volume's, uploaded to buffers[kVolumes]
   double volume_seconds = 0.0;
   std::vector<glm::mat3> rot;
   std::vector<glm::vec3> shift;
@@ -97,9 +103,8 @@ struct GpuStrandCarry::Impl {
   }
 };
 
-GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOptions& volumes, int threads)
+GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOptions& volumes)
     : impl_(std::make_unique<Impl>()) {
-  (void)threads;
   std::string why;
   if (!gpuStrandCarrySupported(&why)) throw RenderError("strands on the GPU: " + why);
   Impl& r = *impl_;
@@ -107,15 +112,11 @@ GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOpt
   r.volume_options = volumes;
   r.program = computeProgram("#version 430 core\n#define MAX_BODIES " + std::to_string(kMaxBodies) + "\n" +
                              shaders::strand_carry_comp);
-  glGenBuffers(9, r.buffers);
+  glGenBuffers(kBuffers, r.buffers);
   const StrandSet& rest = field.rest();
   r.strands = rest.size();
   r.points = rest.points.size();
-  GLint max_texels = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
-  if (r.points > static_cast<std::size_t>(max_texels))
-    throw RenderError(std::to_string(r.points) + " strand points are more than this OpenGL holds (" +
-                      std::to_string(max_texels) + "); draw fewer strands");
+  StrandPass::checkPointCount(r.points);
   r.per_strand = r.strands > 0 ? static_cast<int>(rest.first[1] - rest.first[0]) : 0;
   for (std::size_t s = 0; s < r.strands; ++s)
     if (static_cast<int>(rest.first[s + 1] - rest.first[s]) != r.per_strand) r.per_strand = 0;
@@ -129,15 +130,14 @@ GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOpt
     total += seg[q];
   }
   r.mean_length = r.strands > 0 ? static_cast<float>(total / static_cast<double>(r.strands)) : 0.0f;
-  storage(r.buffers[1], std::vector<std::uint32_t>(field.bindIndices().begin(), field.bindIndices().end()),
-          GL_STATIC_DRAW);
-  storage(r.buffers[2], std::vector<float>(field.bindWeights().begin(), field.bindWeights().end()), GL_STATIC_DRAW);
-  storage(r.buffers[3], rest4, GL_STATIC_DRAW);
-  storage(r.buffers[4], detail4, GL_STATIC_DRAW);
-  storage(r.buffers[5], std::vector<std::uint32_t>(rest.first.begin(), rest.first.end()), GL_STATIC_DRAW);
-  storage(r.buffers[6], std::vector<glm::vec4>(r.points, glm::vec4(0.0f)), GL_DYNAMIC_COPY);
-  storage(r.buffers[8], r.values, GL_STATIC_DRAW);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r.buffers[7]);
+  storage(r.buffers[kBindIndex], field.bindIndices(), GL_STATIC_DRAW);
+  storage(r.buffers[kBindWeight], field.bindWeights(), GL_STATIC_DRAW);
+  storage<glm::vec4>(r.buffers[kRestPoints], rest4, GL_STATIC_DRAW);
+  storage<glm::vec4>(r.buffers[kDetail], detail4, GL_STATIC_DRAW);
+  storage<std::uint32_t>(r.buffers[kStrandFirst], rest.first, GL_STATIC_DRAW);
+  storage<glm::vec4>(r.buffers[kOutPoints], std::vector<glm::vec4>(r.points, glm::vec4(0.0f)), GL_DYNAMIC_COPY);
+  storage<float>(r.buffers[kVolumes], r.values, GL_STATIC_DRAW);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r.buffers[kScratch]);
   glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, 2 * r.points) * sizeof(glm::vec4)),
                nullptr, GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -145,12 +145,12 @@ GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOpt
 
 GpuStrandCarry::~GpuStrandCarry() {
   Impl& r = *impl_;
-  glDeleteBuffers(9, r.buffers);
+  glDeleteBuffers(kBuffers, r.buffers);
   glDeleteProgram(r.program);
 }
 
 void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-                           const std::vector<Solver::BodyPlacement>& bodies, const glm::mat4& head_to_world,
+                           const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world,
                            int threads) {
   Impl& r = *impl_;
   if (bodies.size() > static_cast<std::size_t>(kMaxBodies))
@@ -159,12 +159,12 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
   std::vector<const Impl::Volume*> volume(bodies.size());
   bool added = false;
   for (std::size_t b = 0; b < bodies.size(); ++b) volume[b] = &r.volumeOf(bodies[b].body, threads, added);
-  if (added) storage(r.buffers[8], r.values, GL_STATIC_DRAW);
+  if (added) storage<float>(r.buffers[kVolumes], r.values, GL_STATIC_DRAW);
   r.field->particleMotions(positions, directions, r.rot, r.shift, threads);
   r.motion.resize(3 * r.rot.size());
   for (std::size_t i = 0; i < r.rot.size(); ++i)
     for (int c = 0; c < 3; ++c) r.motion[3 * i + static_cast<std::size_t>(c)] = glm::vec4(r.rot[i][c], r.shift[i][c]);
-  storage(r.buffers[0], r.motion, GL_STREAM_DRAW);
+  storage<glm::vec4>(r.buffers[kMotions], r.motion, GL_STREAM_DRAW);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 
   const GLuint p = r.program;
@@ -195,15 +195,15 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
     const glm::mat3 g = glm::transpose(bodies[b].m) * (1.0f / v.voxel);
     glUniformMatrix3fv(uniform("u_gradient_to_head"), 1, GL_FALSE, glm::value_ptr(g));
   }
-  for (GLuint i = 0; i < 9; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, r.buffers[i]);
+  for (GLuint i = 0; i < kBuffers; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, r.buffers[i]);
   const GLuint groups = static_cast<GLuint>((r.strands + kLocalSize - 1) / kLocalSize);
   if (groups > 0) glDispatchCompute(groups, 1, 1);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  for (GLuint i = 0; i < 9; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
+  for (GLuint i = 0; i < kBuffers; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
   glUseProgram(0);
 }
 
-unsigned GpuStrandCarry::buffer() const { return impl_->buffers[6]; }
+unsigned GpuStrandCarry::buffer() const { return impl_->buffers[kOutPoints]; }
 std::size_t GpuStrandCarry::points() const { return impl_->points; }
 int GpuStrandCarry::pointsPerStrand() const { return impl_->per_strand; }
 float GpuStrandCarry::meanLength() const { return impl_->mean_length; }
@@ -212,7 +212,7 @@ void GpuStrandCarry::wait() const { glFinish(); }
 
 void GpuStrandCarry::readBack(std::vector<glm::vec3>& out) const {
   std::vector<glm::vec4> v(impl_->points);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, impl_->buffers[6]);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, impl_->buffers[kOutPoints]);
   if (!v.empty())
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(v.size() * sizeof(glm::vec4)), v.data());
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);

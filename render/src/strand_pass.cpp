@@ -49,16 +49,20 @@ StrandPass::~StrandPass() {
   glDeleteTextures(3, lut_);
 }
 
-namespace {
-void checkStrands(std::size_t points, int per_strand) {
-  if (per_strand < 2) throw RenderError("strands need at least 2 points each");
-  if (points % static_cast<std::size_t>(per_strand) != 0)
-    throw RenderError(std::to_string(points) + " strand points are not strands of " + std::to_string(per_strand));
+void StrandPass::checkPointCount(std::size_t points) {
   GLint max_texels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
   if (points > static_cast<std::size_t>(max_texels))
     throw RenderError(std::to_string(points) + " strand points are more than this OpenGL holds (" +
                       std::to_string(max_texels) + "); draw fewer strands");
+}
+
+namespace {
+void checkStrands(std::size_t points, int per_strand) {
+  if (per_strand < 2) throw RenderError("strands need at least 2 points each");
+  if (points % static_cast<std::size_t>(per_strand) != 0)
+    throw RenderError(std::to_string(points) + " strand points are not strands of " + std::to_string(per_strand));
+  StrandPass::checkPointCount(points);
 }
 }  // namespace
 

@@ -37,6 +37,9 @@ class StrandPass {
   /// Or strands already in `buffer` (points RGBA32F texels, world xyz;
   /// GpuStrandCarry::buffer()), of `mean_length` on average.
   void useBuffer(GLuint buffer, std::size_t points, int per_strand, float mean_length);
+  /// Throws RenderError where `points` are more than a buffer texture of
+  /// this OpenGL holds.
+  static void checkPointCount(std::size_t points);
   std::size_t segments() const { return segments_; }
   std::size_t strands() const { return strip_first_.size(); }
   /// The mean length of the uploaded strands (m).

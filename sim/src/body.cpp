@@ -2,6 +2,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -149,6 +150,31 @@ bool UnionBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
     upper = glm::max(upper, hi);
   }
   return true;
+}
+
+BodyContacts placedBodyContacts(std::vector<BodyPlacement> placed) {
+  return [placed = std::move(placed)](std::span<const glm::vec3> x, float limit, bool rough, std::span<float> phi,
+                                      std::span<glm::vec3> normal) {
+    constexpr std::size_t kBlock = 256;  // points a block, so that the scratch lives on the stack
+    glm::vec3 q[kBlock], nb[kBlock];
+    float pb[kBlock];
+    for (std::size_t b = 0; b < x.size(); b += kBlock) {
+      const std::size_t len = std::min(kBlock, x.size() - b);
+      for (std::size_t k = 0; k < len; ++k) phi[b + k] = INFINITY;
+      for (const BodyPlacement& pl : placed) {
+        for (std::size_t k = 0; k < len; ++k) q[k] = pl.m * x[b + k] + pl.d;
+        if (rough)
+          pl.body->roughDistanceBelow(q, len, limit, pb, nb);
+        else
+          pl.body->signedDistanceBelow(q, len, limit, pb, nb);
+        for (std::size_t k = 0; k < len; ++k) {
+          if (!(pb[k] < phi[b + k])) continue;
+          phi[b + k] = pb[k];
+          normal[b + k] = glm::transpose(pl.m) * nb[k];
+        }
+      }
+    }
+  };
 }
 
 }  // namespace loosehair

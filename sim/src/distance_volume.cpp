@@ -75,7 +75,6 @@ DistanceVolume sampleDistanceVolume(const Body& body, const DistanceVolumeOption
     if (which.empty()) return;
     q.resize(which.size());
     exact.resize(which.size());
-    n.resize(std::max(nx, which.size()));
     for (std::size_t m = 0; m < which.size(); ++m) q[m] = p[which[m]];
     body.signedDistanceBelow(q.data(), q.size(), v.exact_band, exact.data(), n.data());
     for (std::size_t m = 0; m < which.size(); ++m) out[which[m]] = exact[m];

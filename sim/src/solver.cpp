@@ -1176,7 +1176,7 @@ void Solver::bodyDistance(std::span<const glm::vec3> points, double t, std::vect
   queryBodies(frames, head, points.data(), points.size(), phi.data(), nrm.data(), nullptr);
 }
 
-std::vector<Solver::BodyPlacement> Solver::bodyPlacements() const {
+std::vector<BodyPlacement> Solver::bodyPlacements() const {
   std::vector<BodyFrame> frames;
   HeadKinematics head;
   placeBodies(time_, frames, head, true);
@@ -1188,35 +1188,6 @@ std::vector<Solver::BodyPlacement> Solver::bodyPlacements() const {
         break;
       }
   return placed;
-}
-
-BodyContacts Solver::placedBodyContacts() const {
-  return [placed = bodyPlacements()](std::span<const glm::vec3> x, float limit, bool rough, std::span<float> phi,
-                                     std::span<glm::vec3> normal) {
-    auto ask = [&](const Body& body, const glm::vec3* p, std::size_t count, float* out_phi, glm::vec3* out_normal) {
-      if (rough)
-        body.roughDistanceBelow(p, count, limit, out_phi, out_normal);
-      else
-        body.signedDistanceBelow(p, count, limit, out_phi, out_normal);
-    };
-    const std::size_t n = x.size();
-    ask(*placed[0].body, x.data(), n, phi.data(), normal.data());  // the head, in its own frame
-    glm::vec3 q[kBodyBlock], nb[kBodyBlock];
-    float pb[kBodyBlock];
-    for (std::size_t b = 0; b < n; b += kBodyBlock) {
-      const std::size_t len = std::min(kBodyBlock, n - b);
-      for (std::size_t f = 1; f < placed.size(); ++f) {
-        const BodyPlacement& pl = placed[f];
-        for (std::size_t k = 0; k < len; ++k) q[k] = pl.m * x[b + k] + pl.d;
-        ask(*pl.body, q, len, pb, nb);
-        for (std::size_t k = 0; k < len; ++k) {
-          if (!(pb[k] < phi[b + k])) continue;
-          phi[b + k] = pb[k];
-          normal[b + k] = glm::transpose(pl.m) * nb[k];
-        }
-      }
-    }
-  };
 }
 
 void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit,

@@ -3,6 +3,7 @@
 // per block of particles, not one per particle.
 #pragma once
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 #include <glm/ext/vector_int3.hpp>
 
@@ -21,6 +22,20 @@ namespace loosehair {
 /// bound >= limit.
 using BodyContacts = std::function<void(std::span<const glm::vec3> points, float limit, bool rough,
                                         std::span<float> phi, std::span<glm::vec3> normal)>;
+
+class Body;
+
+/// A body seen from another frame: a point p there is q = m p + d in the
+/// body's own frame (m a rotation).
+struct BodyPlacement {
+  std::shared_ptr<const Body> body;
+  glm::mat3 m{1.0f};
+  glm::vec3 d{0.0f};
+};
+
+/// BodyContacts of the nearest of `placed` for points in the frame the
+/// placements map from (normals in that frame); it keeps the bodies.
+BodyContacts placedBodyContacts(std::vector<BodyPlacement> placed);
 
 class Body {
  public:

@@ -39,8 +39,8 @@ struct DistanceVolume {
                       static_cast<std::size_t>(dims.x) +
                   static_cast<std::size_t>(i)];
   }
-  /// The trilinear interpolant at p (clamped to the grid's box), as a
-  /// texture sampler gives it.
+  /// The trilinear interpolant at p (clamped to the grid's box), as
+  /// render/shaders/strand_carry.comp interpolates it.
   float sample(const glm::vec3& p) const;
 };
 

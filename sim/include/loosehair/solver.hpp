@@ -183,20 +183,13 @@ class Solver {
   /// `rough`: by the bodies' fast approximation (Body::roughDistanceBelow).
   void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit,
                     std::span<float> phi, std::span<glm::vec3> normal, bool rough = false) const;
-  /// bodyContacts for head-frame points against the head and the world
-  /// bodies (obstacles too) placed as they are now, detached from the
-  /// solver: a thread of its own may keep and call it while the solver
-  /// steps on or is replaced (the bodies are shared and do not change).
-  /// Without surface velocities or the particles' hints; the same answers.
-  BodyContacts placedBodyContacts() const;
-  /// The bodies placedBodyContacts asks, each with the map from the head
-  /// frame into its own frame (q = m p + d): the head first (identity),
-  /// then the world bodies (obstacles too) active now.
-  struct BodyPlacement {
-    std::shared_ptr<const Body> body;
-    glm::mat3 m{1.0f};
-    glm::vec3 d{0.0f};
-  };
+  /// The head and the world bodies (obstacles too) placed as they are now,
+  /// each with the map from the head frame into its own frame: the head
+  /// first (identity). Detached from the solver: a thread of its own may
+  /// keep them (placedBodyContacts) while the solver steps on or is
+  /// replaced (the bodies are shared and do not change). Asked through
+  /// placedBodyContacts they answer as bodyContacts does, without surface
+  /// velocities or the particles' hints.
   std::vector<BodyPlacement> bodyPlacements() const;
 
   /// Replaces positions, velocities and directions (head frame), for

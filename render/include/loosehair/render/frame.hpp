@@ -11,4 +11,8 @@ namespace loosehair::render {
 /// typical particle spacing (the scene's mean nearest-neighbour distance).
 FrameInput frameFromSolver(const Solver& solver, float spacing);
 
+/// The map from the head frame to the world for a head `pose`
+/// (FrameInput::head_pose, GpuStrandCarry::carry).
+glm::mat4 headToWorld(const HeadPose& pose);
+
 }  // namespace loosehair::render

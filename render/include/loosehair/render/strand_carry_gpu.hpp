@@ -12,7 +12,7 @@
 #pragma once
 
 #include "loosehair/distance_volume.hpp"
-#include "loosehair/solver.hpp"
+#include "loosehair/body.hpp"
 #include "loosehair/strand_field.hpp"
 
 #include <glm/mat4x4.hpp>
@@ -34,9 +34,10 @@ class GpuStrandCarry {
  public:
   /// At most this many bodies push the strands.
   static constexpr int kMaxBodies = 8;
-  /// Uploads `field`'s bindings into the current context (which must
-  /// outlive this). Throws RenderError where compute shaders are missing.
-  explicit GpuStrandCarry(const StrandField& field, const DistanceVolumeOptions& volumes = {}, int threads = 1);
+  /// Uploads `field`'s bindings into the current context. The context and
+  /// `field` must outlive this. Throws RenderError where compute shaders
+  /// are missing or the points are more than a buffer texture holds.
+  explicit GpuStrandCarry(const StrandField& field, const DistanceVolumeOptions& volumes = {});
   ~GpuStrandCarry();
   GpuStrandCarry(const GpuStrandCarry&) = delete;
   GpuStrandCarry& operator=(const GpuStrandCarry&) = delete;
@@ -49,7 +50,7 @@ class GpuStrandCarry {
   /// bounding box or more than kMaxBodies bodies, std::invalid_argument for
   /// wrong sizes.
   void carry(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-             const std::vector<Solver::BodyPlacement>& bodies, const glm::mat4& head_to_world, int threads = 1);
+             const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world, int threads = 1);
 
   /// The carried points (world), strand after strand: a GL buffer of
   /// points() RGBA32F texels (xyz; w unused).
