@@ -56,7 +56,7 @@ constexpr const char* kUsage =
     "usage: loosehair-view [SCENE] [--size WxH] [--camera PRESET] [--color C] [--threads T]\n"
     "                              [--seed S] [--paused] [--frames N [--screenshot FILE.png]]\n"
     "                              [--script FILE] [--seconds S] [--no-shadows] [--hair H]\n"
-    "                              [--strand-carry auto|cpu|gpu]\n"
+    "                              [--strand-carry auto|cpu|gpu] [--playing-strands N]\n"
     "\n"
     "Plays SCENE (default: the bundled data/scenes/hang.json) in a window with a\n"
     "panel, in real time at most (the panel sets the speed).\n"
@@ -67,10 +67,11 @@ constexpr const char* kUsage =
     "  --seed S            sampling seed (default: the scene's)\n"
     "  --paused            start paused\n"
     "  --no-shadows        start without self-shadowing\n"
-    "  --hair H            strands (thin strands the particles carry; the default where\n"
-    "                      a GPU draws the window) or billboards (the default on software\n"
-    "                      OpenGL, where strands draw at a few frames a second); the\n"
-    "                      panel switches\n"
+    "  --hair H            strands (default: thin strands the particles carry) or\n"
+    "                      billboards (one a particle); the panel switches\n"
+    "  --playing-strands N at most N strands drawn while the hair moves, each standing\n"
+    "                      for several (all when paused or recording; 0: always all;\n"
+    "                      default 4000 on software OpenGL, all where a GPU draws)\n"
     "  --strand-carry C    where the strands are carried: auto (default: by a compute\n"
     "                      shader where OpenGL has them, 4.3 or later, software OpenGL\n"
     "                      too; else on a thread of the CPU), cpu, or gpu\n"
@@ -104,7 +105,13 @@ struct ViewOptions {
   bool allow_expensive = false;
   std::string strand_carry = "auto";
   bool hair_given = false;  // --hair
+  std::optional<int> strand_budget;  // --playing-strands
 };
+
+// Strands drawn while the hair moves on software OpenGL (llvmpipe): about
+// 4 frames a second with all 12,000 at 1280x720, 2 cores; see
+// docs/performance.md.
+constexpr int kSoftwareStrandBudget = 4000;
 
 long long parseInteger(const std::string& what, const std::string& text, long long lo, long long hi) {
   std::size_t used = 0;
@@ -161,6 +168,8 @@ ViewOptions parseOptions(const std::vector<std::string>& args) {
         o.strand_carry = value();
         if (o.strand_carry != "auto" && o.strand_carry != "cpu" && o.strand_carry != "gpu")
           throw UsageError{"--strand-carry must be auto, cpu or gpu, got '" + o.strand_carry + "'"};
+      } else if (a == "--playing-strands") {
+        o.strand_budget = static_cast<int>(parseInteger("--playing-strands", value(), 0, 10000000));
       } else if (a == "--allow-expensive") {
         o.allow_expensive = true;
       } else if (a == "--paused") {
@@ -736,11 +745,11 @@ int run(const ViewOptions& o) {
   view.settings = o.settings;
   const GLubyte* gl_name = glGetString(GL_RENDERER);
   const std::string gl_renderer = gl_name ? reinterpret_cast<const char*>(gl_name) : "";
-  // strands by default where a GPU draws them (software OpenGL draws them at
-  // a few frames a second: billboards there)
-  if (!o.hair_given)
-    view.settings.hair = gl_renderer.empty() || render::softwareRenderer(gl_renderer) ? render::HairGeometry::Billboards
-                                                                                     : render::HairGeometry::Strands;
+  // strands by default; software OpenGL draws a third of them while the
+  // hair moves (all when paused), so that the window keeps answering
+  const bool software_gl = gl_renderer.empty() || render::softwareRenderer(gl_renderer);
+  if (!o.hair_given) view.settings.hair = render::HairGeometry::Strands;
+  view.playing_strand_budget = o.strand_budget ? *o.strand_budget : software_gl ? kSoftwareStrandBudget : 0;
   if (view.settings.hair == render::HairGeometry::Strands) controller.setHair(render::HairGeometry::Strands);
   {
     const glm::vec3 l = glm::normalize(o.settings.light_direction);
@@ -860,6 +869,11 @@ int run(const ViewOptions& o) {
     render::FrameInput with_strands;
     const render::FrameInput* input = &frame->input;
     std::int64_t shown_frame = frame->frame;  // the simulated frame the hair on screen is from
+    // fewer strands while the hair moves, where the view says so (software
+    // OpenGL); all of them paused, recording, or for --frames' picture
+    const bool full_detail = sim.paused() || o.frames || !controller.recordingPath(frame->frame).empty();
+    view.settings.strand_budget =
+        full_detail ? 0 : static_cast<std::size_t>(std::max(0, view.playing_strand_budget));
     if (const auto strands = sim.latestStrands()) {
       shown_frame = strands->frame;
       if (strands->frame != last_carried) {
@@ -871,7 +885,12 @@ int run(const ViewOptions& o) {
       strand_lag_sum += static_cast<double>(frame->frame - strands->frame);
       with_strands = frame->input;
       double gpu_ms = 0.0;
-      window_strands.add(*strands, sim, with_strands, gpu_ms);
+      const std::size_t strand_count = strands->field ? strands->field->rest().size()
+                                       : strands->points_each > 0
+                                           ? strands->points.size() / static_cast<std::size_t>(strands->points_each)
+                                           : 0;
+      window_strands.add(*strands, sim, with_strands, gpu_ms,
+                         render::strandBudgetStride(strand_count, view.settings.strand_budget));
       if (gpu_ms > 0.0) {
         panel.gpu_carry_ms = gpu_ms;
         carry_ms_sum += gpu_ms;

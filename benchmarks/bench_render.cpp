@@ -152,7 +152,7 @@ void BM_RenderStrands(benchmark::State& state) {
   const render::Camera camera = render::Camera::preset("three-quarter");
   render::RenderSettings settings;
   settings.hair = render::HairGeometry::Strands;
-  settings.supersample = 2;
+  settings.supersample = static_cast<int>(state.range(5));
   std::unique_ptr<render::GpuStrandCarry> gpu;
   const auto bodies = s.solver->bodyPlacements();
   const glm::mat4 to_world = render::headToWorld(s.solver->head().pose);
@@ -196,10 +196,13 @@ void BM_RenderStrands(benchmark::State& state) {
   state.SetLabel(gl.renderer());
 }
 BENCHMARK(BM_RenderStrands)
-    ->ArgNames({"strands", "w", "h", "egl", "gpu"})
-    ->ArgsProduct({{10000, 50000}, {640}, {480}, {0, 1}, {0, 1}})
-    ->ArgsProduct({{10000, 50000}, {1280}, {720}, {0, 1}, {0, 1}})
-    ->ArgsProduct({{100000}, {1920}, {1080}, {1}, {1}})
+    ->ArgNames({"strands", "w", "h", "egl", "gpu", "ss"})
+    ->ArgsProduct({{10000, 50000}, {640}, {480}, {0, 1}, {0, 1}, {2}})
+    ->ArgsProduct({{10000, 50000}, {1280}, {720}, {0, 1}, {0, 1}, {2}})
+    // the viewer's picture: no supersampling, 12k strands (its default)
+    ->ArgsProduct({{12000}, {640}, {360}, {0}, {1}, {1}})
+    ->ArgsProduct({{12000}, {1280}, {720}, {0}, {1}, {1}})
+    ->ArgsProduct({{100000}, {1920}, {1080}, {1}, {1}, {2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -2,7 +2,8 @@
 // hang scene settled for a second, then StrandField::deform with and
 // without the push out of the bodies, for 10k and 50k strands of 24 points,
 // on two threads; the counter bind_ms is the binding's time (roots,
-// cantilevers, carriers). Run: build/release/benchmarks/loosehair_bench_strands
+// cantilevers, carriers); BindStyleStrands binds the ponytail style's.
+// Run: build/release/benchmarks/loosehair_bench_strands
 #include "loosehair/loosehair.hpp"
 
 #include <benchmark/benchmark.h>
@@ -56,8 +57,29 @@ void BM_CarryStrands(benchmark::State& state) {
   state.counters["bind_ms"] = s.bind_ms;
 }
 
+// Binding the render strands of a wisp style (the ponytail's 12k strands:
+// long strands far from most particles' roots) to the settled-free rest
+// state, on two threads.
+void BM_BindStyleStrands(benchmark::State& state) {
+  SceneDesc scene = loadScene(std::string(LOOSEHAIR_SOURCE_DIR) + "/data/scenes/hang.json");
+  scene.hair.style = std::string(LOOSEHAIR_SOURCE_DIR) + "/data/styles/ponytail.json";
+  scene.hair.style_data.reset();
+  BuildReport build;
+  const Solver solver = buildSolver(scene, &build);
+  RenderStrandOptions so;
+  so.strands = 12000;
+  so.points = 24;
+  std::size_t points = 0;
+  for (auto _ : state) {
+    const StrandField field = bindSceneStrands(scene, solver.particles(), build, so, 2);
+    points = field.rest().points.size();
+  }
+  state.counters["points"] = static_cast<double>(points);
+}
+
 }  // namespace
 
+BENCHMARK(BM_BindStyleStrands)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 BENCHMARK(BM_CarryStrands)->ArgsProduct({{10000, 50000}, {0, 1}})->ArgNames({"strands", "bodies"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

@@ -264,6 +264,79 @@ TEST(RenderStrands, SmallHairDrawsFewerStrandsAndLooksTheSame) {
   EXPECT_LT(diff, 1.0);
 }
 
+// The viewer on software OpenGL draws a third of the strands while the hair
+// moves (RenderSettings::strand_budget): the hair must cover what it did.
+TEST(RenderStrands, ABudgetDrawsFewerStrandsAndTheHairCoversTheSame) {
+  EXPECT_EQ(strandBudgetStride(12000, 0), 1u);
+  EXPECT_EQ(strandBudgetStride(12000, 20000), 1u);
+  EXPECT_EQ(strandBudgetStride(12000, 4000), 3u);
+  EXPECT_EQ(strandBudgetStride(12001, 4000), 4u) << "at most the budget";
+  const HangStrands& s = hang();
+  const int w = 320, h = 240;
+  const Camera cam = Camera::preset("three-quarter");
+  RenderSettings all = strands(), budget = strands();
+  budget.strand_budget = s.field->strandCount() / 3;
+  app::HeadlessGL gl(w, h);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  r.render(s.input, cam, all, w, h);
+  const Image full{w, h, gl.pixels()};
+  const std::size_t drawn_all = r.lastTimes().strands_drawn;
+  r.render(s.input, cam, budget, w, h);
+  const Image fewer{w, h, gl.pixels()};
+  const std::size_t drawn = r.lastTimes().strands_drawn;
+  auto covered = [&](const Image& img) {
+    std::size_t n = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) n += isBackground(img.at(x, y), all) ? 0 : 1;
+    return n;
+  };
+  const double diff = meanDifference(full, fewer);
+  const double cover_all = static_cast<double>(covered(full)), cover = static_cast<double>(covered(fewer));
+  std::printf("strands drawn: %zu of %zu; mean difference %.2f grey levels; covered %.0f of %.0f pixels\n", drawn,
+              drawn_all, diff, cover, cover_all);
+  EXPECT_EQ(drawn_all, s.field->strandCount());
+  EXPECT_LE(drawn, budget.strand_budget);
+  EXPECT_GE(3 * drawn + 3, drawn_all);
+  EXPECT_NEAR(cover / cover_all, 1.0, 0.03);
+  EXPECT_LT(diff, 4.0);
+}
+
+// Strands a pixel wide or less are drawn as lines (half the vertices);
+// wider ones as ribbons. On either side of the switch the picture is the
+// same, up to the small change of width.
+TEST(RenderStrands, ThinStrandsDrawnAsLinesLookAsRibbonsDo) {
+  const HangStrands& s = hang();
+  const int w = 200, h = 150;
+  const Camera cam = Camera::preset("three-quarter");
+  app::HeadlessGL gl(w, h);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  RenderSettings st = strands();
+  st.strand_lod = false;
+  auto asLines = [&](float radius) {
+    st.strand_radius = radius;
+    r.render(s.input, cam, st, w, h);
+    return r.lastTimes().strands_as_lines;
+  };
+  float thin = 1e-4f, wide = 1e-2f;  // lines at 0.1 mm, ribbons at 1 cm
+  ASSERT_TRUE(asLines(thin));
+  ASSERT_FALSE(asLines(wide));
+  while (wide / thin > 1.02f) {
+    const float mid = std::sqrt(thin * wide);
+    (asLines(mid) ? thin : wide) = mid;
+  }
+  // the same opacity per pixel on both sides: the width only changes by 2 %
+  st.strand_opacity = 0.3f;
+  ASSERT_TRUE(asLines(thin));
+  const Image lines{w, h, gl.pixels()};
+  ASSERT_FALSE(asLines(wide));
+  const Image ribbons{w, h, gl.pixels()};
+  const double diff = meanDifference(lines, ribbons);
+  std::printf("lines up to a radius of %.3f mm; lines against ribbons: %.2f grey levels\n", 1e3 * thin, diff);
+  EXPECT_LT(diff, 1.5);
+}
+
 TEST(RenderStrands, SupersamplingComesNearerAFinerReference) {
   const Camera cam = Camera::preset("three-quarter");
   RenderSettings st = strands();

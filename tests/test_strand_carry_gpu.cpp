@@ -83,6 +83,37 @@ TEST(StrandCarryGpu, WithoutBodiesItIsTheCpuCarry) {
   EXPECT_EQ(gpu.pointsPerStrand(), 16);
 }
 
+// With a stride (the viewer's strand budget) the strands carried are the
+// whole carry's, and the others keep their last points.
+TEST(StrandCarryGpu, EveryKthStrandCarriedIsTheWholeCarrysStrand) {
+  const ShakenHang& s = shaken();
+  app::HeadlessGL gl(8, 8);
+  const Particles& p = s.solver->particles();
+  const glm::mat4 to_world = render::headToWorld(s.solver->head().pose);
+  GpuStrandCarry whole(*s.field), every3(*s.field);
+  whole.carry(p.position, p.direction, s.solver->bodyPlacements(), to_world, 2);
+  const glm::mat4 away = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 5.0f, 0.0f));
+  every3.carry(p.position, p.direction, s.solver->bodyPlacements(), away, 2);  // the last points: 5 m up
+  every3.carry(p.position, p.direction, s.solver->bodyPlacements(), to_world, 2, 3);
+  std::vector<glm::vec3> a, b;
+  whole.readBack(a);
+  every3.readBack(b);
+  ASSERT_EQ(a.size(), b.size());
+  const StrandSet& rest = s.field->rest();
+  std::size_t carried = 0, kept = 0;
+  for (std::size_t k = 0; k < rest.size(); ++k)
+    for (std::uint32_t q = rest.first[k]; q < rest.first[k + 1]; ++q) {
+      if (k % 3 == 0) {
+        carried += a[q] == b[q] ? 1 : 0;
+      } else {
+        kept += std::abs(b[q].y - a[q].y - 5.0f) < 1e-3f ? 1 : 0;
+      }
+    }
+  const std::size_t strands3 = (rest.size() + 2) / 3;
+  EXPECT_EQ(carried, strands3 * static_cast<std::size_t>(every3.pointsPerStrand()));
+  EXPECT_EQ(kept, (rest.size() - strands3) * static_cast<std::size_t>(every3.pointsPerStrand()));
+}
+
 TEST(StrandCarryGpu, WithBodiesItAgreesWithTheCpuCarryWithinTheStatedTolerance) {
   const ShakenHang& s = shaken();
   app::HeadlessGL gl(8, 8);

@@ -404,6 +404,10 @@ void Panel::rendering() {
     ImGui::SliderInt("supersampling", &view.settings.supersample, 1, 3, "%dx", kClamp);
     ImGui::Checkbox("fewer strands when the hair is small", &view.settings.strand_lod);
     tooltip("level of detail: every k-th strand, k times as opaque, where they overlap more than 8 deep");
+    ImGui::SliderInt("strands while playing", &view.playing_strand_budget, 0, 100000,
+                     view.playing_strand_budget == 0 ? "all" : "%d", kClamp);
+    tooltip("at most this many strands drawn while the hair moves, each standing for several (0: all); "
+            "all of them when paused or recording");
   }
   ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing", kClamp);
   ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing", kClamp);

@@ -36,6 +36,10 @@ struct ViewState {
   bool show_wind_arrow = true, show_light_arrow = true;
   /// Render strands drawn when settings.hair is Strands (Controller::setHair).
   int strands = 12000;
+  /// Strands drawn (and carried, on the GPU) at most while the simulation
+  /// plays, 0 for all; all of them are drawn while it is paused. Set for
+  /// software OpenGL, where 12,000 strands draw at a few frames a second.
+  int playing_strand_budget = 0;
 };
 
 }  // namespace loosehair::viewer

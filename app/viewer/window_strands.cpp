@@ -9,7 +9,7 @@
 namespace loosehair::viewer {
 
 void WindowStrands::add(const CarriedStrands& strands, SimulationThread& sim, render::FrameInput& input,
-                        double& carry_ms) {
+                        double& carry_ms, std::size_t stride) {
   carry_ms = 0.0;
   if (!strands.field) {  // carried on the CPU
     input.strand_points = strands.points;
@@ -25,9 +25,10 @@ void WindowStrands::add(const CarriedStrands& strands, SimulationThread& sim, re
       field_ = strands.field;
       frame_ = -1;
     }
-    if (strands.frame != frame_ || strands.generation != generation_) {
+    if (strands.frame != frame_ || strands.generation != generation_ || stride != stride_) {
       const auto t0 = std::chrono::steady_clock::now();
-      carry_->carry(strands.position, strands.direction, strands.bodies, strands.head_to_world);
+      carry_->carry(strands.position, strands.direction, strands.bodies, strands.head_to_world, 1, stride);
+      stride_ = stride;
       carry_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       frame_ = strands.frame;
       generation_ = strands.generation;

@@ -24,13 +24,17 @@ class WindowStrands {
   /// `input` (a frame's) with `strands` added. Carries them on the GPU
   /// when they were handed over for that and are new; `carry_ms` then
   /// receives the time it took (CPU side), else 0.
-  void add(const CarriedStrands& strands, SimulationThread& sim, render::FrameInput& input, double& carry_ms);
+  /// Only every `stride`-th strand is carried where fewer are drawn
+  /// (RenderSettings::strand_budget, render::strandBudgetStride).
+  void add(const CarriedStrands& strands, SimulationThread& sim, render::FrameInput& input, double& carry_ms,
+           std::size_t stride = 1);
 
  private:
   std::unique_ptr<render::GpuStrandCarry> carry_;
   std::shared_ptr<const StrandField> field_;  // the field carry_ was made for
   std::int64_t frame_ = -1;
   std::uint64_t generation_ = 0;
+  std::size_t stride_ = 0;  // of the last carry
   bool failed_ = false;  // then on the CPU: strands handed over for the GPU are not drawn
 };
 

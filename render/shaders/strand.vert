@@ -6,7 +6,11 @@
 // point is widened along cross(tangent, view) with the tangent from its
 // neighbours, so segments join without gaps. A strand narrower than a pixel
 // is drawn one pixel wide with its alpha scaled by the part of the pixel it
-// covers.
+// covers. Where every strand is that thin (u_lines), strand k is a line
+// strip of P vertices instead, one a point: half the vertices and
+// primitives, which is what a software rasteriser spends its time on. A
+// line covers max(|dx|, |dy|) pixels per pixel of its length; its alpha is
+// raised by the inverse.
 uniform samplerBuffer u_points;  // xyz: world position, w: unused
 uniform int u_points_per_strand;
 uniform mat4 u_view_proj;
@@ -16,6 +20,8 @@ uniform float u_radius;       // strand half-width, world (m)
 uniform float u_pixel_scale;  // pixels per metre at unit depth (perspective) or per metre (ortho)
 uniform float u_opacity;
 uniform mat4 u_light_coords;
+uniform int u_lines;
+uniform vec2 u_viewport;  // pixels (lines only)
 out vec3 v_world;
 out vec3 v_light;
 out float v_alpha;
@@ -30,11 +36,12 @@ float hash(int k) {
 }
 void main() {
   int per = u_points_per_strand - 1;
-  int strand = gl_VertexID / (2 * u_points_per_strand);
-  int local = gl_VertexID - strand * 2 * u_points_per_strand;
+  int vertices = u_lines == 1 ? u_points_per_strand : 2 * u_points_per_strand;
+  int strand = gl_VertexID / vertices;
+  int local = gl_VertexID - strand * vertices;
   int base = strand * u_points_per_strand;
-  int i = local / 2;  // the point this vertex sits at
-  float side = (local & 1) == 0 ? -1.0 : 1.0;
+  int i = u_lines == 1 ? local : local / 2;  // the point this vertex sits at
+  float side = u_lines == 1 ? 0.0 : ((local & 1) == 0 ? -1.0 : 1.0);
   vec3 p = fetch(base + i);
   vec3 prev = fetch(base + max(i - 1, 0));
   vec3 next = fetch(base + min(i + 1, per));
@@ -55,8 +62,15 @@ void main() {
   float tip = clamp((1.0 - s) * 10.0, 0.0, 1.0);
   // at most opaque (a strand drawn for several, by the level of detail, or
   // for many in the light pass, may stand for more than full coverage there)
-  v_alpha = u_ortho == 1 ? u_opacity * (u_radius / r) * (0.35 + 0.65 * tip)
-                         : min(1.0, u_opacity * (u_radius / r) * (0.35 + 0.65 * tip));
+  float coverage = u_radius / r;
+  if (u_lines == 1) {
+    vec4 a = u_view_proj * vec4(prev, 1.0), b = u_view_proj * vec4(next, 1.0);
+    vec2 screen = (b.xy / b.w - a.xy / a.w) * u_viewport;
+    float sl = length(screen);
+    coverage /= sl > 1e-6 ? max(abs(screen.x), abs(screen.y)) / sl : 1.0;
+  }
+  v_alpha = u_ortho == 1 ? u_opacity * coverage * (0.35 + 0.65 * tip)
+                         : min(1.0, u_opacity * coverage * (0.35 + 0.65 * tip));
   v_world = w;
   v_light = (u_light_coords * vec4(w, 1.0)).xyz;
 #ifdef SHADE

@@ -26,6 +26,7 @@ layout(std430, binding = 6) buffer OutPoints { vec4 out_point[]; };
 layout(std430, binding = 7) buffer Scratch { vec4 scratch[]; };
 
 uniform uint u_strands;
+uniform uint u_stride;  // every u_stride-th strand (RenderSettings::strand_budget)
 uniform int u_carriers;
 uniform float u_clearance;
 uniform float u_tolerance;
@@ -159,7 +160,7 @@ bool trimTip(uint b, uint e) {
 }
 
 void main() {
-  uint s = gl_GlobalInvocationID.x;
+  uint s = gl_GlobalInvocationID.x * u_stride;
   if (s >= u_strands) return;
   uint b = strand_first[s], e = strand_first[s + 1u];
   uint k = uint(u_carriers);

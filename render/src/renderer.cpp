@@ -85,6 +85,11 @@ std::size_t strandLevelOfDetail(std::size_t strands, float mean_length, float ra
   return std::min(strands, static_cast<std::size_t>(layers / kStrandLayers));
 }
 
+std::size_t strandBudgetStride(std::size_t strands, std::size_t budget) {
+  if (budget == 0 || strands <= budget) return 1;
+  return (strands + budget - 1) / budget;
+}
+
 DebugLegend debugLegend(const FrameInput& in, const RenderSettings& st) {
   DebugLegend legend;
   if (st.debug != DebugView::Density && st.debug != DebugView::Speed) return legend;
@@ -626,13 +631,18 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     sh.spec = pal.spec;
     sh.marschner = st.shading == HairShading::Marschner;
     sh.variation = st.strand_variation;
-    const std::size_t stride =
+    // a multiple of the budget's stride: only those strands may have been
+    // carried (GpuStrandCarry::carry's stride)
+    const std::size_t budget_stride = strandBudgetStride(r.strands->strands(), st.strand_budget);
+    const std::size_t lod_stride =
         st.strand_lod ? strandLevelOfDetail(r.strands->strands(), r.strands->meanLength(), st.strand_radius,
                                             box_radius, to_centre, cam.pixel_scale)
                       : 1;
+    const std::size_t stride = budget_stride * ((lod_stride + budget_stride - 1) / budget_stride);
     times_.strands_drawn = (r.strands->strands() + stride - 1) / stride;
-    r.strands->drawTransparent(r.target, cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa,
-                               st.shadows, r.slice_tex, r.nearest_tex, stride);
+    times_.strands_as_lines =
+        r.strands->drawTransparent(r.target, cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa,
+                                   st.shadows, r.slice_tex, r.nearest_tex, stride);
     glFinish();
     times_.camera_pass = since(t0);
     t0 = Clock::now();

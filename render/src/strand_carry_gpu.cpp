@@ -151,7 +151,8 @@ GpuStrandCarry::~GpuStrandCarry() {
 
 void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
                            const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world,
-                           int threads) {
+                           int threads, std::size_t stride) {
+  stride = std::max<std::size_t>(1, stride);
   Impl& r = *impl_;
   if (bodies.size() > static_cast<std::size_t>(kMaxBodies))
     throw RenderError("strands on the GPU: " + std::to_string(bodies.size()) + " bodies, more than " +
@@ -170,6 +171,7 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
   const GLuint p = r.program;
   glUseProgram(p);
   glUniform1ui(loc(p, "u_strands"), static_cast<GLuint>(r.strands));
+  glUniform1ui(loc(p, "u_stride"), static_cast<GLuint>(std::min<std::size_t>(stride, r.strands + 1)));
   setI(p, "u_carriers", r.field->carriersPerPoint());
   setF(p, "u_clearance", r.field->options().clearance);
   setF(p, "u_tolerance", r.field->options().length_tolerance);
@@ -196,7 +198,8 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
     glUniformMatrix3fv(uniform("u_gradient_to_head"), 1, GL_FALSE, glm::value_ptr(g));
   }
   for (GLuint i = 0; i < kBuffers; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, r.buffers[i]);
-  const GLuint groups = static_cast<GLuint>((r.strands + kLocalSize - 1) / kLocalSize);
+  const std::size_t carried = (r.strands + stride - 1) / stride;
+  const GLuint groups = static_cast<GLuint>((carried + kLocalSize - 1) / kLocalSize);
   if (groups > 0) glDispatchCompute(groups, 1, 1);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   for (GLuint i = 0; i < kBuffers; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);

@@ -72,7 +72,12 @@ void StrandPass::setStrips(std::size_t points, int per_strand) {
   const std::size_t strands = points / static_cast<std::size_t>(per_strand);
   strip_first_.resize(strands);
   strip_count_.assign(strands, 2 * per_strand);
-  for (std::size_t k = 0; k < strands; ++k) strip_first_[k] = static_cast<GLint>(2 * k * static_cast<std::size_t>(per_strand));
+  line_first_.resize(strands);
+  line_count_.assign(strands, per_strand);
+  for (std::size_t k = 0; k < strands; ++k) {
+    strip_first_[k] = static_cast<GLint>(2 * k * static_cast<std::size_t>(per_strand));
+    line_first_[k] = static_cast<GLint>(k * static_cast<std::size_t>(per_strand));
+  }
 }
 
 void StrandPass::useBuffer(GLuint buffer, std::size_t points, int per_strand, float mean_length) {
@@ -107,13 +112,6 @@ void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
   setStrips(points.size(), per_strand);
 }
 
-void StrandPass::drawStrips() {
-  glBindVertexArray(vao_);
-  glMultiDrawArrays(GL_TRIANGLE_STRIP, strip_first_.data(), strip_count_.data(),
-                    static_cast<GLsizei>(strip_first_.size()));
-  glBindVertexArray(0);
-}
-
 void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
                              float pixel_scale, float radius, float opacity, bool nearest_pass,
                              GLuint nearest_tex) {
@@ -140,23 +138,29 @@ void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_
   const std::size_t strands = strip_first_.size();
   const std::size_t stride = std::max<std::size_t>(1, strands / kLightStrands);
   setF(p, "u_opacity", opacity * static_cast<float>(stride));
-  drawEvery(stride);
+  drawEvery(p, stride, asLines(radius, pixel_scale));
 }
 
-void StrandPass::drawEvery(std::size_t stride) {
-  if (stride <= 1) {
-    drawStrips();
-    return;
-  }
-  subset_first_.clear();
-  subset_count_.clear();
-  for (std::size_t k = 0; k < strip_first_.size(); k += stride) {
-    subset_first_.push_back(strip_first_[k]);
-    subset_count_.push_back(strip_count_[k]);
-  }
+void StrandPass::drawEvery(GLuint p, std::size_t stride, bool lines) {
+  setI(p, "u_lines", lines ? 1 : 0);
+  GLint viewport[4] = {0, 0, 1, 1};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  glUniform2f(loc(p, "u_viewport"), static_cast<float>(viewport[2]), static_cast<float>(viewport[3]));
+  const std::vector<GLint>& first = lines ? line_first_ : strip_first_;
+  const std::vector<GLsizei>& count = lines ? line_count_ : strip_count_;
+  const GLenum mode = lines ? GL_LINE_STRIP : GL_TRIANGLE_STRIP;
   glBindVertexArray(vao_);
-  glMultiDrawArrays(GL_TRIANGLE_STRIP, subset_first_.data(), subset_count_.data(),
-                    static_cast<GLsizei>(subset_first_.size()));
+  if (stride <= 1) {
+    glMultiDrawArrays(mode, first.data(), count.data(), static_cast<GLsizei>(first.size()));
+  } else {
+    subset_first_.clear();
+    subset_count_.clear();
+    for (std::size_t k = 0; k < first.size(); k += stride) {
+      subset_first_.push_back(first[k]);
+      subset_count_.push_back(count[k]);
+    }
+    glMultiDrawArrays(mode, subset_first_.data(), subset_count_.data(), static_cast<GLsizei>(subset_first_.size()));
+  }
   glBindVertexArray(0);
 }
 
@@ -173,14 +177,14 @@ void StrandPass::updateTables(const StrandShading& sh) {
   }
 }
 
-void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& sh,
+bool StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& sh,
                                  float radius, float opacity, const glm::mat4& lookup_coords, float kappa,
                                  bool shadows, GLuint slice_tex, GLuint nearest_tex, std::size_t stride) {
   target.bindTransparency();
   const GLfloat zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
   glClearBufferfv(GL_COLOR, 1, zero);
-  if (segments_ == 0) return;
+  if (segments_ == 0) return false;
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
   glDepthMask(GL_FALSE);
@@ -228,7 +232,10 @@ void StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   glBindTexture(GL_TEXTURE_2D, nearest_tex);
   setI(p, "u_nearest", kNearestUnit);
   glActiveTexture(GL_TEXTURE0);
-  drawEvery(stride);
+  // the nearest hair is the widest on screen
+  const bool lines = asLines(radius, cam.pixel_scale / std::max(1e-3f, cam.near_depth));
+  drawEvery(p, stride, lines);
+  return lines;
 }
 
 void StrandPass::composite(const OffscreenTarget& target, GLuint empty_vao) {

@@ -53,6 +53,9 @@ class StrandPass {
                    float pixel_scale, float radius, float opacity, bool nearest_pass, GLuint nearest_tex);
   /// The texture unit of the nearest-hair depth in every program.
   static constexpr int kNearestUnit = 5;
+  /// Whether strands `radius` wide at `pixels_per_metre` are drawn as lines:
+  /// at most a pixel wide.
+  static bool asLines(float radius, float pixels_per_metre) { return 2.0f * radius * pixels_per_metre <= 1.0f; }
   /// From the camera, into weighted blended transparency sums.
   struct Camera {
     glm::mat4 view_proj{1.0f};
@@ -61,8 +64,9 @@ class StrandPass {
     float near_depth = 0.0f, far_depth = 1.0f;  // the hair's range of eye distances
   };
   /// Clears the target's transparency sums and draws the strands into them
-  /// (depth-tested against its opaque picture, not written).
-  void drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading,
+  /// (depth-tested against its opaque picture, not written). Returns
+  /// whether they were drawn as lines (asLines at the nearest hair).
+  bool drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading,
                        float radius, float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows,
                        GLuint slice_tex, GLuint nearest_tex, std::size_t stride = 1);
   /// The sums over the target's opaque picture (a full-screen triangle from
@@ -72,10 +76,13 @@ class StrandPass {
  private:
   void setStrips(std::size_t points, int per_strand);  // the strips of points / per_strand strands
   void updateTables(const StrandShading& shading);
-  void drawStrips();
-  void drawEvery(std::size_t stride);  // every stride-th strand
+  // every stride-th strand, as ribbons or (where they are narrower than a
+  // pixel: program p's u_lines is set here) as lines
+  void drawEvery(GLuint p, std::size_t stride, bool lines);
   std::vector<GLint> strip_first_;
   std::vector<GLsizei> strip_count_;
+  std::vector<GLint> line_first_;
+  std::vector<GLsizei> line_count_;
   std::vector<GLint> subset_first_;    // drawEvery's strips
   std::vector<GLsizei> subset_count_;
   GLuint camera_prog_ = 0, opacity_prog_ = 0, composite_prog_ = 0;

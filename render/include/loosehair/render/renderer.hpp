@@ -109,7 +109,16 @@ struct RenderSettings {
   /// kStrandLayers deep on screen (hair small in the picture), every k-th
   /// strand is drawn, k times as opaque (strandLevelOfDetail).
   bool strand_lod = true;
+  /// At most about this many strands drawn (every k-th, k times as
+  /// opaque), 0 for all: for a window that must keep drawing while the
+  /// hair moves on a slow (software) renderer. The level of detail's
+  /// stride is then rounded up to a multiple of k.
+  std::size_t strand_budget = 0;
 };
+
+/// The k of "every k-th strand" for `strands` strands and a `budget`
+/// (RenderSettings::strand_budget; 0: no limit).
+std::size_t strandBudgetStride(std::size_t strands, std::size_t budget);
 
 /// How many strands overlap on screen, on average over the hair's area,
 /// before the level of detail thins them.
@@ -149,6 +158,7 @@ struct FrameTimes {
   double sort = 0, light_pass = 0, camera_pass = 0, upload = 0;
   double resolve = 0;  // transparency composite and supersampling filter
   std::size_t strands_drawn = 0;  // from the camera (the level of detail's choice)
+  bool strands_as_lines = false;   // from the camera: a pixel wide or less, as lines
 };
 
 /// What the density and speed debug views' colours mean: the value range

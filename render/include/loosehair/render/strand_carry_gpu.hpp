@@ -48,9 +48,12 @@ class GpuStrandCarry {
   /// first time it comes, on `threads` threads), and places them in the
   /// world by `head_to_world`. Throws RenderError for a body without a
   /// bounding box or more than kMaxBodies bodies, std::invalid_argument for
-  /// wrong sizes.
+  /// wrong sizes. With `stride` k > 1 only strands 0, k, 2k, ... are
+  /// carried (the others keep their last points): enough for a picture
+  /// that draws only those (RenderSettings::strand_budget).
   void carry(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-             const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world, int threads = 1);
+             const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world, int threads = 1,
+             std::size_t stride = 1);
 
   /// The carried points (world), strand after strand: a GL buffer of
   /// points() RGBA32F texels (xyz; w unused).
