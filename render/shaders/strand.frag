@@ -5,20 +5,14 @@
 // colour as a weighted mean that favours the strands in front. The weight
 // falls off over the hair's own depth range (u_depth_range), not the whole
 // view's, so front strands win among strands millimetres apart.
-in vec3 v_world;
-in float v_alpha;
-in vec3 v_color;
-uniform vec3 u_eye;
-uniform vec2 u_depth_range;  // eye distance of the hair's nearest and farthest point
-uniform float u_depth_falloff;
+// The weight and -ln(1 - alpha) are the vertex shader's (strand.vert,
+// SHADE): they vary slowly along a strand, and a software rasteriser spends
+// a strand frame on its fragments.
+in vec4 v_weighted;  // colour x weight, weight
+in float v_reveal;
 layout(location = 0) out vec4 o_accum;
 layout(location = 1) out vec4 o_reveal;
 void main() {
-  float a = clamp(v_alpha, 0.0, 0.98);
-  if (a < 1e-4) discard;
-  vec3 c = v_color;
-  float t = clamp((length(v_world - u_eye) - u_depth_range.x) / max(1e-4, u_depth_range.y - u_depth_range.x), 0.0, 1.0);
-  float w = a * exp(-u_depth_falloff * t);
-  o_accum = vec4(c * w, w);
-  o_reveal = vec4(-log(1.0 - a), 0.0, 0.0, 0.0);
+  o_accum = v_weighted;
+  o_reveal = vec4(v_reveal, 0.0, 0.0, 0.0);
 }

@@ -26,7 +26,12 @@ out vec3 v_world;
 out vec3 v_light;
 out float v_alpha;
 #ifdef SHADE
-out vec3 v_color;  // shaded per vertex: a strand is a pixel or two wide
+// shaded per vertex (a strand is a pixel or two wide), with its weight in
+// the transparency sums (strand.frag)
+uniform vec2 u_depth_range;  // eye distance of the hair's nearest and farthest point
+uniform float u_depth_falloff;
+out vec4 v_weighted;
+out float v_reveal;
 #endif
 vec3 fetch(int q) { return texelFetch(u_points, q).xyz; }
 float hash(int k) {
@@ -74,7 +79,12 @@ void main() {
   v_world = w;
   v_light = (u_light_coords * vec4(w, 1.0)).xyz;
 #ifdef SHADE
-  v_color = shadeStrand(T, p, hash(strand), transmittance(v_light));
+  vec3 color = shadeStrand(T, p, hash(strand), transmittance(v_light));
+  float a = clamp(v_alpha, 0.0, 0.98);
+  float t = clamp((length(w - u_eye) - u_depth_range.x) / max(1e-4, u_depth_range.y - u_depth_range.x), 0.0, 1.0);
+  float weight = a * exp(-u_depth_falloff * t);
+  v_weighted = vec4(color * weight, weight);
+  v_reveal = -log(1.0 - a);
 #endif
   gl_Position = u_view_proj * vec4(w, 1.0);
 }

