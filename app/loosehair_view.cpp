@@ -800,6 +800,8 @@ int run(const ViewOptions& o) {
   double latency_sum = 0, latency_max = 0;
   int carried_shown = 0, strand_frames = 0;
   double carry_ms_sum = 0, strand_lag_sum = 0;
+  render::FrameTimes pass_sum;  // the renderer's passes, summed over the frames drawn
+  std::size_t strands_drawn_sum = 0;
   std::uint64_t generation = 0;
   std::unique_ptr<app::DrawableBodies> styling_bodies;
   const viewer::StylingSession* styling_bodies_of = nullptr;
@@ -931,6 +933,12 @@ int run(const ViewOptions& o) {
       renderer.setBodies(&bodies->head, bodies->torso ? &*bodies->torso : nullptr);
     } else {
       renderer.render(*input, v.camera, v.settings, width, height);
+      const render::FrameTimes& t = renderer.lastTimes();
+      pass_sum.light_pass += t.light_pass;
+      pass_sum.camera_pass += t.camera_pass;
+      pass_sum.resolve += t.resolve;
+      pass_sum.upload += t.upload + t.sort;
+      strands_drawn_sum += t.strands_drawn;
     }
     buildOverlay(controller, *frame, hidden, on_top);
     overlay.draw(hidden, on_top, v.camera, width, height);
@@ -989,6 +997,11 @@ int run(const ViewOptions& o) {
       std::printf("strands: %d simulated frames carried and shown (%.0f ms a carry), drawn %.1f frames behind the "
                   "simulation on average\n",
                   carried_shown, carry_ms_sum / std::max(1, carried_shown), strand_lag_sum / strand_frames);
+    if (shown > 0)
+      std::printf("a frame drawn: light pass %.0f ms, camera pass %.0f ms, resolve %.0f ms, sort and upload %.0f "
+                  "ms; %.0f strands drawn on average\n",
+                  1e3 * pass_sum.light_pass / shown, 1e3 * pass_sum.camera_pass / shown, 1e3 * pass_sum.resolve / shown,
+                  1e3 * pass_sum.upload / shown, static_cast<double>(strands_drawn_sum) / shown);
     if (latency_count > 0)
       std::printf("input to picture: %d head moves, %.0f ms on average, %.0f ms at most (from a move to the "
                   "first frame drawn with hair simulated after it)\n",
