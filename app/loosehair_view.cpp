@@ -893,6 +893,7 @@ int run(const ViewOptions& o) {
                                            : 0;
       window_strands.add(*strands, sim, with_strands, gpu_ms,
                          render::strandBudgetStride(strand_count, view.settings.strand_budget));
+      panel.strands_bound = strand_count;
       if (gpu_ms > 0.0) {
         panel.gpu_carry_ms = gpu_ms;
         carry_ms_sum += gpu_ms;
@@ -939,6 +940,7 @@ int run(const ViewOptions& o) {
       pass_sum.resolve += t.resolve;
       pass_sum.upload += t.upload + t.sort;
       strands_drawn_sum += t.strands_drawn;
+      panel.strands_drawn = t.strands_drawn;
     }
     buildOverlay(controller, *frame, hidden, on_top);
     overlay.draw(hidden, on_top, v.camera, width, height);

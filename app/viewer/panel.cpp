@@ -244,8 +244,11 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   }
   if (const auto strands = c_.sim().latestStrands()) {
     const bool gpu = strands->field != nullptr;
-    ImGui::Text("strands of frame %" PRId64 ", carried %s (%.1f ms a carry)", strands->frame,
+    ImGui::TextWrapped("strands of frame %" PRId64 ", carried %s (%.1f ms a carry)", strands->frame,
                 gpu ? "by a compute shader" : "on the CPU", gpu ? gpu_carry_ms : strands->carry_ms);
+    if (strands_bound > 0 && strands_drawn < strands_bound)
+      ImGui::Text("%zu of %zu strands drawn (%s)", strands_drawn, strands_bound,
+                  c_.view().settings.strand_budget > 0 ? "while playing" : "level of detail");
   }
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);

@@ -8,6 +8,7 @@
 
 #include <imgui.h>
 
+#include <cstddef>
 #include <deque>
 #include <string>
 
@@ -28,6 +29,7 @@ class Panel {
   /// What draws the window (GL_RENDERER), shown with the frame rate.
   std::string gl_renderer;
   double gpu_carry_ms = 0.0;  // the window's last carry of the strands on the GPU (CPU side)
+  std::size_t strands_drawn = 0, strands_bound = 0;  // in the last frame drawn
   /// The last drawn frame's debug-view colours, for the legend.
   render::DebugLegend legend;
 
