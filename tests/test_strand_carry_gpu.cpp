@@ -6,8 +6,10 @@
 // the triangles, the points no push moves are the same, 90 % of all points
 // within 2 mm of the CPU's, 99 % within 6 mm, every point within 2.5 cm
 // (pushes that differ a little near the root move the rest of the strand),
-// no point deeper than 0.3 mm in a body, and every strand's length within
-// 2.5 % of its rest length (the CPU's: 1 %, with more rounds).
+// no point deeper than 0.3 mm in a body, every strand's length within
+// 1.5 % of its rest length (the tolerance is 1 %; 1.03 % measured), and
+// the bends the carry adds, at the 99th and 99.9th percentiles, no more
+// than 1.2 times the CPU's and 2 degrees.
 #include "headless_gl.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/renderer.hpp"
@@ -144,7 +146,7 @@ TEST(StrandCarryGpu, WithBodiesItAgreesWithTheCpuCarryWithinTheStatedTolerance) 
   s.solver->bodyDistance(head_frame, s.solver->time(), phi, true);
   const StrandSet& rest = s.field->rest();
   float deepest = 0.0f, worst_length = 0.0f;
-  std::size_t near_skin = 0;
+  std::size_t near_skin = 0, over1 = 0;
   for (std::size_t k = 0; k < rest.size(); ++k) {
     double len = 0.0, rest_len = 0.0;
     for (std::uint32_t q = rest.first[k] + 1; q < rest.first[k + 1]; ++q) {
@@ -154,10 +156,27 @@ TEST(StrandCarryGpu, WithBodiesItAgreesWithTheCpuCarryWithinTheStatedTolerance) 
       rest_len += s.field->restSegmentLengths()[q - 1];
     }
     worst_length = std::max(worst_length, static_cast<float>(std::abs(len / rest_len - 1.0)));
+    over1 += std::abs(len / rest_len - 1.0) > 0.0101 ? 1 : 0;
   }
+  // the bends the carry adds beyond the rest strand's own: no more than the
+  // CPU carry's (the same percentiles)
+  std::vector<float> turns_gpu, turns_cpu;
+  lhtest::extraTurns(*s.field, on_gpu, turns_gpu);
+  lhtest::extraTurns(*s.field, on_cpu, turns_cpu);
+  std::sort(turns_gpu.begin(), turns_gpu.end());
+  std::sort(turns_cpu.begin(), turns_cpu.end());
+  const auto pct = [](const std::vector<float>& v, double f) {
+    return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1))];
+  };
+  std::printf("GPU carry: worst length error %.4f (%zu of %zu strands beyond 1 %%), deepest %.2e m; extra turn "
+              "p99 %.1f / %.1f deg, p99.9 %.1f / %.1f deg (GPU / CPU)\n",
+              worst_length, over1, rest.size(), deepest, pct(turns_gpu, 0.99), pct(turns_cpu, 0.99),
+              pct(turns_gpu, 0.999), pct(turns_cpu, 0.999));
+  EXPECT_LT(pct(turns_gpu, 0.99), 1.2f * pct(turns_cpu, 0.99) + 2.0f);
+  EXPECT_LT(pct(turns_gpu, 0.999), 1.2f * pct(turns_cpu, 0.999) + 2.0f);
   EXPECT_GT(near_skin, 1000u) << "the test needs hair lying on the bodies";
   EXPECT_GT(deepest, -3e-4f);
-  EXPECT_LT(worst_length, 0.025f);
+  EXPECT_LT(worst_length, 0.015f);  // the tolerance is 1 %; the last push may add a little
 }
 
 TEST(StrandCarryGpu, TheRendererDrawsTheGpuStrandsAsItDrawsTheCpuStrands) {
