@@ -873,7 +873,7 @@ int run(const ViewOptions& o) {
     std::int64_t shown_frame = frame->frame;  // the simulated frame the hair on screen is from
     // fewer strands while the hair moves, where the view says so (software
     // OpenGL); all of them paused, recording, or for --frames' picture
-    const bool full_detail = sim.paused() || o.frames || !controller.recordingPath(frame->frame).empty();
+    const bool full_detail = sim.paused() || o.frames || controller.recording();
     view.settings.strand_budget =
         full_detail ? 0 : static_cast<std::size_t>(std::max(0, view.playing_strand_budget));
     if (const auto strands = sim.latestStrands()) {
