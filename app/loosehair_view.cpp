@@ -247,6 +247,8 @@ struct Window {
   viewer::Controller* c = nullptr;
   GLFWwindow* glfw = nullptr;
   bool orbiting = false, turning = false, brushing = false, shift = false;
+  bool styling_drag = false;  // a left drag of a control point, arrow or key strand
+  glm::vec2 anchor_px{0.0f};  // a script's anchored drag: where its anchor was seen at the press
   // per mouse button: the 3-D view took its press (the panel sees nothing
   // of it until the release)
   bool view_holds[GLFW_MOUSE_BUTTON_LAST + 1] = {};
@@ -324,6 +326,10 @@ void key(Window& w, int key, int mods, bool scripted) {
 }
 
 
+// How near (m, at the depth of what is picked) the pointer must be to a
+// control point, an arrow or a key strand: about 8 pixels at 720 rows.
+float pickTolerance(viewer::Controller& c) { return 0.01f * c.view().camera.distance; }
+
 void mouseButton(Window& w, int button, bool press, bool shift, double x, double y) {
   w.last_x = x, w.last_y = y;
   w.shift = shift;
@@ -331,17 +337,24 @@ void mouseButton(Window& w, int button, bool press, bool shift, double x, double
   viewer::StylingSession* st = c.mode() == viewer::Mode::Styling ? c.styling() : nullptr;
   if (button == GLFW_MOUSE_BUTTON_LEFT) {
     if (press && st) {
-      // a control point or key strand under the cursor is selected; on the
-      // scalp the brush paints; elsewhere the camera orbits
+      // a control point, arrow or key strand under the cursor is selected
+      // and dragged; on the scalp the brush paints; elsewhere the camera
+      // orbits
       const render::Ray r = rayAt(w, x, y);
-      const float tolerance = 0.01f * c.view().camera.distance;  // about 8 pixels at 720 rows
-      if (st->select(r, tolerance)) return;
+      if (st->beginDrag(r, pickTolerance(c))) {
+        w.styling_drag = true;
+        return;
+      }
       w.brushing = st->brush(r);
       w.orbiting = !w.brushing;
       return;
     }
     w.orbiting = press;
-    if (!press) w.brushing = false;
+    if (!press) {
+      w.brushing = false;
+      if (w.styling_drag && c.styling()) c.styling()->endDrag();
+      w.styling_drag = false;
+    }
   }
   if (button == GLFW_MOUSE_BUTTON_RIGHT && !st) w.turning = press;
 }
@@ -351,12 +364,16 @@ void cursor(Window& w, double x, double y) {
   w.last_x = x, w.last_y = y;
   viewer::Controller& c = *w.c;
   render::Camera& cam = c.view().camera;
-  if (w.brushing && c.styling()) {
+  if (w.styling_drag && c.styling()) {
+    c.styling()->dragTo(rayAt(w, x, y));
+  } else if (w.brushing && c.styling()) {
     c.styling()->brush(rayAt(w, x, y));
   } else if (w.orbiting) {
     cam.yaw_deg -= static_cast<float>(dx) * 0.4f;
     cam.pitch_deg = std::clamp(cam.pitch_deg + static_cast<float>(dy) * 0.4f, -85.0f, 85.0f);
   }
+  if (c.mode() == viewer::Mode::Styling && c.styling() && !w.styling_drag && !w.brushing && !w.orbiting)
+    c.styling()->hoverAt(rayAt(w, x, y), pickTolerance(c));
   if (w.turning) {
     c.head().drag(dx, dy, w.shift, cam);
     c.sim().setHeadTarget(c.head().pose());
@@ -513,7 +530,32 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     }
   } else if (what == "mouse_down" || what == "mouse_up" || what == "mouse_move") {
     const int button = a["button"] == "left" ? GLFW_MOUSE_BUTTON_LEFT : GLFW_MOUSE_BUTTON_RIGHT;
-    const double x = a["x"].get<double>(), y = a["y"].get<double>();
+    double x = a["x"].get<double>(), y = a["y"].get<double>();
+    if (a.contains("anchor")) {  // pixels from a control point, arrow or key strand, as seen at the press
+      if (what == "mouse_down") {
+        viewer::StylingSession* st = c.mode() == viewer::Mode::Styling ? c.styling() : nullptr;
+        if (!st) throw std::runtime_error(e.where + ": an anchored drag needs the styling mode");
+        const std::size_t wi = a["anchor"][0].get<std::size_t>(), k = a["anchor"][1].get<std::size_t>();
+        const std::string on = a["on"].get<std::string>();
+        glm::vec3 p;
+        try {
+          if (on == "point") {
+            (void)st->handlePoint(wi, k, st->axis);  // names a wisp or point that does not exist
+            p = st->style().wisps[wi].key_strand[k];
+          } else if (on == "strand") {
+            p = st->strandPoint(wi, k);
+          } else {
+            p = st->handlePoint(wi, k, on == "tangent" ? StylingAxis::Tangent : on == "normal" ? StylingAxis::Normal
+                                                                                           : StylingAxis::Binormal);
+          }
+        } catch (const std::exception& err) {
+          throw std::runtime_error(e.where + ": anchor: " + err.what());
+        }
+        w.anchor_px = c.view().camera.pixel(p, w.width, w.height);
+      }
+      x += w.anchor_px.x;
+      y += w.anchor_px.y;
+    }
     if (what == "mouse_move") {
       w.shift = a["shift"].get<bool>();
       cursor(w, x, y);
@@ -529,8 +571,10 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     const double raw = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
     if (!viewer::isViewerValue(name)) {
       c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
-    } else if (name == "styling.brush_radius" && !c.styling()) {
-      throw std::runtime_error(e.where + ": styling.brush_radius is set in styling mode");
+    } else if ((name == "styling.brush_radius" || name == "styling.drag_falloff" || name == "styling.wisp_length" ||
+                name == "styling.settle_seconds") &&
+               !c.styling()) {
+      throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
     } else {
       const double value = viewer::checkViewerValue(name, raw, e.where);
       if (name == "speed")
@@ -555,6 +599,12 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
         c.new_wisp.length_variation = static_cast<float>(value);
       else if (name == "styling.step_mm")
         panel.move_step_mm = static_cast<float>(value);
+      else if (name == "styling.drag_falloff")
+        c.styling()->drag_falloff = static_cast<float>(value);
+      else if (name == "styling.wisp_length")
+        c.styling()->new_wisp_length = static_cast<float>(value);
+      else if (name == "styling.settle_seconds")
+        c.styling()->settle_seconds = static_cast<float>(value);
     }
   } else if (what == "view") {
     const std::string name = text("name");
@@ -633,6 +683,11 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     });
     else if (name == "undo") need().undo();
     else if (name == "redo") need().redo();
+    else if (name == "settle") c.attempt([&] {  // a script waits for it: the next event sees the settled style
+      viewer::StylingSession& ss = need();
+      ss.startSettle();
+      if (ss.finishSettle(true)) c.note("settled the style: the key strands lie where the hair came to rest");
+    });
     else throw std::runtime_error(e.where + ": no panel action called \"" + name + "\"");
   } else if (what == "open") {
     c.open(text("path"));
@@ -912,6 +967,10 @@ int run(const ViewOptions& o) {
     hideViewPressesFromInterface(w);
     ImGui::NewFrame();
     panel.legend = render::debugLegend(*input, v.settings);  // what the colours drawn below mean
+    if (viewer::StylingSession* ss = controller.styling(); ss && ss->settling())
+      controller.attempt([&] {
+        if (ss->finishSettle()) controller.note("settled the style: the key strands lie where the hair came to rest");
+      });
     panel.draw(*frame, fps);
     ImGui::Render();
     // the hair in the middle of what the panel leaves free

@@ -5,6 +5,12 @@
 //
 //   loosehair_style_session_check SCENE WIDTH HEIGHT VIEWER_STYLE.json
 //   loosehair_style_session_check --hair-pixels SIMULATED.png BARE.png
+//   loosehair_style_session_check --drags DIR
+// The third form checks the styles tests/viewer/styling-drag.json saved in
+// DIR (drag-0.json ... drag-3.json, drag-settled.json): a new wisp that
+// hangs clear of the head; a control point dragged in the view plane with
+// the points after it following less and less; one dragged along its normal
+// arrow; the whole key strand dragged by its middle; then settled lower.
 // The second form checks that a picture shows hair: its share of
 // hair-coloured pixels where the bare head's picture (same view) shows
 // something else is above 2%.
@@ -14,6 +20,7 @@
 #include "loosehair/scene.hpp"
 #include "loosehair/style_editor.hpp"
 
+#include <glm/geometric.hpp>
 #include <stb/stb_image.h>
 
 #include <cstdio>
@@ -57,9 +64,75 @@ double newHairShare(const Picture& a, const Picture& b) {
   return static_cast<double>(hair) / static_cast<double>(std::max(1, a.w * a.h));
 }
 
+[[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what); }
+
+// The drags of tests/viewer/styling-drag.json, checked on the styles saved
+// after each.
+int checkDrags(const std::string& dir) {
+  const Style s0 = loadStyle(dir + "/drag-0.json"), s1 = loadStyle(dir + "/drag-1.json"),
+              s2 = loadStyle(dir + "/drag-2.json"), s3 = loadStyle(dir + "/drag-3.json");
+  const HeadModel head = HeadModel::build(s0.head, s0.source);
+  if (s0.wisps.size() != 1) fail("drag-0.json: one wisp expected, got " + std::to_string(s0.wisps.size()));
+  const auto& k0 = s0.wisps[0].key_strand;
+  const auto& k1 = s1.wisps.at(0).key_strand;
+  const auto& k2 = s2.wisps.at(0).key_strand;
+  const auto& k3 = s3.wisps.at(0).key_strand;
+  if (k0.size() < 5 || k1.size() != k0.size() || k2.size() != k0.size() || k3.size() != k0.size())
+    fail("the key strands should keep " + std::to_string(k0.size()) + " (>= 5) control points");
+  // a new wisp hangs: below its root at the tip, clear of the head
+  if (!(k0.back().y < k0.front().y - 0.05f)) fail("drag-0.json: the new wisp's tip is not below its root");
+  for (const auto* k : {&k0, &k1, &k2, &k3})
+    for (std::size_t j = 1; j < k->size(); ++j)
+      if (!(head.headDistance((*k)[j]) > 0.0f)) fail("a control point inside the head after a drag");
+  auto moved = [](const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b, std::size_t j) {
+    return glm::length(b[j] - a[j]);
+  };
+  // 1: point 2 dragged across the view, the points after it following less and less
+  for (std::size_t j = 0; j < 2; ++j)
+    if (moved(k0, k1, j) != 0.0f) fail("drag 1 moved point " + std::to_string(j) + ", before the dragged one");
+  if (!(moved(k0, k1, 2) > 0.01f)) fail("drag 1 moved point 2 by only " + std::to_string(moved(k0, k1, 2)) + " m");
+  for (std::size_t j = 3; j < k0.size(); ++j)
+    if (!(moved(k0, k1, j) > 0.0f && moved(k0, k1, j) < moved(k0, k1, j - 1)))
+      fail("drag 1: point " + std::to_string(j) + " did not follow point " + std::to_string(j - 1) + " with less");
+  // 2: point 3 along its normal arrow only
+  const glm::vec3 n = stylingDirections(s1.wisps[0], 3, head).normal;
+  const glm::vec3 d2 = k2[3] - k1[3];
+  if (!(glm::length(d2) > 0.005f)) fail("drag 2 moved point 3 by only " + std::to_string(glm::length(d2)) + " m");
+  if (!(glm::length(glm::cross(d2, n)) < 0.02f * glm::length(d2)))
+    fail("drag 2 moved point 3 off its normal direction");
+  for (std::size_t j = 0; j < 3; ++j)
+    if (moved(k1, k2, j) != 0.0f) fail("drag 2 moved point " + std::to_string(j));
+  // 3: the whole strand but its root, by one offset
+  if (moved(k2, k3, 0) != 0.0f) fail("drag 3 moved the root");
+  const glm::vec3 d3 = k3[1] - k2[1];
+  if (!(glm::length(d3) > 0.005f)) fail("drag 3 did not move the strand");
+  for (std::size_t j = 2; j < k0.size(); ++j)
+    if (glm::length((k3[j] - k2[j]) - d3) > 1e-4f) fail("drag 3 moved point " + std::to_string(j) + " by another offset");
+  // the settle: the strand's hair came to rest under gravity, lower
+  const Style s4 = loadStyle(dir + "/drag-settled.json");
+  const auto& k4 = s4.wisps.at(0).key_strand;
+  if (k4.size() != k3.size() || k4[0] != k3[0]) fail("the settle changed the root or the control point count");
+  for (std::size_t j = 1; j < k4.size(); ++j)
+    if (!(head.headDistance(k4[j]) > 0.0f)) fail("a settled control point inside the head");
+  if (!(k4.back().y < k3.back().y)) fail("the settled tip is not lower than the dragged one");
+  std::printf("drags: point 2 by %.1f mm (point %zu by %.1f mm), point 3 along its normal by %.1f mm, the strand by "
+              "%.1f mm; the settle lowered the tip by %.1f mm\n",
+              1e3f * moved(k0, k1, 2), k0.size() - 1, 1e3f * moved(k0, k1, k0.size() - 1), 1e3f * glm::length(d2),
+              1e3f * glm::length(d3), 1e3f * (k3.back().y - k4.back().y));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 3 && std::string(argv[1]) == "--drags") {
+    try {
+      return checkDrags(argv[2]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 1;
+    }
+  }
   if (argc == 4 && std::string(argv[1]) == "--hair-pixels") {
     try {
       const double share = newHairShare(readPng(argv[2]), readPng(argv[3]));

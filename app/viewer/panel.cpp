@@ -452,7 +452,11 @@ void Panel::styling() {
   const Style& st = s->style();
   ImGui::Text("%zu wisps, %zu ties, preview %zu strands", st.wisps.size(), st.ties.size(), s->previewStrands());
   if (!s->preview_error.empty()) ImGui::TextWrapped("preview: %s", s->preview_error.c_str());
-  ImGui::TextWrapped("Left drag on the scalp brushes a region; click a control point to select it.");
+  ImGui::TextWrapped("Left drag on the scalp brushes a region. Drag a control point to move it (the points "
+                     "after it follow), an arrow of the selected point to move along it, or a key strand "
+                     "between its points to move it whole; each drag is one undo.");
+  ImGui::SliderFloat("drag falloff", &s->drag_falloff, 0.0f, 0.3f, "%.2f m", kClamp);
+  tooltip("how far along the strand the points after a dragged one follow it (0: the point alone)");
   ImGui::SliderFloat("brush radius", &s->brush_radius, 0.004f, 0.05f, "%.3f m", kClamp);
   ImGui::Text("brushed: %zu triangles", s->brushed().size());
   ImGui::SameLine();
@@ -461,6 +465,8 @@ void Panel::styling() {
   ImGui::SliderFloat("offset radius", &c_.new_wisp.offset_radius, 0.0f, 0.05f, "%.3f m", kClamp);
   tooltip("smooth (small) to fuzzy (large) wisps");
   ImGui::SliderFloat("length variation", &c_.new_wisp.length_variation, 0.0f, 0.9f, "%.2f", kClamp);
+  ImGui::SliderFloat("new wisp length", &s->new_wisp_length, 0.02f, 1.0f, "%.2f m", kClamp);
+  tooltip("a new wisp's key strand hangs from the scalp under gravity, this long");
   if (ImGui::Button("Create wisp")) c_.attempt([&] { s->createWispFromBrush(c_.new_wisp); });
   ImGui::SameLine();
   if (ImGui::Button("Set region")) c_.attempt([&] { s->setRegionFromBrush(); });
@@ -490,6 +496,14 @@ void Panel::styling() {
     if (ImGui::Button("Tie here")) c_.attempt([&] { s->tieAtSelected(0.015f); });
   }
   ImGui::Separator();
+  ImGui::SliderFloat("settle time", &s->settle_seconds, 0.2f, 5.0f, "%.1f s", kClamp);
+  tooltip("Settle simulates the style on a still head for this long (gravity, the head, the other hair) and "
+          "puts the key strands where the hair came to rest; one undo step");
+  if (s->settling()) {
+    ImGui::Text("settling ...");
+  } else if (ImGui::Button("Settle")) {
+    c_.attempt([&] { s->startSettle(); });
+  }
   if (ImGui::Button("Undo")) s->undo();
   ImGui::SameLine();
   if (ImGui::Button("Redo")) s->redo();

@@ -20,7 +20,7 @@ struct Kind {
 
 const Kind kKinds[] = {
     {"key", {"key"}, {"ctrl", "shift"}},
-    {"drag", {"from", "to"}, {"button", "frames", "shift", "steps", "window"}},
+    {"drag", {"from", "to"}, {"button", "frames", "shift", "steps", "window", "anchor", "on"}},
     {"hover", {"at"}, {}},
     {"scroll", {"at", "dy"}, {}},
     {"brush", {"path"}, {}},
@@ -123,17 +123,36 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       const int steps = e.contains("steps") ? static_cast<int>(number(e, "steps", where, 1, 1e4)) : std::max(frames, 1);
       const bool shift = flag(e, "shift", where);
       const bool window = flag(e, "window", where);
+      // anchored: from and to are pixels from where a style's control point
+      // (or its arrow, or its key strand after it) is seen at the press
+      json anchor;
+      if (e.contains("anchor")) {
+        const json& an = e["anchor"];
+        if (!an.is_array() || an.size() != 2 || !an[0].is_number_unsigned() || !an[1].is_number_unsigned() ||
+            an[0].get<double>() > 1e6 || an[1].get<double>() > 1e6)
+          bad(where, "anchor must be [wisp, control point] (two whole numbers), got " + clipped(an.dump()));
+        const std::string on = e.value("on", "point");
+        if (on != "point" && on != "strand" && on != "tangent" && on != "normal" && on != "binormal")
+          bad(where, "on must be \"point\", \"strand\", \"tangent\", \"normal\" or \"binormal\", got \"" + on + "\"");
+        if (window) bad(where, "an anchored drag does not go through the window (window: false)");
+        anchor = json{{"anchor", an}, {"on", on}};
+      } else if (e.contains("on")) {
+        bad(where, "on needs an anchor");
+      }
+      auto event = [&](std::pair<double, double> at) {
+        json m = mouse(button.c_str(), at, shift, window);
+        if (!anchor.is_null()) m.update(anchor);
+        return m;
+      };
       if (out.size() + static_cast<std::size_t>(steps) + 2 > kMaxScriptEvents) tooMany(where);
-      out.push_back({frame, "mouse_down", mouse(button.c_str(), a, shift, window), where});
+      out.push_back({frame, "mouse_down", event(a), where});
       for (int k = 1; k <= steps; ++k) {
         const double t = static_cast<double>(k) / steps;
         const std::int64_t f = frame + (frames * k) / steps;
-        out.push_back({f, "mouse_move",
-                       mouse(button.c_str(), {a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)},
-                             shift, window),
+        out.push_back({f, "mouse_move", event({a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)}),
                        where});
       }
-      out.push_back({frame + frames, "mouse_up", mouse(button.c_str(), b, shift, window), where});
+      out.push_back({frame + frames, "mouse_up", event(b), where});
     } else if (what == "brush" || what == "click") {
       std::vector<std::pair<double, double>> pts;
       if (what == "click") {

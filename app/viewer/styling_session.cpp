@@ -1,10 +1,13 @@
 #include "viewer/styling_session.hpp"
 
 #include "loosehair/ray_pick.hpp"
+#include "loosehair/style_settle.hpp"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <limits>
 
 namespace loosehair::viewer {
@@ -17,6 +20,9 @@ const glm::vec4 kSelected{1.0f, 0.1f, 0.1f, 0.9f};
 const glm::vec4 kKey{0.1f, 0.1f, 0.1f, 1.0f};
 const glm::vec4 kBrush{0.9f, 0.1f, 0.6f, 0.9f};
 const glm::vec4 kAxis[3] = {{0.9f, 0.2f, 0.2f, 1.0f}, {0.2f, 0.8f, 0.2f, 1.0f}, {0.2f, 0.3f, 0.95f, 1.0f}};
+const glm::vec4 kHover{1.0f, 0.85f, 0.1f, 1.0f};
+// an arrow of the selected point: active and inactive lengths (m)
+constexpr float kActiveArrow = 0.05f, kArrow = 0.03f;
 
 }  // namespace
 
@@ -35,7 +41,7 @@ std::size_t StylingSession::createWispFromBrush(const WispParams& params) {
   if (brushed_.empty()) throw StyleError("brush the scalp first: the new wisp needs a region");
   WispRegion region;
   region.triangles.assign(brushed_.begin(), brushed_.end());
-  const std::size_t w = editor_.createWisp(region, params);
+  const std::size_t w = editor_.createWisp(region, params, {}, "", new_wisp_length);
   brushed_.clear();
   wisp = w;
   point = style().wisps[w].key_strand.size() - 1;
@@ -49,6 +55,153 @@ void StylingSession::setRegionFromBrush() {
   region.triangles.assign(brushed_.begin(), brushed_.end());
   editor_.setRegion(w, region);
   brushed_.clear();
+}
+
+std::optional<StylingSession::Pick> StylingSession::pick(const render::Ray& ray, float tolerance) const {
+  const auto& wisps = style().wisps;
+  // the arrows of the selected point first: they lie over everything
+  if (wisp && point && *wisp < wisps.size() && *point > 0 && *point < wisps[*wisp].key_strand.size()) {
+    const StylingDirections d = stylingDirections(wisps[*wisp], *point, *head_);
+    const glm::vec3 p = wisps[*wisp].key_strand[*point];
+    float best = tolerance;
+    std::optional<StylingAxis> handle;
+    for (int a = 0; a < 3; ++a) {
+      const float len = a == static_cast<int>(axis) ? kActiveArrow : kArrow;
+      for (int s = 2; s <= 8; ++s) {  // the arrow's outer part (its base is the point itself)
+        const float dist = distanceToRay(p + (len * static_cast<float>(s) / 8.0f) * d[a], ray.origin, ray.direction);
+        if (dist < best) best = dist, handle = static_cast<StylingAxis>(a);
+      }
+    }
+    if (handle) return Pick{*wisp, point, handle};
+  }
+  float best = tolerance;
+  std::optional<Pick> found;
+  for (std::size_t w = 0; w < wisps.size(); ++w)
+    for (std::size_t k = 0; k < wisps[w].key_strand.size(); ++k) {
+      const float d = distanceToRay(wisps[w].key_strand[k], ray.origin, ray.direction);
+      if (d < best) best = d, found = Pick{w, k, std::nullopt};
+    }
+  if (found) return found;
+  best = tolerance;
+  for (std::size_t w = 0; w < wisps.size(); ++w)
+    for (const glm::vec3& p : sampleKeyStrand(wisps[w].key_strand, 8)) {
+      const float d = distanceToRay(p, ray.origin, ray.direction);
+      if (d < best) best = d, found = Pick{w, std::nullopt, std::nullopt};
+    }
+  return found;
+}
+
+namespace {
+const std::vector<glm::vec3>& keyOf(const Style& style, std::size_t w, std::size_t k, std::size_t needed) {
+  if (w >= style.wisps.size())
+    throw StyleError("there is no wisp " + std::to_string(w) + " (the style has " + std::to_string(style.wisps.size()) +
+                     ")");
+  const auto& key = style.wisps[w].key_strand;
+  if (k + needed >= key.size())
+    throw StyleError("wisp " + std::to_string(w) + " has no control point " + std::to_string(k + needed) + " (it has " +
+                     std::to_string(key.size()) + ")");
+  return key;
+}
+}  // namespace
+
+glm::vec3 StylingSession::handlePoint(std::size_t w, std::size_t k, StylingAxis a) const {
+  const auto& key = keyOf(style(), w, k, 0);
+  const StylingDirections d = stylingDirections(style().wisps[w], k, *head_);
+  const float len = a == axis ? kActiveArrow : kArrow;
+  return key[k] + 0.75f * len * d[static_cast<int>(a)];
+}
+
+glm::vec3 StylingSession::strandPoint(std::size_t w, std::size_t k) const {
+  const auto& key = keyOf(style(), w, k, 1);
+  return sampleKeyStrand(key, 8)[8 * k + 4];  // the middle of the span from k
+}
+
+bool StylingSession::beginDrag(const render::Ray& ray, float tolerance) {
+  drag_.reset();
+  const std::optional<Pick> p = pick(ray, tolerance);
+  if (!p) return false;
+  wisp = p->wisp;
+  point = p->point;
+  const std::vector<glm::vec3>& key = style().wisps[p->wisp].key_strand;
+  Drag d;
+  d.wisp = p->wisp;
+  d.start = key;
+  d.plane_normal = glm::normalize(ray.direction);
+  if (p->handle) {
+    axis = *p->handle;
+    d.point = *p->point;
+    d.grab = key[d.point];
+    d.axis = stylingDirections(style().wisps[p->wisp], d.point, *head_)[static_cast<int>(*p->handle)];
+  } else if (p->point) {
+    if (*p->point == 0) return true;  // the root: selected, not moved
+    d.point = *p->point;
+    d.grab = key[d.point];
+  } else {
+    // the strand between its points: the whole of it but the root, grabbed
+    // where the ray passes nearest
+    d.point = 1;
+    d.whole = true;
+    float best = std::numeric_limits<float>::max();
+    for (const glm::vec3& q : sampleKeyStrand(key, 8)) {
+      const float dist = distanceToRay(q, ray.origin, ray.direction);
+      if (dist < best) best = dist, d.grab = q;
+    }
+  }
+  drag_ = d;
+  return true;
+}
+
+void StylingSession::dragTo(const render::Ray& ray) {
+  if (!drag_ || drag_->wisp >= style().wisps.size()) return;
+  Drag& d = *drag_;
+  glm::vec3 offset(0.0f);
+  const glm::vec3 dir = glm::normalize(ray.direction);
+  if (d.axis) {
+    // the point of the line grab + s axis nearest the ray
+    const glm::vec3 a = *d.axis, w0 = d.grab - ray.origin;
+    const float b = glm::dot(a, dir), den = 1.0f - b * b;
+    if (!(den > 1e-6f)) return;  // looking along the arrow
+    const float s = (b * glm::dot(w0, dir) - glm::dot(w0, a)) / den;
+    offset = s * a;
+  } else {
+    const float den = glm::dot(dir, d.plane_normal);
+    if (!(std::abs(den) > 1e-6f)) return;
+    const float t = glm::dot(d.grab - ray.origin, d.plane_normal) / den;
+    if (!(t > 0.0f)) return;
+    offset = ray.origin + t * dir - d.grab;
+  }
+  if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(offset.z)) return;
+  try {
+    const float falloff = d.whole ? std::numeric_limits<float>::infinity() : drag_falloff;
+    editor_.setKeyStrand(d.wisp, editor_.dragged(d.start, d.point, offset, falloff), d.moved);
+    d.moved = true;
+  } catch (const StyleError&) {
+    // a move the editor refuses (two points made to coincide): the strand
+    // stays as the last move left it
+  }
+}
+
+void StylingSession::startSettle() {
+  if (settling()) throw StyleError("a settle is running already");
+  if (style().wisps.empty()) throw StyleError("settle: the style has no wisps yet; brush a region and create one");
+  if (!(settle_seconds > 0.0f && settle_seconds <= 10.0f))
+    throw StyleError("settle: the time must be in (0, 10] s, got " + std::to_string(settle_seconds));
+  settle_of_ = style();
+  SettleOptions o;
+  o.seconds = settle_seconds;
+  o.threads = 1;  // the simulation thread and the window keep the other core
+  settle_ = std::async(std::launch::async, [style = settle_of_, o] { return settledKeyStrands(style, o); });
+}
+
+bool StylingSession::finishSettle(bool wait) {
+  if (!settling()) return false;
+  if (!wait && settle_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+  const std::vector<std::vector<glm::vec3>> keys = settle_.get();  // rethrows the settle's error
+  if (!(style() == settle_of_))
+    throw StyleError("the style was edited while it settled: the settle was dropped; press Settle again");
+  editor_.setKeyStrands(keys);
+  clampSelection();
+  return true;
 }
 
 bool StylingSession::select(const render::Ray& ray, float tolerance) {
@@ -178,14 +331,22 @@ void StylingSession::overlay(render::OverlayLines& hidden, render::OverlayLines&
     hidden.polyline(line, c);
   }
   // key strands and control points: the selected wisp's over everything,
-  // the others hidden by the head as the hair is
+  // the others hidden by the head as the hair is; what the pointer is over
+  // highlighted (a point, an arrow, or a strand between its points)
+  const bool hover_valid = hover && hover->wisp < wisps.size() &&
+                           (!hover->point || *hover->point < wisps[hover->wisp].key_strand.size());
   for (std::size_t w = 0; w < wisps.size(); ++w) {
     const bool sel = wisp && *wisp == w;
-    render::OverlayLines& out = sel ? on_top : hidden;
-    out.polyline(sampleKeyStrand(wisps[w].key_strand, 8), sel ? kSelected : kKey);
-    for (std::size_t k = 0; k < wisps[w].key_strand.size(); ++k)
-      out.cross(wisps[w].key_strand[k], sel && point && *point == k ? 0.006f : 0.003f,
-                sel && point && *point == k ? kSelected : kKey);
+    const bool hover_strand = hover_valid && !drag_ && hover->wisp == w && !hover->point;
+    render::OverlayLines& out = sel || hover_strand ? on_top : hidden;
+    out.polyline(sampleKeyStrand(wisps[w].key_strand, 8), hover_strand ? kHover : sel ? kSelected : kKey);
+    for (std::size_t k = 0; k < wisps[w].key_strand.size(); ++k) {
+      const bool hovered = hover_valid && !hover->handle && hover->wisp == w && hover->point == k;
+      const bool chosen = sel && point && *point == k;
+      (hovered ? on_top : out)
+          .cross(wisps[w].key_strand[k], hovered || chosen ? 0.006f : 0.003f,
+                 hovered ? kHover : chosen ? kSelected : kKey);
+    }
   }
   // the three styling directions at the selected point, the active one bright
   if (wisp && point && *wisp < wisps.size() && *point < wisps[*wisp].key_strand.size()) {
@@ -193,9 +354,10 @@ void StylingSession::overlay(render::OverlayLines& hidden, render::OverlayLines&
     const glm::vec3 p = wisps[*wisp].key_strand[*point];
     for (int a = 0; a < 3; ++a) {
       const bool active = a == static_cast<int>(axis);
-      glm::vec4 c = kAxis[a];
-      if (!active) c = glm::vec4(glm::vec3(c) * 0.5f + 0.4f, 0.7f);
-      on_top.arrow(p, p + (active ? 0.05f : 0.03f) * d[a], c);
+      const bool hovered = hover_valid && hover->handle && static_cast<int>(*hover->handle) == a;
+      glm::vec4 c = hovered ? kHover : kAxis[a];
+      if (!active && !hovered) c = glm::vec4(glm::vec3(c) * 0.5f + 0.4f, 0.7f);
+      on_top.arrow(p, p + (active ? kActiveArrow : kArrow) * d[a], c);
     }
   }
   // brushed triangles (outlines) and ties (rings)

@@ -2,9 +2,13 @@
 // edited with the library's StyleEditor (nothing re-implemented here), the
 // brush that paints scalp triangles by ray picking on the head mesh, the
 // selection (a wisp, one of its control points, one of the three styling
-// directions), and the preview drawn as overlay lines: member strands, the
-// key strands with their control points, the three arrows at the selected
-// point with the active one highlighted, the brushed triangles, the ties.
+// directions), direct manipulation (issue 44: what is under the pointer is
+// highlighted; a left drag moves a control point in the view plane, or
+// along a styling direction when it grabs that arrow, or the whole key
+// strand when it grabs the strand between its points; one undo step a
+// drag), and the preview drawn as overlay lines: member strands, the key
+// strands with their control points, the three arrows at the selected point
+// with the active one highlighted, the brushed triangles, the ties.
 //
 // The head stays at rest while styling, so world and head frame agree.
 #pragma once
@@ -14,10 +18,12 @@
 #include "loosehair/style.hpp"
 #include "loosehair/style_editor.hpp"
 
+#include <future>
 #include <memory>
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace loosehair::viewer {
 
@@ -54,6 +60,57 @@ class StylingSession {
   /// Keeps the selection valid after edits, undo and redo.
   void clampSelection();
 
+  // ---- direct manipulation ------------------------------------------------
+  /// What a ray picks: an arrow of the selected control point (`handle`),
+  /// else a control point (`point`), else a key strand between its points.
+  struct Pick {
+    std::size_t wisp = 0;
+    std::optional<std::size_t> point;
+    std::optional<StylingAxis> handle;
+    bool operator==(const Pick&) const = default;
+  };
+  /// The pick nearest the ray within `tolerance` metres (at its depth).
+  std::optional<Pick> pick(const render::Ray& ray, float tolerance) const;
+  /// What the pointer is over (highlighted in the overlay).
+  std::optional<Pick> hover;
+  void hoverAt(const render::Ray& ray, float tolerance) { hover = pick(ray, tolerance); }
+  /// Arc length (m) over which the points after a dragged control point
+  /// follow it (StyleEditor::dragged); 0: the point alone.
+  float drag_falloff = 0.06f;
+  /// A press: picks (and selects) what is under the ray and starts
+  /// dragging it; false when nothing is there (the brush or the camera
+  /// then take the press). The root only selects: it follows the region.
+  bool beginDrag(const render::Ray& ray, float tolerance);
+  /// The pointer moved while dragging: the grabbed point goes where the ray
+  /// meets the plane through it facing the press's ray, or along the
+  /// grabbed arrow's direction. Each move is computed from where the drag
+  /// started and joins the same undo step.
+  void dragTo(const render::Ray& ray);
+  void endDrag() { drag_.reset(); }
+  bool dragging() const { return drag_.has_value(); }
+  /// Where a person presses to grab control point k's arrow `a` (on the
+  /// selected point's arrows), or the key strand between points k and
+  /// k + 1: for scripts that drag them. Throws StyleError naming what does
+  /// not exist.
+  glm::vec3 handlePoint(std::size_t wisp, std::size_t k, StylingAxis a) const;
+  glm::vec3 strandPoint(std::size_t wisp, std::size_t k) const;
+  // ---- letting the physics finish the style ------------------------------
+  /// Simulated time of a settle (s).
+  float settle_seconds = 1.5f;
+  /// Starts a settle (settledKeyStrands: the style's hair simulated on a
+  /// still head, the key strands read back) on a thread of its own; the
+  /// view and the panel go on. Throws StyleError if one is running.
+  void startSettle();
+  bool settling() const { return settle_.valid(); }
+  /// Applies a finished settle to the key strands, one undo step; true when
+  /// it did. `wait`: until it finishes (scripts). A settle of a style edited
+  /// since it started is dropped with a StyleError saying so; the settle's
+  /// own errors are thrown here.
+  bool finishSettle(bool wait = false);
+
+  /// Length of the key strand of a wisp the brush creates (m).
+  float new_wisp_length = StyleEditor::kNewWispLength;
+
   // ---- edits of the selection (StyleEditor operations) ------------------
   void moveSelected(float distance);  // along `axis`
   void addPointAfterSelected();
@@ -80,6 +137,19 @@ class StylingSession {
  private:
   std::size_t requireWisp(const char* what) const;
   void rebuildPreview();
+
+  struct Drag {
+    std::size_t wisp = 0, point = 1;  // the point moved (1 with an infinite falloff: the whole strand)
+    bool whole = false;
+    std::vector<glm::vec3> start;    // the key strand when the drag began
+    glm::vec3 grab{0.0f};            // the point grabbed
+    glm::vec3 plane_normal{0.0f, 0.0f, 1.0f};
+    std::optional<glm::vec3> axis;   // along a styling direction only
+    bool moved = false;
+  };
+  std::optional<Drag> drag_;
+  std::future<std::vector<std::vector<glm::vec3>>> settle_;
+  Style settle_of_;  // the style the running settle started from
 
   std::unique_ptr<HeadModel> head_;
   StyleEditor editor_;

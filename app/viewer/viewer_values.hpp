@@ -11,7 +11,8 @@ namespace loosehair::viewer {
 /// `value` for the viewer value `name`, checked: "speed" (simulated seconds
 /// a second, 0 for as fast as possible), "particles", "seed", "wind.speed",
 /// "shake.amplitude_deg", "shake.frequency_hz", "styling.brush_radius" (m),
-/// "styling.step_mm", "styling.density", "styling.offset_radius",
+/// "styling.step_mm", "styling.drag_falloff" (m), "styling.wisp_length" (m,
+/// a new wisp's), "styling.settle_seconds", "styling.density", "styling.offset_radius",
 /// "styling.length_variation". Solver parameters go through
 /// Controller::setParam. Throws std::runtime_error naming `source`, the
 /// value's name and the value (std::invalid_argument for an unknown name).

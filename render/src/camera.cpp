@@ -55,4 +55,11 @@ Ray Camera::ray(double x, double y, int width, int height) const {
   return Ray{a, glm::normalize(b - a)};
 }
 
+glm::vec2 Camera::pixel(glm::vec3 p, int width, int height) const {
+  const float w = static_cast<float>(width > 0 ? width : 1), h = static_cast<float>(height > 0 ? height : 1);
+  const glm::vec4 clip = projection(w / h) * view() * glm::vec4(p, 1.0f);
+  const float nx = clip.x / clip.w, ny = clip.y / clip.w;
+  return {0.5f * (nx + 1.0f) * w, 0.5f * (1.0f - ny) * h};
+}
+
 }  // namespace loosehair::render

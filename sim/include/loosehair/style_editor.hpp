@@ -28,12 +28,24 @@ class StyleEditor {
   const HeadModel& head() const { return head_; }
 
   // ---- wisps --------------------------------------------------------------
+  /// Length of a new wisp's key strand when none is given (m).
+  static constexpr float kNewWispLength = 0.2f;
+  /// How far outside the head and torso drags and new points are kept (m).
+  static constexpr float kClearance = 0.003f;
   /// A new wisp over `region`. Its key strand is `key` moved so that it
-  /// starts at the region's root (translated), or, if `key` is empty, a
-  /// strand of 0.15 m along the scalp normal with four control points.
-  /// Returns its index (the last).
+  /// starts at the region's root (translated), or, if `key` is empty, one
+  /// of `length` metres that hangs as hair does (newKeyStrand). Returns its
+  /// index (the last).
   std::size_t createWisp(const WispRegion& region, const WispParams& params = {},
-                         const std::vector<glm::vec3>& key = {}, const std::string& name = "");
+                         const std::vector<glm::vec3>& key = {}, const std::string& name = "",
+                         float length = kNewWispLength);
+  /// The key strand a new wisp rooted at scalp point `uv` starts with: it
+  /// leaves the scalp tilted down the slope (on the flat crown, towards the
+  /// back, -z), bends under gravity (-y, the
+  /// style's head at rest) as a cantilever of the scenes' default hair
+  /// stiffness (SPEC §6.1) and stays kClearance outside the head and the
+  /// torso; five control points along its `length` (m, in [0.01, 2]).
+  std::vector<glm::vec3> newKeyStrand(glm::vec2 uv, float length) const;
   void deleteWisp(std::size_t wisp);
   /// A new region; the key strand moves to the new root keeping its shape
   /// in the root's local frame.
@@ -49,15 +61,41 @@ class StyleEditor {
   // ---- control points (index 0 is the root: it follows the region) ------
   /// Inserts a control point before index k (1 <= k <= count): at `point`
   /// if given, else halfway along the spline between k-1 and k (so the
-  /// shape barely changes), or beyond the tip when k == count.
+  /// shape barely changes), or beyond the tip when k == count (along the
+  /// last span, as long as it, moved out of the head and torso where it
+  /// would lie inside).
   void addControlPoint(std::size_t wisp, std::size_t k, std::optional<glm::vec3> point = std::nullopt);
   /// Removes control point k (k >= 1; a key strand keeps at least two).
   void deleteControlPoint(std::size_t wisp, std::size_t k);
   /// Moves control point k (k >= 1) by `distance` metres along one of its
   /// styling directions as they are before the move.
   void moveControlPoint(std::size_t wisp, std::size_t k, StylingAxis axis, float distance);
-  /// Puts control point k (k >= 1) at `point` (a free drag).
+  /// Puts control point k (k >= 1) at `point`.
   void setControlPoint(std::size_t wisp, std::size_t k, glm::vec3 point);
+
+  // ---- dragging in the view ---------------------------------------------
+  /// The key strand `key` as a drag leaves it (a pure function: a drag
+  /// computed from where it started does not depend on the mouse's path):
+  /// control point k (>= 1) moved by `offset`, each point after it by
+  /// offset * exp(-s / falloff), s its distance from k along the strand
+  /// (falloff <= 0: point k alone), the points before k unchanged, and
+  /// every moved point then kept kClearance outside the head and torso.
+  /// So the strand bends instead of kinking. k = 1 with an infinite
+  /// falloff moves the whole strand but its root.
+  std::vector<glm::vec3> dragged(const std::vector<glm::vec3>& key, std::size_t k, glm::vec3 offset,
+                                 float falloff) const;
+  /// Replaces the wisp's key strand (control point 0 stays the region's
+  /// root). With `amend` the change joins the previous one if that was a
+  /// setKeyStrand of the same wisp with no other edit, undo or redo
+  /// between: one undo step for a whole drag.
+  void setKeyStrand(std::size_t wisp, std::vector<glm::vec3> key, bool amend = false);
+  /// Replaces every wisp's key strand at once, one undo step (what a
+  /// settle gives: settledKeyStrands); each checked as setKeyStrand, the
+  /// roots kept on their regions.
+  void setKeyStrands(const std::vector<std::vector<glm::vec3>>& keys);
+  /// `p` pushed out of the head and the torso to `clearance` (m) where it
+  /// is nearer (along the surfaces' normals, a few rounds for creases).
+  glm::vec3 keptOutside(glm::vec3 p, float clearance = kClearance) const;
 
   // ---- copy and paste of key strands ----------------------------------
   /// Remembers the wisp's key strand in its root frame (not an edit).
@@ -88,6 +126,7 @@ class StyleEditor {
   /// Records the current style for undo and clears the redo list.
   void record();
   Style style_;
+  std::optional<std::size_t> amendable_;  // the wisp the last edit (setKeyStrand) may be amended on
   const HeadModel& head_;
   std::vector<Style> undo_, redo_;
   struct Clip {

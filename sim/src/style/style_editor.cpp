@@ -1,5 +1,6 @@
 #include "loosehair/style_editor.hpp"
 
+#include "init/cantilever.hpp"
 #include "init/mesh_scalp.hpp"
 
 #include <glm/geometric.hpp>
@@ -31,6 +32,106 @@ Wisp& StyleEditor::wisp(std::size_t i, const char* what) {
 void StyleEditor::record() {
   undo_.push_back(style_);
   redo_.clear();
+  amendable_.reset();
+}
+
+glm::vec3 StyleEditor::keptOutside(glm::vec3 p, float clearance) const {
+  const std::shared_ptr<const Body> bodies[2] = {head_.head(), head_.torso()};
+  for (int round = 0; round < 4; ++round) {
+    bool moved = false;
+    for (const auto& b : bodies) {
+      if (!b) continue;
+      float phi = 0.0f;
+      glm::vec3 n(0.0f);
+      b->signedDistance(&p, 1, &phi, &n);
+      if (phi < clearance && std::isfinite(phi) && glm::length(n) > 0.5f) {
+        p += (clearance - phi) * n;
+        moved = true;
+      }
+    }
+    if (!moved) break;
+  }
+  return p;
+}
+
+std::vector<glm::vec3> StyleEditor::newKeyStrand(glm::vec2 uv, float length) const {
+  if (!(length >= 0.01f && length <= 2.0f))
+    throw StyleError("a new wisp's length must be in [0.01, 2] m, got " + std::to_string(length));
+  const glm::vec3 root = head_.scalpPoint(uv), n = head_.scalpNormal(uv);
+  const glm::vec3 down(0.0f, -1.0f, 0.0f);
+  // down the slope of the scalp there, lifted off it a little; on the
+  // crown, where the slope is flat, towards the back (-z: the heads face
+  // +z), so that it falls rather than standing on end
+  const glm::vec3 slope = down - glm::dot(down, n) * n;
+  const glm::vec3 back = glm::vec3(0.0f, 0.0f, -1.0f) - n.z * -1.0f * n;
+  const float sl = glm::length(slope), bl = glm::length(back);
+  const glm::vec3 along = sl > 0.2f ? slope / sl : bl > 1e-3f ? back / bl : glm::vec3(1.0f, 0.0f, 0.0f);
+  const glm::vec3 dir = glm::normalize(along + 0.35f * n);
+  UnionBody bodies;
+  bodies.add(head_.head());
+  if (head_.torso()) bodies.add(head_.torso());
+  const SceneDesc defaults;
+  const CantileverStrand c(root, dir, down, length, defaults.hair.bending_stiffness, &bodies, kClearance,
+                           defaults.hair.layering * 0.25f, 48);
+  std::vector<glm::vec3> key;
+  constexpr int kPoints = 5;
+  for (int k = 0; k < kPoints; ++k)
+    key.push_back(k == 0 ? root : keptOutside(c.position(length * static_cast<float>(k) / (kPoints - 1))));
+  return key;
+}
+
+std::vector<glm::vec3> StyleEditor::dragged(const std::vector<glm::vec3>& key, std::size_t k, glm::vec3 offset,
+                                            float falloff) const {
+  if (k < 1 || k >= key.size())
+    throw StyleError("drag: control point " + std::to_string(k) + " must be in [1, " +
+                     std::to_string(key.size() > 0 ? key.size() - 1 : 0) + "] (the root follows the region)");
+  if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(offset.z) || std::isnan(falloff))
+    throw StyleError("drag: the move is not finite");
+  std::vector<glm::vec3> out = key;
+  float s = 0.0f;
+  for (std::size_t j = k; j < key.size(); ++j) {
+    if (j > k) s += glm::length(key[j] - key[j - 1]);
+    const float w = j == k ? 1.0f : falloff > 0.0f ? std::exp(-s / falloff) : 0.0f;
+    if (w <= 0.0f) continue;
+    out[j] = keptOutside(key[j] + w * offset);
+  }
+  return out;
+}
+
+void StyleEditor::setKeyStrands(const std::vector<std::vector<glm::vec3>>& keys) {
+  if (keys.size() != style_.wisps.size())
+    throw StyleError("setKeyStrands: " + std::to_string(keys.size()) + " key strands for " +
+                     std::to_string(style_.wisps.size()) + " wisps");
+  std::vector<std::vector<glm::vec3>> checked(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (keys[i].size() < 2) throw StyleError("setKeyStrands: wisp " + std::to_string(i) + ": fewer than two control points");
+    checked[i] = keys[i];
+    checked[i][0] = style_.wisps[i].key_strand[0];
+    for (std::size_t k = 1; k < checked[i].size(); ++k) {
+      checkPoint(i, k, checked[i][k]);
+      if (glm::length(checked[i][k] - checked[i][k - 1]) < 1e-5f)
+        throw StyleError("setKeyStrands: wisp " + std::to_string(i) + ": control points " + std::to_string(k - 1) +
+                         " and " + std::to_string(k) + " would coincide");
+    }
+  }
+  record();
+  for (std::size_t i = 0; i < keys.size(); ++i) style_.wisps[i].key_strand = std::move(checked[i]);
+}
+
+void StyleEditor::setKeyStrand(std::size_t i, std::vector<glm::vec3> key, bool amend) {
+  const Wisp& w = wisp(i, "setKeyStrand");
+  if (key.size() < 2) throw StyleError("setKeyStrand: a key strand needs at least two control points");
+  key[0] = w.key_strand[0];
+  for (std::size_t k = 1; k < key.size(); ++k) {
+    checkPoint(i, k, key[k]);
+    if (glm::length(key[k] - key[k - 1]) < 1e-5f)
+      throw StyleError("setKeyStrand: control points " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                       " would coincide");
+  }
+  const bool joins = amend && amendable_ == i && !undo_.empty();
+  if (!joins) record();
+  style_.wisps[i].key_strand = std::move(key);
+  amendable_ = i;
 }
 
 void StyleEditor::checkPoint(std::size_t w, std::size_t k, glm::vec3 p) const {
@@ -78,7 +179,7 @@ void checkParams(const WispParams& p, const std::string& where) {
 }  // namespace
 
 std::size_t StyleEditor::createWisp(const WispRegion& region_in, const WispParams& params,
-                                    const std::vector<glm::vec3>& key, const std::string& name) {
+                                    const std::vector<glm::vec3>& key, const std::string& name, float length) {
   const WispRegion region = normalised(region_in);
   const std::size_t index = style_.wisps.size();
   checkRegion(region, head_, "createWisp: region");
@@ -90,8 +191,8 @@ std::size_t StyleEditor::createWisp(const WispRegion& region_in, const WispParam
   checkParams(params, "createWisp");
   w.params = params;
   if (key.empty()) {
-    const glm::vec3 n = head_.scalpNormal(uv);
-    for (int k = 0; k < 4; ++k) w.key_strand.push_back(root + (0.05f * static_cast<float>(k)) * n);
+    w.key_strand = newKeyStrand(uv, length);
+    w.key_strand[0] = root;
   } else {
     if (key.size() < 2) throw StyleError("createWisp: a key strand needs at least two control points");
     for (const glm::vec3& c : key) w.key_strand.push_back(c - key[0] + root);
@@ -173,7 +274,7 @@ void StyleEditor::addControlPoint(std::size_t i, std::size_t k, std::optional<gl
   if (point) {
     p = *point;
   } else if (k == n) {
-    p = w.key_strand[n - 1] + (w.key_strand[n - 1] - w.key_strand[n - 2]);
+    p = keptOutside(w.key_strand[n - 1] + (w.key_strand[n - 1] - w.key_strand[n - 2]));
   } else {
     const std::vector<glm::vec3> dense = catmullRom(w.key_strand, 2);  // midpoints of the spans
     p = dense[2 * (k - 1) + 1];
@@ -280,6 +381,7 @@ void StyleEditor::setShapeKeeping(float hz) {
 }
 
 bool StyleEditor::undo() {
+  amendable_.reset();
   if (undo_.empty()) return false;
   redo_.push_back(std::move(style_));
   style_ = std::move(undo_.back());
@@ -288,6 +390,7 @@ bool StyleEditor::undo() {
 }
 
 bool StyleEditor::redo() {
+  amendable_.reset();
   if (redo_.empty()) return false;
   undo_.push_back(std::move(style_));
   style_ = std::move(redo_.back());

@@ -57,6 +57,9 @@ struct Camera {
   /// The ray from the eye through window pixel (x, y) of a `width` x
   /// `height` view (x right, y down from the top-left, as mouse positions).
   Ray ray(double x, double y, int width, int height) const;
+  /// The window pixel (x right, y down) where world point `p` is seen:
+  /// ray()'s inverse.
+  glm::vec2 pixel(glm::vec3 p, int width, int height) const;
 };
 
 enum class HairColor { Black, Brown, Blonde, Red };
