@@ -248,6 +248,8 @@ struct Window {
   GLFWwindow* glfw = nullptr;
   bool orbiting = false, turning = false, brushing = false, shift = false;
   bool styling_drag = false;  // a left drag of a control point, arrow or key strand
+  bool stroking = false;      // a left drag of a strand brush (StylingSession::Tool)
+  glm::vec2 stroke_at{0.0f};  // where the stroke's last dab was
   glm::vec2 anchor_px{0.0f};  // a script's anchored drag: where its anchor was seen at the press
   // per mouse button: the 3-D view took its press (the panel sees nothing
   // of it until the release)
@@ -336,6 +338,12 @@ void mouseButton(Window& w, int button, bool press, bool shift, double x, double
   viewer::Controller& c = *w.c;
   viewer::StylingSession* st = c.mode() == viewer::Mode::Styling ? c.styling() : nullptr;
   if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    if (press && st && st->tool != viewer::StylingSession::Tool::Select) {  // a strand brush stroke
+      w.stroking = true;
+      w.stroke_at = glm::vec2(static_cast<float>(x), static_cast<float>(y));
+      c.attempt([&] { st->brushDab(c.view().camera, w.width, w.height, w.stroke_at, w.stroke_at, shift); });
+      return;
+    }
     if (press && st) {
       // a control point, arrow or key strand under the cursor is selected
       // and dragged; on the scalp the brush paints; elsewhere the camera
@@ -354,6 +362,8 @@ void mouseButton(Window& w, int button, bool press, bool shift, double x, double
       w.brushing = false;
       if (w.styling_drag && c.styling()) c.styling()->endDrag();
       w.styling_drag = false;
+      if (w.stroking && c.styling()) c.attempt([&] { c.styling()->endStroke(); });
+      w.stroking = false;
     }
   }
   if (button == GLFW_MOUSE_BUTTON_RIGHT && !st) w.turning = press;
@@ -364,7 +374,11 @@ void cursor(Window& w, double x, double y) {
   w.last_x = x, w.last_y = y;
   viewer::Controller& c = *w.c;
   render::Camera& cam = c.view().camera;
-  if (w.styling_drag && c.styling()) {
+  if (w.stroking && c.styling()) {
+    const glm::vec2 at(static_cast<float>(x), static_cast<float>(y));
+    c.attempt([&] { c.styling()->brushDab(cam, w.width, w.height, at, w.stroke_at, w.shift); });
+    w.stroke_at = at;
+  } else if (w.styling_drag && c.styling()) {
     c.styling()->dragTo(rayAt(w, x, y));
   } else if (w.brushing && c.styling()) {
     c.styling()->brush(rayAt(w, x, y));
@@ -372,7 +386,8 @@ void cursor(Window& w, double x, double y) {
     cam.yaw_deg -= static_cast<float>(dx) * 0.4f;
     cam.pitch_deg = std::clamp(cam.pitch_deg + static_cast<float>(dy) * 0.4f, -85.0f, 85.0f);
   }
-  if (c.mode() == viewer::Mode::Styling && c.styling() && !w.styling_drag && !w.brushing && !w.orbiting)
+  if (c.mode() == viewer::Mode::Styling && c.styling() && !w.styling_drag && !w.brushing && !w.orbiting &&
+      !w.stroking)
     c.styling()->hoverAt(rayAt(w, x, y), pickTolerance(c));
   if (w.turning) {
     c.head().drag(dx, dy, w.shift, cam);
@@ -571,9 +586,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     const double raw = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
     if (!viewer::isViewerValue(name)) {
       c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
-    } else if ((name == "styling.brush_radius" || name == "styling.drag_falloff" || name == "styling.wisp_length" ||
-                name == "styling.settle_seconds") &&
-               !c.styling()) {
+    } else if (name.rfind("styling.", 0) == 0 && name != "styling.density" && name != "styling.offset_radius" &&
+               name != "styling.length_variation" && name != "styling.step_mm" && !c.styling()) {
       throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
     } else {
       const double value = viewer::checkViewerValue(name, raw, e.where);
@@ -605,6 +619,14 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
         c.styling()->new_wisp_length = static_cast<float>(value);
       else if (name == "styling.settle_seconds")
         c.styling()->settle_seconds = static_cast<float>(value);
+      else if (name == "styling.brush_pixels")
+        c.styling()->brush_pixels = static_cast<float>(value);
+      else if (name == "styling.brush_strength")
+        c.styling()->brush_strength = static_cast<float>(value);
+      else if (name == "styling.curl_radius")
+        c.styling()->curl_radius = static_cast<float>(value);
+      else if (name == "styling.curl_period")
+        c.styling()->curl_period = static_cast<float>(value);
     }
   } else if (what == "view") {
     const std::string name = text("name");
@@ -643,6 +665,19 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       if (ax != "tangent" && ax != "normal" && ax != "binormal")
         throw std::runtime_error(e.where + ": axis must be tangent, normal or binormal");
       c.styling()->axis = ax == "tangent" ? StylingAxis::Tangent : ax == "normal" ? StylingAxis::Normal : StylingAxis::Binormal;
+    } else if (name == "tool" && c.styling()) {
+      using Tool = viewer::StylingSession::Tool;
+      const std::string t = val.is_string() ? val.get<std::string>() : std::string();
+      static const std::pair<const char*, Tool> tools[] = {{"select", Tool::Select}, {"comb", Tool::Comb},
+                                                           {"length", Tool::Length}, {"puff", Tool::Puff},
+                                                           {"smooth", Tool::Smooth}, {"curl", Tool::Curl}};
+      const auto* found = std::find_if(std::begin(tools), std::end(tools), [&](const auto& e2) { return t == e2.first; });
+      if (found == std::end(tools))
+        throw std::runtime_error(e.where + ": tool must be select, comb, length, puff, smooth or curl");
+      c.styling()->tool = found->second;
+    } else if (name == "mirror" && c.styling()) {
+      if (!val.is_boolean()) throw std::runtime_error(e.where + ": mirror must be true or false");
+      c.styling()->mirror_editing = val.get<bool>();
     } else {
       throw std::runtime_error(e.where + ": unknown view setting \"" + name + "\"");
     }

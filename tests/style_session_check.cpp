@@ -115,10 +115,34 @@ int checkDrags(const std::string& dir) {
   for (std::size_t j = 1; j < k4.size(); ++j)
     if (!(head.headDistance(k4[j]) > 0.0f)) fail("a settled control point inside the head");
   if (!(k4.back().y < k3.back().y)) fail("the settled tip is not lower than the dragged one");
+  // mirrored editing: the partner is the mirror image after a drag and a
+  // comb stroke; the comb kept the spans and moved the strand
+  const Style s5 = loadStyle(dir + "/drag-mirror.json"), s6 = loadStyle(dir + "/drag-comb.json");
+  // (the partner's root is its own region's, near the mirror image of wisp
+  // 0's; the shape from the root is the mirror image)
+  for (const Style* s : {&s5, &s6}) {
+    if (s->wisps.size() != 2) fail("mirrored editing: two wisps expected");
+    const auto& a = s->wisps[0].key_strand;
+    const auto& b = s->wisps[1].key_strand;
+    for (std::size_t j = 1; j < a.size(); ++j) {
+      const glm::vec3 da = a[j] - a[0], db = b[j] - b[0];
+      if (glm::length(db - glm::vec3(-da.x, da.y, da.z)) > 2e-3f)
+        fail("mirrored editing: wisp 1's point " + std::to_string(j) + " is not wisp 0's mirror image");
+    }
+  }
+  const auto& m0 = s5.wisps[0].key_strand;
+  const auto& c0 = s6.wisps[0].key_strand;
+  float combed = 0.0f;
+  for (std::size_t j = 1; j < c0.size(); ++j) {
+    combed = std::max(combed, glm::length(c0[j] - m0[j]));
+    if (std::abs(glm::length(c0[j] - c0[j - 1]) - glm::length(m0[j] - m0[j - 1])) > 5e-4f)
+      fail("the comb changed span " + std::to_string(j) + "'s length");
+  }
+  if (!(combed > 0.002f)) fail("the comb did not move the strand");
   std::printf("drags: point 2 by %.1f mm (point %zu by %.1f mm), point 3 along its normal by %.1f mm, the strand by "
-              "%.1f mm; the settle lowered the tip by %.1f mm\n",
+              "%.1f mm; the settle lowered the tip by %.1f mm; mirrored; the comb moved a point by %.1f mm\n",
               1e3f * moved(k0, k1, 2), k0.size() - 1, 1e3f * moved(k0, k1, k0.size() - 1), 1e3f * glm::length(d2),
-              1e3f * glm::length(d3), 1e3f * (k3.back().y - k4.back().y));
+              1e3f * glm::length(d3), 1e3f * (k3.back().y - k4.back().y), 1e3f * combed);
   return 0;
 }
 

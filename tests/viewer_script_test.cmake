@@ -103,7 +103,7 @@ elseif(CASE STREQUAL "styling-drag")
     message(FATAL_ERROR "${o}\n${e}\n${out}")
   endif()
   foreach(pair "drag-2.json;drag-undo-1.json" "drag-0.json;drag-undo-3.json" "drag-3.json;drag-redo-3.json"
-      "drag-3.json;drag-settle-undone.json")
+      "drag-3.json;drag-settle-undone.json" "drag-mirror.json;drag-comb-undone.json")
     list(GET pair 0 want)
     list(GET pair 1 got)
     file(MD5 "${OUT}/${want}" a)

@@ -457,6 +457,24 @@ void Panel::styling() {
                      "between its points to move it whole; each drag is one undo.");
   ImGui::SliderFloat("drag falloff", &s->drag_falloff, 0.0f, 0.3f, "%.2f m", kClamp);
   tooltip("how far along the strand the points after a dragged one follow it (0: the point alone)");
+  {
+    static const char* tools[] = {"select and drag", "comb", "length", "puff", "smooth", "curl"};
+    int t = static_cast<int>(s->tool);
+    if (ImGui::Combo("tool", &t, tools, 6)) s->tool = static_cast<StylingSession::Tool>(t);
+    tooltip("what a left drag does: select and drag points (on the scalp: paint a region), or brush the key "
+            "strands: comb (pull along the drag, tips most), length (grow; with Shift: cut), puff (lift from the "
+            "scalp), smooth, curl (the curl below to the wisps touched)");
+    if (s->tool != StylingSession::Tool::Select) {
+      ImGui::SliderFloat("brush size", &s->brush_pixels, 5.0f, 300.0f, "%.0f px", kClamp);
+      ImGui::SliderFloat("strength", &s->brush_strength, 0.0f, 1.0f, "%.2f", kClamp);
+    }
+    if (s->tool == StylingSession::Tool::Curl) {
+      ImGui::SliderFloat("curl radius", &s->curl_radius, 0.0f, 0.05f, "%.3f m", kClamp);
+      ImGui::SliderFloat("curl period", &s->curl_period, 0.005f, 0.2f, "%.3f m", kClamp);
+    }
+    ImGui::Checkbox("mirror editing", &s->mirror_editing);
+    tooltip("every edit of a key strand also shapes the wisp rooted at its mirror image across the head");
+  }
   ImGui::SliderFloat("brush radius", &s->brush_radius, 0.004f, 0.05f, "%.3f m", kClamp);
   ImGui::Text("brushed: %zu triangles", s->brushed().size());
   ImGui::SameLine();

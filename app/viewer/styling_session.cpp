@@ -1,6 +1,7 @@
 #include "viewer/styling_session.hpp"
 
 #include "loosehair/ray_pick.hpp"
+#include "loosehair/strand_brushes.hpp"
 #include "loosehair/style_settle.hpp"
 
 #include <glm/geometric.hpp>
@@ -173,12 +174,103 @@ void StylingSession::dragTo(const render::Ray& ray) {
   if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(offset.z)) return;
   try {
     const float falloff = d.whole ? std::numeric_limits<float>::infinity() : drag_falloff;
-    editor_.setKeyStrand(d.wisp, editor_.dragged(d.start, d.point, offset, falloff), d.moved);
+    std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> keys;
+    keys.emplace_back(d.wisp, editor_.dragged(d.start, d.point, offset, falloff));
+    if (mirror_editing)
+      if (const std::optional<std::size_t> p = editor_.mirrorPartner(d.wisp))
+        keys.emplace_back(*p, editor_.mirroredOnto(keys.front().second, *p));
+    editor_.setKeyStrandsOf(std::move(keys), d.moved);
     d.moved = true;
   } catch (const StyleError&) {
     // a move the editor refuses (two points made to coincide): the strand
     // stays as the last move left it
   }
+}
+
+void StylingSession::brushDab(const render::Camera& camera, int width, int height, glm::vec2 at, glm::vec2 from,
+                              bool invert) {
+  if (tool == Tool::Select) return;
+  const auto& wisps = style().wisps;
+  if (wisps.empty()) return;
+  const render::Ray ray = camera.ray(at.x, at.y, width, height), before = camera.ray(from.x, from.y, width, height);
+  // points behind the head where the pointer is are left alone
+  float reach = std::numeric_limits<float>::infinity();
+  if (const std::optional<RayHit> hit = intersectRay(head_->headMesh(), ray.origin, ray.direction))
+    reach = glm::length(hit->point - ray.origin) + 0.02f;
+  const glm::vec3 facing = glm::normalize(ray.direction);
+  std::vector<std::vector<glm::vec3>> keys(wisps.size());
+  std::vector<bool> touched(wisps.size(), false);
+  for (std::size_t w = 0; w < wisps.size(); ++w) {
+    const std::vector<glm::vec3>& key = wisps[w].key_strand;
+    keys[w] = key;
+    BrushDab dab;
+    dab.strength = brush_strength;
+    dab.grow = invert ? -0.1f : 0.1f;
+    dab.weight.assign(key.size(), 0.0f);
+    dab.move.assign(key.size(), glm::vec3(0.0f));
+    for (std::size_t k = 1; k < key.size(); ++k) {
+      const float d = glm::length(camera.pixel(key[k], width, height) - at);
+      if (!(d < brush_pixels) || glm::length(key[k] - ray.origin) > reach) continue;
+      const float f = 1.0f - d / brush_pixels;
+      dab.weight[k] = f * f;
+      touched[w] = true;
+      // the pointer's move at the point's depth (in the plane through it facing the view)
+      const float t1 = glm::dot(key[k] - ray.origin, facing) / glm::dot(glm::normalize(ray.direction), facing);
+      const float den0 = glm::dot(glm::normalize(before.direction), facing);
+      if (std::abs(den0) > 1e-6f) {
+        const float t0 = glm::dot(key[k] - before.origin, facing) / den0;
+        dab.move[k] = (ray.origin + t1 * glm::normalize(ray.direction)) - (before.origin + t0 * glm::normalize(before.direction));
+      }
+    }
+    if (!touched[w]) continue;
+    if (tool == Tool::Curl) {
+      stroke_curled_.insert(w);
+      continue;
+    }
+    dab.brush = tool == Tool::Comb     ? StrandBrush::Comb
+                : tool == Tool::Length ? StrandBrush::Length
+                : tool == Tool::Puff   ? StrandBrush::Puff
+                                       : StrandBrush::Smooth;
+    keys[w] = brushedKeyStrand(key, dab, *head_, head_->scalpNormal(regionRoot(wisps[w].region, *head_)),
+                               StyleEditor::kClearance);
+  }
+  if (tool == Tool::Curl) return;
+  bool any = false;
+  for (std::size_t w = 0; w < wisps.size(); ++w) any = any || touched[w];
+  if (!any) return;
+  if (mirror_editing)
+    for (std::size_t w = 0; w < wisps.size(); ++w) {
+      if (!touched[w]) continue;
+      const std::optional<std::size_t> p = editor_.mirrorPartner(w);
+      if (p && !touched[*p]) keys[*p] = editor_.mirroredOnto(keys[w], *p);
+    }
+  // every wisp, so that each dab of the stroke amends the same edit
+  std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> all;
+  for (std::size_t w = 0; w < wisps.size(); ++w) all.emplace_back(w, std::move(keys[w]));
+  editor_.setKeyStrandsOf(std::move(all), stroke_edited_);
+  stroke_edited_ = true;
+}
+
+void StylingSession::endStroke() {
+  if (tool == Tool::Curl && !stroke_curled_.empty()) {
+    std::set<std::size_t> wisps = stroke_curled_;
+    if (mirror_editing)
+      for (std::size_t w : stroke_curled_)
+        if (const auto p = editor_.mirrorPartner(w)) wisps.insert(*p);
+    std::vector<std::pair<std::size_t, WispParams>> params;
+    for (std::size_t w : wisps) {
+      WispParams p = style().wisps[w].params;
+      p.curl_radius = curl_radius;
+      p.curl_period = curl_period;
+      params.emplace_back(w, p);
+    }
+    stroke_curled_.clear();
+    stroke_edited_ = false;
+    editor_.setParamsOf(params);  // checked as a style file's: throws naming the value
+    return;
+  }
+  stroke_curled_.clear();
+  stroke_edited_ = false;
 }
 
 void StylingSession::startSettle() {

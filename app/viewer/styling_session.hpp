@@ -94,6 +94,29 @@ class StylingSession {
   /// not exist.
   glm::vec3 handlePoint(std::size_t wisp, std::size_t k, StylingAxis a) const;
   glm::vec3 strandPoint(std::size_t wisp, std::size_t k) const;
+  // ---- strand brushes and mirrored editing ------------------------------
+  /// What a left drag does: select and drag (a press on the scalp paints
+  /// the region brush), or a brush over the key strands.
+  enum class Tool { Select, Comb, Length, Puff, Smooth, Curl };
+  Tool tool = Tool::Select;
+  float brush_pixels = 60.0f;   // the strand brushes' radius on screen
+  float brush_strength = 0.5f;  // 0..1, a dab's share of the full effect
+  /// What the curl brush gives the wisps it touches (m).
+  float curl_radius = 0.01f, curl_period = 0.03f;
+  /// Every edit of a key strand also shapes its partner's (the wisp rooted
+  /// at its mirror image, StyleEditor::mirrorPartner), mirrored.
+  bool mirror_editing = false;
+  /// One dab of the strand brush `tool` where the pointer is (window pixel
+  /// `at`; it came from `from`), seen by `camera` in a width x height view:
+  /// control points within brush_pixels of it on screen, in front of the
+  /// head there, are touched, the nearer the more (StrandBrush,
+  /// brushedKeyStrand). All dabs of a stroke are one undo step; a curl
+  /// stroke sets the touched wisps' curl when it ends. `invert` (Shift):
+  /// the length brush cuts instead of growing.
+  void brushDab(const render::Camera& camera, int width, int height, glm::vec2 at, glm::vec2 from,
+                bool invert = false);
+  void endStroke();
+
   // ---- letting the physics finish the style ------------------------------
   /// Simulated time of a settle (s).
   float settle_seconds = 1.5f;
@@ -148,6 +171,8 @@ class StylingSession {
     bool moved = false;
   };
   std::optional<Drag> drag_;
+  bool stroke_edited_ = false;            // the stroke made its undo step
+  std::set<std::size_t> stroke_curled_;  // the wisps the curl stroke touched
   std::future<std::vector<std::vector<glm::vec3>>> settle_;
   Style settle_of_;  // the style the running settle started from
 

@@ -12,7 +12,9 @@ namespace loosehair::viewer {
 /// a second, 0 for as fast as possible), "particles", "seed", "wind.speed",
 /// "shake.amplitude_deg", "shake.frequency_hz", "styling.brush_radius" (m),
 /// "styling.step_mm", "styling.drag_falloff" (m), "styling.wisp_length" (m,
-/// a new wisp's), "styling.settle_seconds", "styling.density", "styling.offset_radius",
+/// a new wisp's), "styling.settle_seconds", "styling.brush_pixels",
+/// "styling.brush_strength", "styling.curl_radius", "styling.curl_period"
+/// (the curl brush's, checked as a wisp's), "styling.density", "styling.offset_radius",
 /// "styling.length_variation". Solver parameters go through
 /// Controller::setParam. Throws std::runtime_error naming `source`, the
 /// value's name and the value (std::invalid_argument for an unknown name).

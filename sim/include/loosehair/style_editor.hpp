@@ -89,6 +89,21 @@ class StyleEditor {
   /// setKeyStrand of the same wisp with no other edit, undo or redo
   /// between: one undo step for a whole drag.
   void setKeyStrand(std::size_t wisp, std::vector<glm::vec3> key, bool amend = false);
+  /// Several wisps' key strands replaced in one edit (a brush stroke, a
+  /// drag mirrored onto the partner), each as setKeyStrand; `amend` joins
+  /// the previous such edit of the same wisps.
+  void setKeyStrandsOf(std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> keys, bool amend = false);
+  /// The wisp whose root lies nearest the mirror image of wisp w's root
+  /// (across x = HeadModel::mirrorPlaneX()), if it is another wisp and
+  /// within `tolerance` metres: its partner for mirrored editing.
+  std::optional<std::size_t> mirrorPartner(std::size_t w, float tolerance = 0.01f) const;
+  /// A key strand (wisp w's, or `key`) mirrored and moved onto wisp p's
+  /// root (the partner's key strand in mirrored editing), kept out of the
+  /// head.
+  std::vector<glm::vec3> mirroredOnto(std::size_t w, std::size_t p) const;
+  std::vector<glm::vec3> mirroredOnto(const std::vector<glm::vec3>& key, std::size_t p) const;
+  /// Several wisps' parameters set in one edit (a curl brush stroke).
+  void setParamsOf(const std::vector<std::pair<std::size_t, WispParams>>& params);
   /// Replaces every wisp's key strand at once, one undo step (what a
   /// settle gives: settledKeyStrands); each checked as setKeyStrand, the
   /// roots kept on their regions.
@@ -126,7 +141,7 @@ class StyleEditor {
   /// Records the current style for undo and clears the redo list.
   void record();
   Style style_;
-  std::optional<std::size_t> amendable_;  // the wisp the last edit (setKeyStrand) may be amended on
+  std::vector<std::size_t> amendable_;  // the wisps the last edit (setKeyStrandsOf) may be amended on
   const HeadModel& head_;
   std::vector<Style> undo_, redo_;
   struct Clip {

@@ -2,6 +2,7 @@
 
 #include "init/cantilever.hpp"
 #include "init/mesh_scalp.hpp"
+#include "loosehair/strand_brushes.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -32,27 +33,10 @@ Wisp& StyleEditor::wisp(std::size_t i, const char* what) {
 void StyleEditor::record() {
   undo_.push_back(style_);
   redo_.clear();
-  amendable_.reset();
+  amendable_.clear();
 }
 
-glm::vec3 StyleEditor::keptOutside(glm::vec3 p, float clearance) const {
-  const std::shared_ptr<const Body> bodies[2] = {head_.head(), head_.torso()};
-  for (int round = 0; round < 4; ++round) {
-    bool moved = false;
-    for (const auto& b : bodies) {
-      if (!b) continue;
-      float phi = 0.0f;
-      glm::vec3 n(0.0f);
-      b->signedDistance(&p, 1, &phi, &n);
-      if (phi < clearance && std::isfinite(phi) && glm::length(n) > 0.5f) {
-        p += (clearance - phi) * n;
-        moved = true;
-      }
-    }
-    if (!moved) break;
-  }
-  return p;
-}
+glm::vec3 StyleEditor::keptOutside(glm::vec3 p, float clearance) const { return keptOutsideHead(head_, p, clearance); }
 
 std::vector<glm::vec3> StyleEditor::newKeyStrand(glm::vec2 uv, float length) const {
   if (!(length >= 0.01f && length <= 2.0f))
@@ -119,19 +103,62 @@ void StyleEditor::setKeyStrands(const std::vector<std::vector<glm::vec3>>& keys)
 }
 
 void StyleEditor::setKeyStrand(std::size_t i, std::vector<glm::vec3> key, bool amend) {
-  const Wisp& w = wisp(i, "setKeyStrand");
-  if (key.size() < 2) throw StyleError("setKeyStrand: a key strand needs at least two control points");
-  key[0] = w.key_strand[0];
-  for (std::size_t k = 1; k < key.size(); ++k) {
-    checkPoint(i, k, key[k]);
-    if (glm::length(key[k] - key[k - 1]) < 1e-5f)
-      throw StyleError("setKeyStrand: control points " + std::to_string(k - 1) + " and " + std::to_string(k) +
-                       " would coincide");
+  setKeyStrandsOf({{i, std::move(key)}}, amend);
+}
+
+void StyleEditor::setKeyStrandsOf(std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> keys, bool amend) {
+  std::vector<std::size_t> which;
+  for (auto& [i, key] : keys) {
+    const Wisp& w = wisp(i, "setKeyStrand");
+    if (key.size() < 2) throw StyleError("setKeyStrand: a key strand needs at least two control points");
+    key[0] = w.key_strand[0];
+    for (std::size_t k = 1; k < key.size(); ++k) {
+      checkPoint(i, k, key[k]);
+      if (glm::length(key[k] - key[k - 1]) < 1e-5f)
+        throw StyleError("setKeyStrand: control points " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                         " would coincide");
+    }
+    which.push_back(i);
   }
-  const bool joins = amend && amendable_ == i && !undo_.empty();
+  std::sort(which.begin(), which.end());
+  if (std::adjacent_find(which.begin(), which.end()) != which.end())
+    throw StyleError("setKeyStrand: a wisp given twice in one edit");
+  const bool joins = amend && !which.empty() && amendable_ == which && !undo_.empty();
   if (!joins) record();
-  style_.wisps[i].key_strand = std::move(key);
-  amendable_ = i;
+  for (auto& [i, key] : keys) style_.wisps[i].key_strand = std::move(key);
+  amendable_ = which;
+}
+
+std::optional<std::size_t> StyleEditor::mirrorPartner(std::size_t i, float tolerance) const {
+  if (i >= style_.wisps.size()) throw StyleError("mirrorPartner: there is no wisp " + std::to_string(i));
+  const float c = head_.mirrorPlaneX();
+  const glm::vec3 r = style_.wisps[i].key_strand[0], m(c - (r.x - c), r.y, r.z);
+  std::optional<std::size_t> best;
+  float best_d = tolerance;
+  for (std::size_t j = 0; j < style_.wisps.size(); ++j) {
+    if (j == i) continue;
+    const float d = glm::length(style_.wisps[j].key_strand[0] - m);
+    if (d <= best_d) best_d = d, best = j;
+  }
+  return best;
+}
+
+std::vector<glm::vec3> StyleEditor::mirroredOnto(std::size_t i, std::size_t p) const {
+  if (i >= style_.wisps.size()) throw StyleError("mirroredOnto: there is no wisp " + std::to_string(i));
+  return mirroredOnto(style_.wisps[i].key_strand, p);
+}
+
+std::vector<glm::vec3> StyleEditor::mirroredOnto(const std::vector<glm::vec3>& from, std::size_t p) const {
+  if (p >= style_.wisps.size()) throw StyleError("mirroredOnto: there is no wisp " + std::to_string(p));
+  if (from.size() < 2) throw StyleError("mirroredOnto: a key strand needs at least two control points");
+  const glm::vec3 root = style_.wisps[p].key_strand[0];
+  std::vector<glm::vec3> out(from.size());
+  out[0] = root;
+  for (std::size_t k = 1; k < from.size(); ++k) {
+    const glm::vec3 d = from[k] - from[0];
+    out[k] = keptOutside(root + glm::vec3(-d.x, d.y, d.z));
+  }
+  return out;
 }
 
 void StyleEditor::checkPoint(std::size_t w, std::size_t k, glm::vec3 p) const {
@@ -229,6 +256,16 @@ void StyleEditor::setParams(std::size_t i, const WispParams& p) {
   checkParams(p, f);
   record();
   style_.wisps[i].params = p;
+}
+
+void StyleEditor::setParamsOf(const std::vector<std::pair<std::size_t, WispParams>>& params) {
+  for (const auto& [i, p] : params) {
+    wisp(i, "setParams");
+    checkParams(p, "wisps[" + std::to_string(i) + "]");
+  }
+  if (params.empty()) return;
+  record();
+  for (const auto& [i, p] : params) style_.wisps[i].params = p;
 }
 
 void StyleEditor::renameWisp(std::size_t i, const std::string& name) {
@@ -381,7 +418,7 @@ void StyleEditor::setShapeKeeping(float hz) {
 }
 
 bool StyleEditor::undo() {
-  amendable_.reset();
+  amendable_.clear();
   if (undo_.empty()) return false;
   redo_.push_back(std::move(style_));
   style_ = std::move(undo_.back());
@@ -390,7 +427,7 @@ bool StyleEditor::undo() {
 }
 
 bool StyleEditor::redo() {
-  amendable_.reset();
+  amendable_.clear();
   if (redo_.empty()) return false;
   undo_.push_back(std::move(style_));
   style_ = std::move(redo_.back());
