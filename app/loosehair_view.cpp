@@ -587,7 +587,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     if (!viewer::isViewerValue(name)) {
       c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
     } else if (name.rfind("styling.", 0) == 0 && name != "styling.density" && name != "styling.offset_radius" &&
-               name != "styling.length_variation" && name != "styling.step_mm" && !c.styling()) {
+               name != "styling.length_variation" && name != "styling.blend" && name != "styling.step_mm" &&
+               !c.styling()) {
       throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
     } else {
       const double value = viewer::checkViewerValue(name, raw, e.where);
@@ -609,6 +610,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
         c.new_wisp.density = static_cast<float>(value);
       else if (name == "styling.offset_radius")
         c.new_wisp.offset_radius = static_cast<float>(value);
+      else if (name == "styling.blend")
+        c.new_wisp.blend = static_cast<float>(value);
       else if (name == "styling.length_variation")
         c.new_wisp.length_variation = static_cast<float>(value);
       else if (name == "styling.step_mm")
@@ -675,6 +678,9 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       if (found == std::end(tools))
         throw std::runtime_error(e.where + ": tool must be select, comb, length, puff, smooth or curl");
       c.styling()->tool = found->second;
+    } else if (name == "coverage" && c.styling()) {
+      if (!val.is_boolean()) throw std::runtime_error(e.where + ": coverage must be true or false");
+      c.styling()->show_coverage = val.get<bool>();
     } else if (name == "mirror" && c.styling()) {
       if (!val.is_boolean()) throw std::runtime_error(e.where + ": mirror must be true or false");
       c.styling()->mirror_editing = val.get<bool>();

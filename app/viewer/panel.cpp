@@ -451,6 +451,12 @@ void Panel::styling() {
   }
   const Style& st = s->style();
   ImGui::Text("%zu wisps, %zu ties, preview %zu strands", st.wisps.size(), st.ties.size(), s->previewStrands());
+  ImGui::Checkbox("coverage view", &s->show_coverage);
+  tooltip("marks in red the scalp with no strand root within 5 mm");
+  if (s->show_coverage && s->covered() >= 0.0) {
+    ImGui::SameLine();
+    ImGui::Text("%.1f %% of the scalp covered", 100.0 * s->covered());
+  }
   if (!s->preview_error.empty()) ImGui::TextWrapped("preview: %s", s->preview_error.c_str());
   ImGui::TextWrapped("Left drag on the scalp brushes a region. Drag a control point to move it (the points "
                      "after it follow), an arrow of the selected point to move along it, or a key strand "
@@ -483,6 +489,9 @@ void Panel::styling() {
   ImGui::SliderFloat("offset radius", &c_.new_wisp.offset_radius, 0.0f, 0.05f, "%.3f m", kClamp);
   tooltip("smooth (small) to fuzzy (large) wisps");
   ImGui::SliderFloat("length variation", &c_.new_wisp.length_variation, 0.0f, 0.9f, "%.2f", kClamp);
+  ImGui::SliderFloat("blend", &c_.new_wisp.blend, 0.0f, 1.0f, "%.2f", kClamp);
+  tooltip("members near a wisp's border take the neighbouring wisps' shapes, so adjacent wisps meet without "
+          "a gap (0: translated copies of the own key strand; never across a parting)");
   ImGui::SliderFloat("new wisp length", &s->new_wisp_length, 0.02f, 1.0f, "%.2f m", kClamp);
   tooltip("a new wisp's key strand hangs from the scalp under gravity, this long");
   if (ImGui::Button("Create wisp")) c_.attempt([&] { s->createWispFromBrush(c_.new_wisp); });

@@ -452,6 +452,23 @@ void StylingSession::overlay(render::OverlayLines& hidden, render::OverlayLines&
       on_top.arrow(p, p + (active ? kActiveArrow : kArrow) * d[a], c);
     }
   }
+  // the coverage view: scalp points with no root near, as small red crosses
+  if (show_coverage) {
+    if (!coverage_of_ || !(*coverage_of_ == style())) {
+      coverage_of_ = style();
+      try {
+        // roots at full density; a coarse point spacing, only the roots count
+        const StrandSet full = buildMemberStrands(style(), *head_, 0.05f);
+        std::vector<glm::vec3> roots;
+        for (std::size_t k = 0; k < full.size(); ++k) roots.push_back(full.points[full.first[k]]);
+        coverage_ = scalpCoverage(*head_, roots);
+      } catch (const std::exception& e) {
+        coverage_ = ScalpCoverage{};
+        preview_error = e.what();
+      }
+    }
+    for (const glm::vec3& p : coverage_.bare) hidden.cross(p, 0.002f, glm::vec4(0.95f, 0.1f, 0.1f, 1.0f));
+  }
   // brushed triangles (outlines) and ties (rings)
   const ScalpTriangles& st = head_->scalpTriangles();
   for (std::uint32_t t : brushed_) {

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "loosehair/head_model.hpp"
+#include "loosehair/scalp_coverage.hpp"
 #include "loosehair/render/overlay.hpp"
 #include "loosehair/style.hpp"
 #include "loosehair/style_editor.hpp"
@@ -155,6 +156,12 @@ class StylingSession {
   void overlay(render::OverlayLines& hidden, render::OverlayLines& on_top);
   /// Member strands in the preview.
   std::size_t previewStrands() const { return preview_.size(); }
+  /// The coverage view: the scalp's points with no member root (at full
+  /// density) within 5 mm, drawn red; and the covered share of the scalp.
+  bool show_coverage = false;
+  /// The covered share (scalpCoverage) of the style as last previewed with
+  /// the coverage view on; negative before it was measured.
+  double covered() const { return coverage_of_ ? coverage_.covered : -1.0; }
   std::string preview_error;  // why the preview could not be grown ("" if it was)
 
  private:
@@ -181,6 +188,8 @@ class StylingSession {
   std::set<std::uint32_t> brushed_;
   StrandSet preview_;
   std::optional<Style> preview_of_;  // the style the preview was grown from
+  ScalpCoverage coverage_;
+  std::optional<Style> coverage_of_;  // the style coverage_ was measured on
 };
 
 }  // namespace loosehair::viewer

@@ -67,6 +67,15 @@ struct WispParams {
   float curl_radius = 0.0f;
   /// Length of one turn of the curl along the strand (m).
   float curl_period = 0.03f;
+  /// How far members near the wisp's border take the shapes of the
+  /// neighbouring wisps' key strands (0..1), so that adjacent wisps meet as
+  /// one head of hair: 0 keeps the seed's translated copies of the own key
+  /// strand; 1 blends over about a third of the way between two wisps'
+  /// roots (buildMemberStrands). A wisp through a tie is not blended, nor
+  /// across a parting (neighbours whose tips, from their roots, lie more
+  /// than half the strand apart). Style
+  /// files without the field mean 0 (as they grew before); new wisps 1.
+  float blend = 1.0f;
   std::uint64_t seed = 1;
   bool operator==(const WispParams&) const = default;
 };

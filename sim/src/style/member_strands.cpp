@@ -15,6 +15,17 @@
 // strand there (their offset bounded to stay inside the ring) and hang
 // together beyond it. Finally each member is cut to its length and pushed
 // out of the head and torso.
+//
+// Blending (issue 44, WispParams::blend > 0, wisps not through a tie): the
+// translated key strand K(s) - K(0) becomes a weighted mean of the key
+// strands of the wisp and its neighbours, each taken at the same fraction
+// of its own length, with weights from the member root's distances to the
+// wisps' roots: neighbour j counts exp(-(d_j^2 - d_own^2) / (2 sigma_j^2))
+// against the own wisp's 1, sigma_j = 0.35 blend |R_own - R_j|. Midway
+// between two roots the two count the same, so the members of adjacent
+// wisps meet in one shape there; near its own root a member follows its
+// own key strand. Wisps whose tips part by more than half the strand's
+// length (a parting) are not blended.
 #include "init/mesh_scalp.hpp"
 #include "loosehair/style.hpp"
 #include "parallel.hpp"
@@ -161,33 +172,92 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
   // each wisp on its own (its own random streams), then in the wisps' order;
   // a wisp's `first` holds only its strands' ends (the leading 0 is the
   // whole set's)
-  std::vector<StrandSet> per_wisp(style.wisps.size());
-  parallel::forEachDynamic(threads, style.wisps.size(), [&](std::size_t wi) {
+  // every wisp's dense key strand, its arc lengths and whether it passes a
+  // tie, first: blending reads its neighbours'
+  const std::size_t nw = style.wisps.size();
+  std::vector<std::vector<glm::vec3>> dense(nw);
+  std::vector<std::vector<float>> arc(nw);
+  std::vector<std::optional<TieCrossing>> crossing(nw);
+  std::vector<const HairTie*> ring(nw, nullptr);
+  parallel::forEachDynamic(threads, nw, [&](std::size_t wi) {
+    const Wisp& w = style.wisps[wi];
+    if (w.key_strand.size() < 2) return;
+    dense[wi] = catmullRom(w.key_strand, pointsASegment(w, spacing));
+    arc[wi].assign(dense[wi].size(), 0.0f);
+    for (std::size_t j = 1; j < dense[wi].size(); ++j)
+      arc[wi][j] = arc[wi][j - 1] + glm::length(dense[wi][j] - dense[wi][j - 1]);
+    // the first tie the key strand passes through
+    for (const HairTie& t : style.ties)
+      if (auto c = crossTie(dense[wi], t); c && (!crossing[wi] || c->arc_length < crossing[wi]->arc_length)) {
+        crossing[wi] = c;
+        ring[wi] = &t;
+      }
+  });
+  auto blendable = [&](std::size_t j) { return !dense[j].empty() && arc[j].back() > 0.0f && !crossing[j]; };
+  // key strand j from its root at fraction t of its length
+  auto shapeAt = [&](std::size_t j, float t) {
+    const std::vector<float>& s = arc[j];
+    const float at = t * s.back();
+    const std::size_t hi = std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(s.begin(), s.end(), at) - s.begin()), s.size() - 1);
+    const std::size_t lo = hi > 0 ? hi - 1 : 0;
+    const float span = s[hi] - s[lo];
+    const float f = span > 0.0f ? std::clamp((at - s[lo]) / span, 0.0f, 1.0f) : 0.0f;
+    return dense[j][lo] + f * (dense[j][hi] - dense[j][lo]) - dense[j][0];
+  };
+  std::vector<StrandSet> per_wisp(nw);
+  parallel::forEachDynamic(threads, nw, [&](std::size_t wi) {
     StrandSet& out = per_wisp[wi];
     const Wisp& w = style.wisps[wi];
     const WispParams& par = w.params;
     if (w.key_strand.size() < 2) return;
-    const std::vector<glm::vec3> key = catmullRom(w.key_strand, pointsASegment(w, spacing));
-    std::vector<float> sk(key.size(), 0.0f);
-    for (std::size_t j = 1; j < key.size(); ++j) sk[j] = sk[j - 1] + glm::length(key[j] - key[j - 1]);
+    const std::vector<glm::vec3>& key = dense[wi];
+    const std::vector<float>& sk = arc[wi];
     const float length = sk.back();
     if (!(length > 0.0f)) return;
     const glm::vec2 root_uv = head.nearestScalpUv(key[0]);
     const std::vector<CurveFrame> frame = rotationMinimizingFrames(key, head.scalpTangentU(root_uv));
-    // the first tie the key strand passes through
-    std::optional<TieCrossing> tie;
-    const HairTie* tie_ring = nullptr;
-    for (const HairTie& t : style.ties)
-      if (auto c = crossTie(key, t); c && (!tie || c->arc_length < tie->arc_length)) {
-        tie = c;
-        tie_ring = &t;
+    const std::optional<TieCrossing>& tie = crossing[wi];
+    const HairTie* tie_ring = ring[wi];
+    // the neighbours it blends with: within four times the nearest one, and
+    // not across a parting (their tips, from the roots, further apart than
+    // half the strand: blended, the two would fall between them, where
+    // neither goes, over a face)
+    std::vector<std::pair<std::size_t, float>> near;  // wisp, sigma^2
+    if (par.blend > 0.0f && blendable(wi)) {
+      float nearest = INFINITY;
+      for (std::size_t j = 0; j < nw; ++j)
+        if (j != wi && blendable(j)) nearest = std::min(nearest, glm::length(dense[j][0] - key[0]));
+      for (std::size_t j = 0; j < nw; ++j) {
+        if (j == wi || !blendable(j)) continue;
+        const float d = glm::length(dense[j][0] - key[0]);
+        const bool parting = glm::length(shapeAt(j, 1.0f) - shapeAt(wi, 1.0f)) > 0.5f * length;
+        if (d > 1e-6f && d <= 4.0f * nearest && !parting) {
+          const float sigma = 0.35f * par.blend * d;
+          near.emplace_back(j, sigma * sigma);
+        }
       }
+    }
+    std::vector<std::pair<std::size_t, float>> weights;  // a member's: wisp, weight
     Random rng(par.seed);
     const std::vector<glm::vec2> roots = memberRoots(w, head, area[wi], rng);
     Random shape(par.seed ^ 0x6a09e667f3bcc909ULL);
     std::vector<glm::vec3> pts(key.size());
     for (const glm::vec2 uv : roots) {
-      const glm::vec3 delta = head.scalpPoint(uv) - key[0];
+      const glm::vec3 root = head.scalpPoint(uv);
+      const glm::vec3 delta = root - key[0];
+      // the neighbours' weights against the own wisp's 1, normalised
+      weights.clear();
+      float total = 1.0f;
+      const float own2 = glm::dot(delta, delta);
+      for (const auto& [j, sigma2] : near) {
+        const glm::vec3 dj = root - dense[j][0];
+        const float r = std::exp(-(glm::dot(dj, dj) - own2) / (2.0f * sigma2));
+        if (r > 1e-3f) {
+          weights.emplace_back(j, r);
+          total += r;
+        }
+      }
       glm::vec3 d = inBall(shape, par.offset_radius);
       const float keep = 1.0f - par.length_variation * static_cast<float>(shape.uniform());
       const float phase = static_cast<float>(2.0 * std::numbers::pi * shape.uniform());
@@ -200,7 +270,15 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
         const float s = sk[j];
         const float g = tie ? (s < tie->arc_length ? smoothstep01(s / tie->arc_length) : 1.0f) : 0.0f;
         const CurveFrame& f = frame[j];
-        glm::vec3 p = key[j] + (1.0f - g) * delta + (s / length) * (d.x * f.tangent + d.y * f.normal + d.z * f.binormal);
+        glm::vec3 p;
+        if (weights.empty()) {
+          p = key[j] + (1.0f - g) * delta;
+        } else {  // no tie here (g = 0): the blended shape from the member's root
+          glm::vec3 blended = (key[j] - key[0]) / total;
+          for (const auto& [wj, r] : weights) blended += (r / total) * shapeAt(wj, s / length);
+          p = root + blended;
+        }
+        p += (s / length) * (d.x * f.tangent + d.y * f.normal + d.z * f.binormal);
         if (par.curl_radius > 0.0f) {
           const float rho = par.curl_radius * smoothstep01(s / par.curl_period);
           const float th = 2.0f * std::numbers::pi_v<float> * s / par.curl_period + phase;

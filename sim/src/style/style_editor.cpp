@@ -201,6 +201,7 @@ void checkParams(const WispParams& p, const std::string& where) {
   checkWispValue("length_variation", p.length_variation, where);
   checkWispValue("curl_radius", p.curl_radius, where);
   checkWispValue("curl_period", p.curl_period, where);
+  checkWispValue("blend", p.blend, where);
 }
 
 }  // namespace

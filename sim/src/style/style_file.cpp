@@ -81,6 +81,8 @@ Wisp readWisp(Fields f, std::size_t index) {
   p.length_variation = f.real("length_variation", p.length_variation, 0.0, 0.9);
   p.curl_radius = f.real("curl_radius", p.curl_radius, 0.0, 0.2);
   p.curl_period = f.real("curl_period", p.curl_period, 1e-3, 1.0);
+  // absent: 0, the translated copies styles grew before the field existed
+  p.blend = f.real("blend", 0.0, 0.0, 1.0);
   p.seed = static_cast<std::uint64_t>(f.integer("seed", static_cast<std::int64_t>(p.seed), 0, INT64_MAX));
   f.finish();
   return w;
@@ -159,6 +161,7 @@ double checkWispValue(const std::string& field, double value, const std::string&
   if (field == "length_variation") return w.params.length_variation;
   if (field == "curl_radius") return w.params.curl_radius;
   if (field == "curl_period") return w.params.curl_period;
+  if (field == "blend") return w.params.blend;
   if (field == "seed") return static_cast<double>(w.params.seed);
   throw StyleError(source + ": " + field + ": not a wisp parameter that takes one number");
 }
@@ -216,6 +219,7 @@ std::string styleText(const Style& s, const std::string& path) {
                      {"length_variation", p.length_variation},
                      {"curl_radius", p.curl_radius},
                      {"curl_period", p.curl_period},
+                     {"blend", p.blend},
                      {"seed", p.seed}});
   }
   out["wisps"] = wisps;
