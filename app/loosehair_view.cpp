@@ -282,7 +282,10 @@ void key(Window& w, int key, int mods, bool scripted) {
   if (st) {
     switch (key) {
       case GLFW_KEY_Z:
-        if (ctrl) (shift ? st->redo() : st->undo());
+        if (ctrl) {
+          (shift ? st->redo() : st->undo());
+          c.clearError();
+        }
         return;
       case GLFW_KEY_T: st->axis = StylingAxis::Tangent; return;
       case GLFW_KEY_G: st->axis = StylingAxis::Normal; return;
@@ -338,6 +341,14 @@ void mouseButton(Window& w, int button, bool press, bool shift, double x, double
   viewer::Controller& c = *w.c;
   viewer::StylingSession* st = c.mode() == viewer::Mode::Styling ? c.styling() : nullptr;
   if (button == GLFW_MOUSE_BUTTON_LEFT) {
+    if (press && st && st->tool == viewer::StylingSession::Tool::Tie) {  // a tie where the wisps pass
+      const render::Ray r = rayAt(w, x, y);
+      c.attempt([&] {
+        st->tieAt(r, 3.0f * pickTolerance(c));
+        c.note("tied: the ring goes round the key strands there");
+      });
+      return;
+    }
     if (press && st && st->tool != viewer::StylingSession::Tool::Select) {  // a strand brush stroke
       w.stroking = true;
       w.stroke_at = glm::vec2(static_cast<float>(x), static_cast<float>(y));
@@ -673,10 +684,11 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       const std::string t = val.is_string() ? val.get<std::string>() : std::string();
       static const std::pair<const char*, Tool> tools[] = {{"select", Tool::Select}, {"comb", Tool::Comb},
                                                            {"length", Tool::Length}, {"puff", Tool::Puff},
-                                                           {"smooth", Tool::Smooth}, {"curl", Tool::Curl}};
+                                                           {"smooth", Tool::Smooth}, {"curl", Tool::Curl},
+                                                           {"tie", Tool::Tie}};
       const auto* found = std::find_if(std::begin(tools), std::end(tools), [&](const auto& e2) { return t == e2.first; });
       if (found == std::end(tools))
-        throw std::runtime_error(e.where + ": tool must be select, comb, length, puff, smooth or curl");
+        throw std::runtime_error(e.where + ": tool must be select, comb, length, puff, smooth, curl or tie");
       c.styling()->tool = found->second;
     } else if (name == "coverage" && c.styling()) {
       if (!val.is_boolean()) throw std::runtime_error(e.where + ": coverage must be true or false");
@@ -722,8 +734,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
       if (!ss.wisp) throw StyleError("select a wisp first to set its parameters");
       ss.editor().setParams(*ss.wisp, c.new_wisp);
     });
-    else if (name == "undo") need().undo();
-    else if (name == "redo") need().redo();
+    else if (name == "undo") need().undo(), c.clearError();
+    else if (name == "redo") need().redo(), c.clearError();
     else if (name == "settle") c.attempt([&] {  // a script waits for it: the next event sees the settled style
       viewer::StylingSession& ss = need();
       ss.startSettle();

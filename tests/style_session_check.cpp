@@ -6,6 +6,7 @@
 //   loosehair_style_session_check SCENE WIDTH HEIGHT VIEWER_STYLE.json
 //   loosehair_style_session_check --hair-pixels SIMULATED.png BARE.png
 //   loosehair_style_session_check --drags DIR
+//   loosehair_style_session_check --tie STYLE.json
 // The third form checks the styles tests/viewer/styling-drag.json saved in
 // DIR (drag-0.json ... drag-3.json, drag-settled.json): a new wisp that
 // hangs clear of the head; a control point dragged in the view plane with
@@ -146,9 +147,43 @@ int checkDrags(const std::string& dir) {
   return 0;
 }
 
+// tests/viewer/styling-tie.json: the style's tie, placed with the tie tool,
+// holds every member strand of its two wisps (each crosses the ring's plane
+// inside the ring).
+int checkTie(const std::string& path) {
+  const Style s = loadStyle(path);
+  if (s.ties.size() != 1 || s.wisps.size() != 2) fail(path + ": one tie and two wisps expected");
+  const HeadModel head = HeadModel::build(s.head, s.source);
+  const StrandSet m = buildMemberStrands(s, head);
+  const HairTie& t = s.ties[0];
+  const glm::vec3 a = glm::normalize(t.axis);
+  std::size_t held = 0;
+  for (std::size_t k = 0; k < m.size(); ++k) {
+    bool through = false;
+    for (std::uint32_t q = m.first[k] + 1; q < m.first[k + 1] && !through; ++q) {
+      const float d0 = glm::dot(m.points[q - 1] - t.center, a), d1 = glm::dot(m.points[q] - t.center, a);
+      if ((d0 < 0.0f) == (d1 < 0.0f)) continue;
+      const glm::vec3 x = m.points[q - 1] + (d0 / (d0 - d1)) * (m.points[q] - m.points[q - 1]);
+      through = glm::length(x - t.center) <= t.radius;
+    }
+    held += through ? 1 : 0;
+  }
+  std::printf("the tie holds %zu of %zu member strands (ring radius %.1f mm)\n", held, m.size(), 1e3f * t.radius);
+  if (held != m.size()) fail("the tie does not hold every member strand");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 3 && std::string(argv[1]) == "--tie") {
+    try {
+      return checkTie(argv[2]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 1;
+    }
+  }
   if (argc == 3 && std::string(argv[1]) == "--drags") {
     try {
       return checkDrags(argv[2]);

@@ -159,3 +159,27 @@ TEST(StyleDirectEditing, AWholeDragIsOneUndoStep) {
   ed.setKeyStrand(0, moved);
   EXPECT_EQ(ed.style().wisps[0].key_strand[0], root);
 }
+
+TEST(StyleDirectEditing, ATieThatHoldsNoHairIsRefusedSayingWhereToPutIt) {
+  const HeadModel& h = sphereModel();
+  StyleEditor ed(twoWispStyle(), h);
+  const std::vector<glm::vec3>& key = ed.style().wisps[0].key_strand;
+  HairTie off;  // beyond the tip, where no key strand passes
+  off.center = key.back() + 0.2f * glm::normalize(key.back() - key.front());
+  off.axis = glm::vec3(0.0f, 1.0f, 0.0f);
+  off.radius = 0.01f;
+  try {
+    ed.addTie(off);
+    FAIL() << "a tie round nothing was accepted";
+  } catch (const StyleError& e) {
+    EXPECT_NE(std::string(e.what()).find("place it where the key strands pass"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(ed.canUndo() && ed.style().ties.size() > 0) << "nothing was added";
+  // one round the key strand's middle is taken
+  HairTie on;
+  on.center = 0.5f * (key[1] + key[2]);
+  on.axis = glm::normalize(key[2] - key[1]);
+  on.radius = 0.01f;
+  EXPECT_NO_THROW(ed.addTie(on));
+  EXPECT_EQ(ed.style().ties.size(), 1u);
+}

@@ -114,6 +114,19 @@ elseif(CASE STREQUAL "styling-drag")
   endforeach()
   drawn("${out}" drag-dragged.png 10)
   message(STATUS "styling-drag: ${o}")
+elseif(CASE STREQUAL "styling-tie")
+  # a tie placed with the tie tool where two gathered wisps pass holds every
+  # member strand; a click where no strand passes says what to do
+  view("${DATA}/view-still.json" "${SCRIPTS}/styling-tie.json" out)
+  if(NOT out MATCHES "no key strand passes there: click where the wisps' key strands")
+    message(FATAL_ERROR "the tie tool's click on nothing was not refused with advice:\n${out}")
+  endif()
+  execute_process(COMMAND "${CHECK}" --tie "${OUT}/tie.json" RESULT_VARIABLE rc OUTPUT_VARIABLE o ERROR_VARIABLE e)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${o}\n${e}\n${out}")
+  endif()
+  drawn("${out}" tie-tied.png 10)
+  message(STATUS "styling-tie: ${o}")
 elseif(CASE STREQUAL "strands")
   # the panel's hair switch: strands drawn, then Marschner shading; the
   # simulation is the CLI's all the while

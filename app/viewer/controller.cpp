@@ -26,6 +26,12 @@ void Controller::note(const std::string& message) {
   view_.message_is_error = false;
 }
 
+void Controller::clearError() {
+  if (!view_.message_is_error) return;
+  view_.message.clear();
+  view_.message_is_error = false;
+}
+
 void Controller::fail(const std::string& message) {
   view_.message = message;
   view_.message_is_error = true;
@@ -261,7 +267,15 @@ void Controller::enterSimulate() {
     return;
   }
   attempt([&] {
-    checkStyle(styling_->style(), styling_->head());
+    try {
+      checkStyle(styling_->style(), styling_->head());
+    } catch (const StyleError& e) {
+      // its source is the scene it was started from: say which style it is
+      std::string m = e.what();
+      const std::string from = styling_->style().source + ": ";
+      if (m.rfind(from, 0) == 0) m = m.substr(from.size());
+      throw StyleError("the style being edited: " + m);
+    }
     SceneDesc next = pending_;
     static_cast<HeadDesc&>(next) = styling_->style().head;
     next.hair.style_data = std::make_shared<const Style>(styling_->style());

@@ -32,6 +32,8 @@ class Controller {
   void fail(const std::string& message);
   /// Shows `message` in the panel as news, not as an error.
   void note(const std::string& message);
+  /// Takes an error message away (an undo took back what caused it).
+  void clearError();
   /// Runs `what`, turning what it throws into fail(); true if it did not throw.
   template <class F>
   bool attempt(F&& what) {

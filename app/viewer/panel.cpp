@@ -464,13 +464,14 @@ void Panel::styling() {
   ImGui::SliderFloat("drag falloff", &s->drag_falloff, 0.0f, 0.3f, "%.2f m", kClamp);
   tooltip("how far along the strand the points after a dragged one follow it (0: the point alone)");
   {
-    static const char* tools[] = {"select and drag", "comb", "length", "puff", "smooth", "curl"};
+    static const char* tools[] = {"select and drag", "comb", "length", "puff", "smooth", "curl", "tie"};
     int t = static_cast<int>(s->tool);
-    if (ImGui::Combo("tool", &t, tools, 6)) s->tool = static_cast<StylingSession::Tool>(t);
+    if (ImGui::Combo("tool", &t, tools, 7)) s->tool = static_cast<StylingSession::Tool>(t);
     tooltip("what a left drag does: select and drag points (on the scalp: paint a region), or brush the key "
             "strands: comb (pull along the drag, tips most), length (grow; with Shift: cut), puff (lift from the "
-            "scalp), smooth, curl (the curl below to the wisps touched)");
-    if (s->tool != StylingSession::Tool::Select) {
+            "scalp), smooth, curl (the curl below to the wisps touched), tie (click where key strands pass: "
+            "a ring round them)");
+    if (s->tool != StylingSession::Tool::Select && s->tool != StylingSession::Tool::Tie) {
       ImGui::SliderFloat("brush size", &s->brush_pixels, 5.0f, 300.0f, "%.0f px", kClamp);
       ImGui::SliderFloat("strength", &s->brush_strength, 0.0f, 1.0f, "%.2f", kClamp);
     }
@@ -531,9 +532,9 @@ void Panel::styling() {
   } else if (ImGui::Button("Settle")) {
     c_.attempt([&] { s->startSettle(); });
   }
-  if (ImGui::Button("Undo")) s->undo();
+  if (ImGui::Button("Undo")) s->undo(), c_.clearError();
   ImGui::SameLine();
-  if (ImGui::Button("Redo")) s->redo();
+  if (ImGui::Button("Redo")) s->redo(), c_.clearError();
   ImGui::InputText("##style", style_path_, sizeof style_path_);
   ImGui::SameLine();
   if (ImGui::Button("Save style")) c_.attempt([&] {

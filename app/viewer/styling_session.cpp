@@ -383,6 +383,43 @@ std::size_t StylingSession::tieAtSelected(float radius) {
   return editor_.addTie(tie);
 }
 
+std::size_t StylingSession::tieAt(const render::Ray& ray, float reach) {
+  const auto& wisps = style().wisps;
+  std::vector<glm::vec3> at, along;
+  for (const Wisp& w : wisps) {
+    const std::vector<glm::vec3> dense = sampleKeyStrand(w.key_strand, 16);
+    float best = reach;
+    std::optional<std::size_t> hit;
+    for (std::size_t j = 1; j + 1 < dense.size(); ++j) {
+      const float d = distanceToRay(dense[j], ray.origin, ray.direction);
+      if (d < best) best = d, hit = j;
+    }
+    if (!hit) continue;
+    at.push_back(dense[*hit]);
+    along.push_back(glm::normalize(dense[*hit + 1] - dense[*hit - 1]));
+  }
+  if (at.empty())
+    throw StyleError("no key strand passes there: click where the wisps' key strands (the dark lines) pass, and "
+                     "the tie goes round them");
+  glm::vec3 centre(0.0f), axis_sum(0.0f);
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    centre += at[i];
+    axis_sum += glm::dot(along[i], along[0]) < 0.0f ? -along[i] : along[i];
+  }
+  centre /= static_cast<float>(at.size());
+  const glm::vec3 axis_dir = glm::length(axis_sum) > 1e-6f ? glm::normalize(axis_sum) : along[0];
+  float spread = 0.0f;
+  for (const glm::vec3& p : at) {
+    const glm::vec3 d = p - centre;
+    spread = std::max(spread, glm::length(d - glm::dot(d, axis_dir) * axis_dir));
+  }
+  HairTie tie;
+  tie.center = centre;
+  tie.axis = axis_dir;
+  tie.radius = std::clamp(spread + 0.008f, 0.005f, 0.2f);
+  return editor_.addTie(tie);
+}
+
 bool StylingSession::undo() {
   const bool done = editor_.undo();
   clampSelection();

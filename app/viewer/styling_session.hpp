@@ -98,7 +98,7 @@ class StylingSession {
   // ---- strand brushes and mirrored editing ------------------------------
   /// What a left drag does: select and drag (a press on the scalp paints
   /// the region brush), or a brush over the key strands.
-  enum class Tool { Select, Comb, Length, Puff, Smooth, Curl };
+  enum class Tool { Select, Comb, Length, Puff, Smooth, Curl, Tie };
   Tool tool = Tool::Select;
   float brush_pixels = 60.0f;   // the strand brushes' radius on screen
   float brush_strength = 0.5f;  // 0..1, a dab's share of the full effect
@@ -145,6 +145,11 @@ class StylingSession {
   std::size_t mirrorSelected();
   /// A tie ring at the selected control point, along the key strand.
   std::size_t tieAtSelected(float radius);
+  /// A tie where the ray passes the key strands (the tie tool's click): it
+  /// snaps around every key strand passing within `reach` metres of the ray
+  /// (at its depth), centred on them, along them, 8 mm wider than they lie
+  /// apart. Throws StyleError saying what to do where none passes.
+  std::size_t tieAt(const render::Ray& ray, float reach);
   bool undo();
   bool redo();
   void save(const std::string& path) const { saveStyle(style(), path); }

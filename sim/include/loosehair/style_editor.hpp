@@ -121,6 +121,8 @@ class StyleEditor {
   void pasteKeyStrand(std::size_t wisp);
 
   // ---- ties and the style's own fields --------------------------------
+  /// A tie; refused (StyleError saying where to put it) when no key
+  /// strand passes through its ring, as the style's check would refuse it.
   std::size_t addTie(const HairTie& tie);
   void deleteTie(std::size_t tie);
   void setTie(std::size_t tie, const HairTie& value);

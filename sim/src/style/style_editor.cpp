@@ -2,6 +2,7 @@
 
 #include "init/cantilever.hpp"
 #include "init/mesh_scalp.hpp"
+#include "style/hair_tie.hpp"
 #include "loosehair/strand_brushes.hpp"
 
 #include <glm/geometric.hpp>
@@ -383,9 +384,14 @@ void checkTieValues(const char* operation, const HairTie& tie) {
 
 std::size_t StyleEditor::addTie(const HairTie& tie) {
   checkTieValues("addTie", tie);
-  record();
   HairTie t = tie;
   t.axis = glm::normalize(t.axis);
+  bool through = false;
+  for (const Wisp& w : style_.wisps) through = through || crossTie(sampleKeyStrand(w.key_strand, 16), t).has_value();
+  if (!through)
+    throw StyleError("a tie must hold hair: no wisp's key strand passes through a ring there; place it where the "
+                     "key strands pass (the tie tool: click on them), not at a strand's tip");
+  record();
   if (t.name.empty()) t.name = "tie " + std::to_string(style_.ties.size());
   style_.ties.push_back(t);
   return style_.ties.size() - 1;
