@@ -1,11 +1,15 @@
 // Styling (SPEC §6.2): member-strand generation at about 10k and 100k
-// strands, seeding 10k and 50k particles from a style's strands, and the
-// cost of the shape-keeping term in a step (the bob on the bundled head,
-// 5,888 particles: a step with and without it, and the term alone).
+// strands, an edit and its 20k-strand preview (issue 44's goal: under
+// 100 ms), a settle of the bob, seeding 10k and 50k particles from a
+// style's strands, and the cost of the shape-keeping term in a step (the
+// bob on the bundled head, 5,888 particles: a step with and without it,
+// and the term alone).
 //
 //   build/release/benchmarks/loosehair_bench_style
 #include "loosehair/loosehair.hpp"
 #include "loosehair/style.hpp"
+#include "loosehair/style_editor.hpp"
+#include "loosehair/style_settle.hpp"
 #include "shape_keeping.hpp"
 #include "style/style_seeding.hpp"
 
@@ -37,6 +41,41 @@ void BM_MemberStrands(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(strands.points.size());
 }
 BENCHMARK(BM_MemberStrands)->Arg(1)->Arg(10)->ArgName("density_x")->Unit(benchmark::kMillisecond);
+
+// One edit as the styling mode makes it, and the preview it shows: a drag
+// step of one control point (StyleEditor::dragged, setKeyStrand amending
+// the drag's undo step) and the bob's member strands grown again at the
+// preview's 6 mm point spacing, with blend 0 (as the file) or 1, at about
+// 20,000 strands (twice the bob's density). The issue's goal: under 100 ms.
+void BM_EditAndPreview(benchmark::State& state) {
+  Style s = bob();
+  for (Wisp& w : s.wisps) {
+    w.params.density *= 2.0f;
+    w.params.blend = static_cast<float>(state.range(0));
+  }
+  StyleEditor ed(s, bobHead());
+  const std::vector<glm::vec3> start = ed.style().wisps[3].key_strand;
+  StrandSet strands;
+  int step = 0;
+  for (auto _ : state) {
+    const glm::vec3 offset(0.0f, 0.0f, 0.002f * static_cast<float>(step % 10));
+    ed.setKeyStrand(3, ed.dragged(start, 2, offset, 0.06f), step > 0);
+    strands = buildMemberStrands(ed.style(), bobHead(), 0.006f, {}, 2);
+    ++step;
+  }
+  state.counters["strands"] = static_cast<double>(strands.size());
+}
+BENCHMARK(BM_EditAndPreview)->Arg(0)->Arg(1)->ArgName("blend")->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The styling mode's Settle on the bob: grown at 3,000 particles, 1.5 s of
+// plain LCP on a still head, the key strands read back (the issue's goal:
+// a few seconds at most for a bundled style).
+void BM_SettleStyle(benchmark::State& state) {
+  SettleOptions o;
+  o.threads = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(settledKeyStrands(bob(), o));
+}
+BENCHMARK(BM_SettleStyle)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
 void BM_SeedParticles(benchmark::State& state) {
   static const StrandSet strands = buildMemberStrands(bob(), bobHead());

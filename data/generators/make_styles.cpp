@@ -38,6 +38,10 @@ WispParams memberParams(float density, float offset_radius, float length_variati
   p.density = density;
   p.offset_radius = offset_radius;
   p.length_variation = length_variation;
+  // translated copies, as these styles grew before wisps could blend at
+  // their borders (remaking them with blending, and the tools of the
+  // styling mode, is issue 44's last part)
+  p.blend = 0.0f;
   return p;
 }
 

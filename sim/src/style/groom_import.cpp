@@ -128,6 +128,7 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
     w.params.strands = 1;
     w.params.offset_radius = 0.0f;
     w.params.length_variation = 0.0f;
+    w.params.blend = 0.0f;  // the groom's own strands, not a blend of their neighbours
     w.params.seed = k + 1;
     style.wisps.push_back(std::move(w));
   }

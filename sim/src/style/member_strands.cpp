@@ -307,7 +307,8 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
       for (const Body* b : bodies) {
         if (!b) continue;
         for (int pass = 0; pass < 2; ++pass) {
-          b->signedDistance(pts.data() + 1, n - 1, phi.data() + 1, nrm.data() + 1);
+          // exact only near the surface: the push acts only below the clearance
+          b->signedDistanceBelow(pts.data() + 1, n - 1, clearance, phi.data() + 1, nrm.data() + 1);
           for (std::size_t j = 1; j < n; ++j)
             if (phi[j] < clearance) pts[j] += (clearance - phi[j]) * nrm[j];
         }
