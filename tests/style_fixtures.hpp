@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -29,6 +30,16 @@ inline HeadDesc sphereHead() {
 inline const HeadModel& sphereModel() {
   static const HeadModel m = HeadModel::build(sphereHead(), "sphere-test");
   return m;
+}
+
+// The largest turn between consecutive spans of a key strand (degrees).
+inline float sharpestTurn(const std::vector<glm::vec3>& key) {
+  float worst = 0.0f;
+  for (std::size_t k = 1; k + 1 < key.size(); ++k) {
+    const glm::vec3 a = glm::normalize(key[k] - key[k - 1]), b = glm::normalize(key[k + 1] - key[k]);
+    worst = std::max(worst, glm::degrees(std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f))));
+  }
+  return worst;
 }
 
 inline WispRegion square(glm::vec2 lo, glm::vec2 hi) {

@@ -38,15 +38,6 @@ std::vector<float> spans(const std::vector<glm::vec3>& key) {
   return l;
 }
 
-float sharpestTurn(const std::vector<glm::vec3>& key) {
-  float worst = 0.0f;
-  for (std::size_t k = 1; k + 1 < key.size(); ++k) {
-    const glm::vec3 a = glm::normalize(key[k] - key[k - 1]), b = glm::normalize(key[k + 1] - key[k]);
-    worst = std::max(worst, glm::degrees(std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f))));
-  }
-  return worst;
-}
-
 BrushDab dab(StrandBrush b, std::size_t n, float weight) {
   BrushDab d;
   d.brush = b;

@@ -20,7 +20,7 @@ struct ScalpCoverage {
 
 /// The scalp sampled evenly by area (`samples` points, the same every call)
 /// against the strand `roots` (head frame): a point is covered when a root
-/// lies within `radius` (m). Throws std::invalid_argument for a radius not
+/// lies nearer than `radius` (m). Throws std::invalid_argument for a radius not
 /// in (0, 0.1] or no samples.
 ScalpCoverage scalpCoverage(const HeadModel& head, const std::vector<glm::vec3>& roots, float radius = 0.005f,
                             std::size_t samples = 4000);

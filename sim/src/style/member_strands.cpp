@@ -29,6 +29,7 @@
 #include "init/mesh_scalp.hpp"
 #include "loosehair/style.hpp"
 #include "parallel.hpp"
+#include "point_hash.hpp"
 #include "random.hpp"
 #include "style/hair_tie.hpp"
 #include "style/rotation_minimizing_frame.hpp"
@@ -39,7 +40,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <unordered_map>
 
 namespace loosehair {
 namespace {
@@ -55,11 +55,6 @@ glm::vec3 inBall(Random& rng, float radius) {
                       static_cast<float>(rng.uniform(-1.0, 1.0)));
     if (glm::dot(q, q) <= 1.0f) return radius * q;
   }
-}
-
-std::int64_t cellKey(glm::ivec3 c) {
-  return (static_cast<std::int64_t>(c.x) * 73856093) ^ (static_cast<std::int64_t>(c.y) * 19349663) ^
-         (static_cast<std::int64_t>(c.z) * 83492791);
 }
 
 // Polyline points a segment of the key strand's dense curve, for `spacing`.
@@ -95,19 +90,10 @@ std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, double 
   std::vector<double> cdf;
   double total = 0;
   for (std::uint32_t t : tris) cdf.push_back(total += s.areas[t]);
-  std::unordered_map<std::int64_t, std::vector<glm::vec3>> grid;
-  auto cell = [&](glm::vec3 p) { return glm::ivec3(glm::floor(p / radius)); };
+  PointHash taken(radius);
   auto accept = [&](glm::vec3 p) {
-    const glm::ivec3 c = cell(p);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = grid.find(cellKey(c + glm::ivec3(dx, dy, dz)));
-          if (it == grid.end()) continue;
-          for (const glm::vec3& q : it->second)
-            if (glm::length(q - p) < radius) return false;
-        }
-    grid[cellKey(c)].push_back(p);
+    if (taken.anyNearer(p, radius)) return false;
+    taken.add(p);
     return true;
   };
   accept(head.scalpPoint(roots[0]));

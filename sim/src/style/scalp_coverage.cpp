@@ -1,5 +1,6 @@
 #include "loosehair/scalp_coverage.hpp"
 
+#include "point_hash.hpp"
 #include "random.hpp"
 
 #include <glm/geometric.hpp>
@@ -9,16 +10,8 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 namespace loosehair {
-
-namespace {
-std::int64_t cellKey(glm::ivec3 c) {
-  return (static_cast<std::int64_t>(c.x) * 73856093) ^ (static_cast<std::int64_t>(c.y) * 19349663) ^
-         (static_cast<std::int64_t>(c.z) * 83492791);
-}
-}  // namespace
 
 ScalpCoverage scalpCoverage(const HeadModel& head, const std::vector<glm::vec3>& roots, float radius,
                             std::size_t samples) {
@@ -30,21 +23,8 @@ ScalpCoverage scalpCoverage(const HeadModel& head, const std::vector<glm::vec3>&
   double total = 0.0;
   for (double a : s.areas) total += a;
   if (!(total > 0.0) || s.triangles.empty()) return out;
-  std::unordered_map<std::int64_t, std::vector<glm::vec3>> grid;
-  auto cell = [&](glm::vec3 p) { return glm::ivec3(glm::floor(p / radius)); };
-  for (const glm::vec3& r : roots) grid[cellKey(cell(r))].push_back(r);
-  auto coveredAt = [&](glm::vec3 p) {
-    const glm::ivec3 c = cell(p);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = grid.find(cellKey(c + glm::ivec3(dx, dy, dz)));
-          if (it == grid.end()) continue;
-          for (const glm::vec3& q : it->second)
-            if (glm::length(q - p) <= radius) return true;
-        }
-    return false;
-  };
+  PointHash near(radius);
+  for (const glm::vec3& r : roots) near.add(r);
   // stratified by area: sample k at cumulative area (k + u) / samples, a
   // random point of the triangle there (a fixed stream: the same points)
   Random rng(0x5ca1bULL);
@@ -58,7 +38,7 @@ ScalpCoverage scalpCoverage(const HeadModel& head, const std::vector<glm::vec3>&
     const glm::vec3 p = static_cast<float>(1.0 - r1) * s.positions[t.x] +
                         static_cast<float>(r1 * (1.0 - r2)) * s.positions[t.y] +
                         static_cast<float>(r1 * r2) * s.positions[t.z];
-    if (coveredAt(p)) {
+    if (near.anyNearer(p, radius)) {
       ++covered;
     } else {
       out.bare.push_back(p);
