@@ -598,7 +598,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     if (!viewer::isViewerValue(name)) {
       c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
     } else if (name.rfind("styling.", 0) == 0 && name != "styling.density" && name != "styling.offset_radius" &&
-               name != "styling.length_variation" && name != "styling.blend" && name != "styling.step_mm" &&
+               name != "styling.length_variation" && name != "styling.blend" && name != "styling.edge_ramp" &&
+               name != "styling.step_mm" &&
                !c.styling()) {
       throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
     } else {
@@ -623,6 +624,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
         c.new_wisp.offset_radius = static_cast<float>(value);
       else if (name == "styling.blend")
         c.new_wisp.blend = static_cast<float>(value);
+      else if (name == "styling.edge_ramp")
+        c.new_wisp.edge_ramp = static_cast<float>(value);
       else if (name == "styling.length_variation")
         c.new_wisp.length_variation = static_cast<float>(value);
       else if (name == "styling.step_mm")

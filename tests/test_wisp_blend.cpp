@@ -136,3 +136,40 @@ TEST(ScalpCoverageMeasure, ShareOfTheScalpNearARoot) {
   EXPECT_THROW(scalpCoverage(h, {}, 0.0f), std::invalid_argument);
   EXPECT_THROW(scalpCoverage(h, {}, 0.005f, 0), std::invalid_argument);
 }
+
+// The hairline (WispParams::edge_ramp): members thin out towards the edge of
+// the hair, not along the border between two wisps.
+TEST(WispHairline, MembersThinOutTowardsTheEdgeOfTheHairNotBetweenWisps) {
+  const HeadModel& h = sphereModel();
+  auto grown = [&](float ramp) {
+    Style s;
+    s.source = "test-style";
+    s.head = sphereHead();
+    StyleEditor ed(s, h);
+    WispParams p;
+    p.density = 40.0f;
+    p.edge_ramp = ramp;
+    ed.createWisp(square({0.0f, 0.0f}, {0.5f, 1.0f}), p);
+    ed.createWisp(square({0.5f, 0.0f}, {1.0f, 1.0f}), p);
+    return buildMemberStrands(ed.style(), h, 0.02f);
+  };
+  // roots near the scalp square's edge (the hair's edge: the scalp maps its
+  // boundary to the square's) and near the wisps' shared border u = 1/2
+  auto count = [](const StrandSet& m) {
+    std::size_t edge = 0, border = 0;
+    for (const glm::vec2 uv : m.root_uv) {
+      const float to_edge = std::min({uv.x, 1.0f - uv.x, uv.y, 1.0f - uv.y});
+      edge += to_edge < 0.02f ? 1 : 0;
+      border += std::abs(uv.x - 0.5f) < 0.02f && to_edge > 0.15f ? 1 : 0;
+    }
+    return std::pair{edge, border};
+  };
+  const auto [edge0, border0] = count(grown(0.0f));
+  const auto [edge1, border1] = count(grown(0.01f));
+  std::printf("roots near the hair's edge: %zu without the ramp, %zu with; along the wisps' border: %zu, %zu\n",
+              edge0, edge1, border0, border1);
+  ASSERT_GT(edge0, 20u);
+  ASSERT_GT(border0, 20u);
+  EXPECT_LT(static_cast<double>(edge1), 0.6 * static_cast<double>(edge0)) << "the hairline thins out";
+  EXPECT_GT(static_cast<double>(border1), 0.85 * static_cast<double>(border0)) << "no thinning between wisps";
+}

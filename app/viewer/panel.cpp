@@ -457,7 +457,12 @@ void Panel::styling() {
     ImGui::SameLine();
     ImGui::Text("%.1f %% of the scalp covered", 100.0 * s->covered());
   }
-  if (!s->preview_error.empty()) ImGui::TextWrapped("preview: %s", s->preview_error.c_str());
+  // the preview's error goes to the status window over the view (a line
+  // here would move the buttons under the mouse), once a change
+  if (s->preview_error != shown_preview_error_) {
+    shown_preview_error_ = s->preview_error;
+    if (!shown_preview_error_.empty()) c_.fail("the preview cannot be grown: " + shown_preview_error_);
+  }
   ImGui::TextWrapped("Left drag on the scalp brushes a region. Drag a control point to move it (the points "
                      "after it follow), an arrow of the selected point to move along it, or a key strand "
                      "between its points to move it whole; each drag is one undo.");
@@ -493,6 +498,9 @@ void Panel::styling() {
   ImGui::SliderFloat("blend", &c_.new_wisp.blend, 0.0f, 1.0f, "%.2f", kClamp);
   tooltip("members near a wisp's border take the neighbouring wisps' shapes, so adjacent wisps meet without "
           "a gap (0: translated copies of the own key strand; never across a parting)");
+  ImGui::SliderFloat("hairline ramp", &c_.new_wisp.edge_ramp, 0.0f, 0.05f, "%.3f m", kClamp);
+  tooltip("members within this distance of the edge of the hair thin out towards it, so the hairline is not "
+          "a row of bristles (0: none)");
   ImGui::SliderFloat("new wisp length", &s->new_wisp_length, 0.02f, 1.0f, "%.2f m", kClamp);
   tooltip("a new wisp's key strand hangs from the scalp under gravity, this long");
   if (ImGui::Button("Create wisp")) c_.attempt([&] { s->createWispFromBrush(c_.new_wisp); });

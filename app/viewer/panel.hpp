@@ -30,6 +30,11 @@ class Panel {
   std::string gl_renderer;
   double gpu_carry_ms = 0.0;  // the window's last carry of the strands on the GPU (CPU side)
   std::size_t strands_drawn = 0, strands_bound = 0;  // in the last frame drawn
+
+ private:
+  std::string shown_preview_error_;  // the styling preview's error last shown
+
+ public:
   /// The last drawn frame's debug-view colours, for the legend.
   render::DebugLegend legend;
 

@@ -40,6 +40,7 @@ const ValueRule kRules[] = {
     {"styling.offset_radius", nullptr, "offset_radius", 0, 0, ""},
     {"styling.length_variation", nullptr, "length_variation", 0, 0, ""},
     {"styling.blend", nullptr, "blend", 0, 0, ""},
+    {"styling.edge_ramp", nullptr, "edge_ramp", 0, 0, ""},
 };
 
 const ValueRule* find(const std::string& name) {

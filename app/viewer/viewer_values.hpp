@@ -15,7 +15,7 @@ namespace loosehair::viewer {
 /// a new wisp's), "styling.settle_seconds", "styling.brush_pixels",
 /// "styling.brush_strength", "styling.curl_radius", "styling.curl_period"
 /// (the curl brush's, checked as a wisp's), "styling.density", "styling.offset_radius",
-/// "styling.length_variation", "styling.blend". Solver parameters go through
+/// "styling.length_variation", "styling.blend", "styling.edge_ramp". Solver parameters go through
 /// Controller::setParam. Throws std::runtime_error naming `source`, the
 /// value's name and the value (std::invalid_argument for an unknown name).
 double checkViewerValue(const std::string& name, double value, const std::string& source);

@@ -76,6 +76,12 @@ struct WispParams {
   /// than half the strand apart). Style
   /// files without the field mean 0 (as they grew before); new wisps 1.
   float blend = 1.0f;
+  /// The hairline (m, 0..0.05): members rooted within this distance of the
+  /// edge of the hair (the boundary of all wisps' regions together, not the
+  /// borders between wisps) are thinned, the nearer the edge the more
+  /// (kept with probability distance / edge_ramp), so the front edge is not
+  /// a row of bristles. 0: no ramp (files without the field).
+  float edge_ramp = 0.0f;
   std::uint64_t seed = 1;
   bool operator==(const WispParams&) const = default;
 };

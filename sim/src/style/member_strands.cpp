@@ -26,6 +26,11 @@
 // wisps meet in one shape there; near its own root a member follows its
 // own key strand. Wisps whose tips part by more than half the strand's
 // length (a parting) are not blended.
+//
+// The hairline (WispParams::edge_ramp): a member rooted at distance d from
+// the edge of the hair (the boundary edges of the union of all regions'
+// scalp triangles) is kept with probability d / edge_ramp, drawn from a
+// stream of its own, so the edge thins out instead of ending in a row.
 #include "init/mesh_scalp.hpp"
 #include "loosehair/style.hpp"
 #include "parallel.hpp"
@@ -179,6 +184,44 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
         ring[wi] = &t;
       }
   });
+  // the edge of the hair: edges of the union of the regions' triangles
+  // that only one of its triangles has (wanted only with a ramp)
+  std::vector<std::pair<glm::vec3, glm::vec3>> hair_edge;
+  bool any_ramp = false;
+  for (const Wisp& w : style.wisps) any_ramp = any_ramp || w.params.edge_ramp > 0.0f;
+  if (any_ramp) {
+    const ScalpTriangles& st = head.scalpTriangles();
+    std::vector<std::uint8_t> in(st.triangles.size(), 0);
+    for (const Wisp& w : style.wisps)
+      for (std::uint32_t t : regionTriangles(w.region, head)) in[t] = 1;
+    std::vector<std::pair<std::uint64_t, int>> edges;  // (lower vertex << 32 | higher), count
+    for (std::size_t t = 0; t < st.triangles.size(); ++t) {
+      if (!in[t]) continue;
+      for (int e = 0; e < 3; ++e) {
+        std::uint32_t a = st.triangles[t][e], b = st.triangles[t][(e + 1) % 3];
+        if (a > b) std::swap(a, b);
+        edges.emplace_back((static_cast<std::uint64_t>(a) << 32) | b, 1);
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i;
+      while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+      if (j - i == 1)
+        hair_edge.emplace_back(st.positions[edges[i].first >> 32], st.positions[edges[i].first & 0xffffffffu]);
+      i = j;
+    }
+  }
+  auto edgeDistance = [&](glm::vec3 p) {
+    float best = INFINITY;
+    for (const auto& [a, b] : hair_edge) {
+      const glm::vec3 ab = b - a;
+      const float l2 = glm::dot(ab, ab);
+      const float t = l2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / l2, 0.0f, 1.0f) : 0.0f;
+      best = std::min(best, glm::length(p - (a + t * ab)));
+    }
+    return best;
+  };
   auto blendable = [&](std::size_t j) { return !dense[j].empty() && arc[j].back() > 0.0f && !crossing[j]; };
   // key strand j from its root at fraction t of its length
   auto shapeAt = [&](std::size_t j, float t) {
@@ -228,9 +271,13 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
     Random rng(par.seed);
     const std::vector<glm::vec2> roots = memberRoots(w, head, area[wi], rng);
     Random shape(par.seed ^ 0x6a09e667f3bcc909ULL);
+    Random thin(par.seed ^ 0xbb67ae8584caa73bULL);
     std::vector<glm::vec3> pts(key.size());
     for (const glm::vec2 uv : roots) {
       const glm::vec3 root = head.scalpPoint(uv);
+      if (par.edge_ramp > 0.0f && !hair_edge.empty() &&
+          !(thin.uniform() * par.edge_ramp < edgeDistance(root)))
+        continue;  // thinned towards the hairline
       const glm::vec3 delta = root - key[0];
       // the neighbours' weights against the own wisp's 1, normalised
       weights.clear();

@@ -203,6 +203,7 @@ void checkParams(const WispParams& p, const std::string& where) {
   checkWispValue("curl_radius", p.curl_radius, where);
   checkWispValue("curl_period", p.curl_period, where);
   checkWispValue("blend", p.blend, where);
+  checkWispValue("edge_ramp", p.edge_ramp, where);
 }
 
 }  // namespace

@@ -83,6 +83,7 @@ Wisp readWisp(Fields f, std::size_t index) {
   p.curl_period = f.real("curl_period", p.curl_period, 1e-3, 1.0);
   // absent: 0, the translated copies styles grew before the field existed
   p.blend = f.real("blend", 0.0, 0.0, 1.0);
+  p.edge_ramp = f.real("edge_ramp", p.edge_ramp, 0.0, 0.05);
   p.seed = static_cast<std::uint64_t>(f.integer("seed", static_cast<std::int64_t>(p.seed), 0, INT64_MAX));
   f.finish();
   return w;
@@ -162,6 +163,7 @@ double checkWispValue(const std::string& field, double value, const std::string&
   if (field == "curl_radius") return w.params.curl_radius;
   if (field == "curl_period") return w.params.curl_period;
   if (field == "blend") return w.params.blend;
+  if (field == "edge_ramp") return w.params.edge_ramp;
   if (field == "seed") return static_cast<double>(w.params.seed);
   throw StyleError(source + ": " + field + ": not a wisp parameter that takes one number");
 }
@@ -220,6 +222,7 @@ std::string styleText(const Style& s, const std::string& path) {
                      {"curl_radius", p.curl_radius},
                      {"curl_period", p.curl_period},
                      {"blend", p.blend},
+                     {"edge_ramp", p.edge_ramp},
                      {"seed", p.seed}});
   }
   out["wisps"] = wisps;
