@@ -597,14 +597,31 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
     const double raw = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
     if (!viewer::isViewerValue(name)) {
       c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
-    } else if (name.rfind("styling.", 0) == 0 && name != "styling.density" && name != "styling.offset_radius" &&
-               name != "styling.length_variation" && name != "styling.blend" && name != "styling.edge_ramp" &&
-               name != "styling.step_mm" &&
-               !c.styling()) {
-      throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
     } else {
+      // values of the styling session (only in the styling mode) and of the
+      // wisps the brush creates, by their script names
+      using Session = viewer::StylingSession;
+      static const std::pair<const char*, float Session::*> session[] = {
+          {"styling.brush_radius", &Session::brush_radius},     {"styling.drag_falloff", &Session::drag_falloff},
+          {"styling.wisp_length", &Session::new_wisp_length},   {"styling.settle_seconds", &Session::settle_seconds},
+          {"styling.brush_pixels", &Session::brush_pixels},     {"styling.brush_strength", &Session::brush_strength},
+          {"styling.curl_radius", &Session::curl_radius},       {"styling.curl_period", &Session::curl_period}};
+      static const std::pair<const char*, float WispParams::*> new_wisp[] = {
+          {"styling.density", &WispParams::density},     {"styling.offset_radius", &WispParams::offset_radius},
+          {"styling.blend", &WispParams::blend},         {"styling.edge_ramp", &WispParams::edge_ramp},
+          {"styling.length_variation", &WispParams::length_variation}};
+      const auto* in_session = std::find_if(std::begin(session), std::end(session),
+                                            [&](const auto& f) { return name == f.first; });
+      const auto* in_wisp = std::find_if(std::begin(new_wisp), std::end(new_wisp),
+                                         [&](const auto& f) { return name == f.first; });
+      if (in_session != std::end(session) && !c.styling())
+        throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
       const double value = viewer::checkViewerValue(name, raw, e.where);
-      if (name == "speed")
+      if (in_session != std::end(session))
+        c.styling()->*(in_session->second) = static_cast<float>(value);
+      else if (in_wisp != std::end(new_wisp))
+        c.new_wisp.*(in_wisp->second) = static_cast<float>(value);
+      else if (name == "speed")
         c.sim().setSpeed(value);
       else if (name == "particles")
         c.pending().hair.particles = static_cast<int>(value);
@@ -616,34 +633,8 @@ bool runEvent(const viewer::ScriptEvent& e, Window& w, viewer::Panel& panel, Scr
         panel.shake_amplitude_deg = static_cast<float>(value);
       else if (name == "shake.frequency_hz")
         panel.shake_frequency_hz = static_cast<float>(value);
-      else if (name == "styling.brush_radius")
-        c.styling()->brush_radius = static_cast<float>(value);
-      else if (name == "styling.density")
-        c.new_wisp.density = static_cast<float>(value);
-      else if (name == "styling.offset_radius")
-        c.new_wisp.offset_radius = static_cast<float>(value);
-      else if (name == "styling.blend")
-        c.new_wisp.blend = static_cast<float>(value);
-      else if (name == "styling.edge_ramp")
-        c.new_wisp.edge_ramp = static_cast<float>(value);
-      else if (name == "styling.length_variation")
-        c.new_wisp.length_variation = static_cast<float>(value);
       else if (name == "styling.step_mm")
         panel.move_step_mm = static_cast<float>(value);
-      else if (name == "styling.drag_falloff")
-        c.styling()->drag_falloff = static_cast<float>(value);
-      else if (name == "styling.wisp_length")
-        c.styling()->new_wisp_length = static_cast<float>(value);
-      else if (name == "styling.settle_seconds")
-        c.styling()->settle_seconds = static_cast<float>(value);
-      else if (name == "styling.brush_pixels")
-        c.styling()->brush_pixels = static_cast<float>(value);
-      else if (name == "styling.brush_strength")
-        c.styling()->brush_strength = static_cast<float>(value);
-      else if (name == "styling.curl_radius")
-        c.styling()->curl_radius = static_cast<float>(value);
-      else if (name == "styling.curl_period")
-        c.styling()->curl_period = static_cast<float>(value);
     }
   } else if (what == "view") {
     const std::string name = text("name");

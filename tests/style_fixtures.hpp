@@ -42,6 +42,15 @@ inline float sharpestTurn(const std::vector<glm::vec3>& key) {
   return worst;
 }
 
+// A style on the sphere head with no wisps yet, as the styling mode starts one.
+inline Style emptyStyle() {
+  Style s;
+  s.source = "test-style";
+  s.name = "empty";
+  s.head = sphereHead();
+  return s;
+}
+
 inline WispRegion square(glm::vec2 lo, glm::vec2 hi) {
   WispRegion r;
   r.polygons.push_back({lo, {hi.x, lo.y}, hi, {lo.x, hi.y}});

@@ -69,6 +69,26 @@ Image draw(int w, int h, const Camera& cam, const RenderSettings& st,
   return {w, h, gl.pixels()};
 }
 
+// The hang strands drawn with each of `settings` by one renderer, three-
+// quarter view: the pictures and how many strands the camera drew.
+struct Drawn {
+  Image image;
+  std::size_t strands;
+};
+std::vector<Drawn> drawEach(int w, int h, const std::vector<RenderSettings>& settings) {
+  const HangStrands& s = hang();
+  const Camera cam = Camera::preset("three-quarter");
+  app::HeadlessGL gl(w, h);
+  Renderer r;
+  r.setBodies(&s.head, &s.torso);
+  std::vector<Drawn> out;
+  for (const RenderSettings& st : settings) {
+    r.render(s.input, cam, st, w, h);
+    out.push_back({Image{w, h, gl.pixels()}, r.lastTimes().strands_drawn});
+  }
+  return out;
+}
+
 glm::ivec2 toPixel(const Camera& cam, int w, int h, glm::vec3 p) {
   const glm::vec4 clip = cam.projection(static_cast<float>(w) / static_cast<float>(h)) * cam.view() * glm::vec4(p, 1.0f);
   return {static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * static_cast<float>(w)),
@@ -244,20 +264,11 @@ TEST(RenderStrands, SmallHairDrawsFewerStrandsAndLooksTheSame) {
   EXPECT_GT(farther, far) << "smaller on screen, fewer strands";
   EXPECT_EQ(strandLevelOfDetail(0, 0.25f, 1.5e-4f, 0.3f, 6.0f, 1300.0f), 1u);
   const HangStrands& s = hang();
-  const int w = 200, h = 150;
-  const Camera cam = Camera::preset("three-quarter");
   RenderSettings lod = strands(), all = strands();
   all.strand_lod = false;
-  app::HeadlessGL gl(w, h);
-  Renderer r;
-  r.setBodies(&s.head, &s.torso);
-  r.render(s.input, cam, all, w, h);
-  const Image full{w, h, gl.pixels()};
-  const std::size_t drawn_all = r.lastTimes().strands_drawn;
-  r.render(s.input, cam, lod, w, h);
-  const Image thinned{w, h, gl.pixels()};
-  const std::size_t drawn_lod = r.lastTimes().strands_drawn;
-  const double diff = meanDifference(full, thinned);
+  const std::vector<Drawn> d = drawEach(200, 150, {all, lod});
+  const std::size_t drawn_all = d[0].strands, drawn_lod = d[1].strands;
+  const double diff = meanDifference(d[0].image, d[1].image);
   std::printf("strands drawn: %zu of %zu; mean difference %.2f grey levels\n", drawn_lod, drawn_all, diff);
   EXPECT_EQ(drawn_all, s.field->strandCount());
   EXPECT_LE(2 * drawn_lod, drawn_all + 1);
@@ -272,23 +283,16 @@ TEST(RenderStrands, ABudgetDrawsFewerStrandsAndTheHairCoversTheSame) {
   EXPECT_EQ(strandBudgetStride(12000, 4000), 3u);
   EXPECT_EQ(strandBudgetStride(12001, 4000), 4u) << "at most the budget";
   const HangStrands& s = hang();
-  const int w = 320, h = 240;
-  const Camera cam = Camera::preset("three-quarter");
   RenderSettings all = strands(), budget = strands();
   budget.strand_budget = s.field->strandCount() / 3;
-  app::HeadlessGL gl(w, h);
-  Renderer r;
-  r.setBodies(&s.head, &s.torso);
-  r.render(s.input, cam, all, w, h);
-  const Image full{w, h, gl.pixels()};
-  const std::size_t drawn_all = r.lastTimes().strands_drawn;
-  r.render(s.input, cam, budget, w, h);
-  const Image fewer{w, h, gl.pixels()};
-  const std::size_t drawn = r.lastTimes().strands_drawn;
+  const std::vector<Drawn> d = drawEach(320, 240, {all, budget});
+  const Image& full = d[0].image;
+  const Image& fewer = d[1].image;
+  const std::size_t drawn_all = d[0].strands, drawn = d[1].strands;
   auto covered = [&](const Image& img) {
     std::size_t n = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) n += isBackground(img.at(x, y), all) ? 0 : 1;
+    for (int y = 0; y < img.h; ++y)
+      for (int x = 0; x < img.w; ++x) n += isBackground(img.at(x, y), all) ? 0 : 1;
     return n;
   };
   const double diff = meanDifference(full, fewer);

@@ -18,14 +18,6 @@ using namespace lhtest::styles;
 
 namespace {
 
-Style emptyStyle() {
-  Style s;
-  s.source = "test-style";
-  s.name = "empty";
-  s.head = sphereHead();
-  return s;
-}
-
 float length(const std::vector<glm::vec3>& key) {
   float l = 0.0f;
   for (std::size_t k = 1; k < key.size(); ++k) l += glm::length(key[k] - key[k - 1]);

@@ -26,11 +26,7 @@ namespace {
 // parting (spread 4: 20 cm, more than half their length).
 Style fanning(float blend, float spread = 1.0f) {
   const HeadModel& h = sphereModel();
-  Style s;
-  s.source = "test-style";
-  s.name = "parting";
-  s.head = sphereHead();
-  StyleEditor ed(s, h);
+  StyleEditor ed(emptyStyle(), h);
   WispParams p;
   p.density = 30.0f;
   p.offset_radius = 0.0f;
@@ -113,10 +109,7 @@ TEST(ScalpCoverageMeasure, ShareOfTheScalpNearARoot) {
   // nothing grown: nothing covered; one small wisp: a little; a wisp over
   // the whole scalp: all of it
   EXPECT_EQ(scalpCoverage(h, {}).covered, 0.0);
-  Style s;
-  s.source = "test-style";
-  s.head = sphereHead();
-  StyleEditor ed(s, h);
+  StyleEditor ed(emptyStyle(), h);
   WispParams p;
   p.density = 40.0f;
   ed.createWisp(square({0.45f, 0.45f}, {0.55f, 0.55f}), p);
@@ -142,10 +135,7 @@ TEST(ScalpCoverageMeasure, ShareOfTheScalpNearARoot) {
 TEST(WispHairline, MembersThinOutTowardsTheEdgeOfTheHairNotBetweenWisps) {
   const HeadModel& h = sphereModel();
   auto grown = [&](float ramp) {
-    Style s;
-    s.source = "test-style";
-    s.head = sphereHead();
-    StyleEditor ed(s, h);
+    StyleEditor ed(emptyStyle(), h);
     WispParams p;
     p.density = 40.0f;
     p.edge_ramp = ramp;

@@ -25,6 +25,17 @@ const glm::vec4 kHover{1.0f, 0.85f, 0.1f, 1.0f};
 // an arrow of the selected point: active and inactive lengths (m)
 constexpr float kActiveArrow = 0.05f, kArrow = 0.03f;
 
+// where the ray meets the plane through `p` with normal `n` (in front of
+// the ray's origin), if it does
+std::optional<glm::vec3> rayMeetsPlane(const render::Ray& ray, glm::vec3 p, glm::vec3 n) {
+  const glm::vec3 dir = glm::normalize(ray.direction);
+  const float den = glm::dot(dir, n);
+  if (!(std::abs(den) > 1e-6f)) return std::nullopt;
+  const float t = glm::dot(p - ray.origin, n) / den;
+  if (!(t > 0.0f)) return std::nullopt;
+  return ray.origin + t * dir;
+}
+
 }  // namespace
 
 StylingSession::StylingSession(Style style)
@@ -165,11 +176,9 @@ void StylingSession::dragTo(const render::Ray& ray) {
     const float s = (b * glm::dot(w0, dir) - glm::dot(w0, a)) / den;
     offset = s * a;
   } else {
-    const float den = glm::dot(dir, d.plane_normal);
-    if (!(std::abs(den) > 1e-6f)) return;
-    const float t = glm::dot(d.grab - ray.origin, d.plane_normal) / den;
-    if (!(t > 0.0f)) return;
-    offset = ray.origin + t * dir - d.grab;
+    const std::optional<glm::vec3> at = rayMeetsPlane(ray, d.grab, d.plane_normal);
+    if (!at) return;
+    offset = *at - d.grab;
   }
   if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(offset.z)) return;
   try {
@@ -189,7 +198,7 @@ void StylingSession::dragTo(const render::Ray& ray) {
 
 void StylingSession::brushDab(const render::Camera& camera, int width, int height, glm::vec2 at, glm::vec2 from,
                               bool invert) {
-  if (tool == Tool::Select) return;
+  if (tool == Tool::Select || tool == Tool::Tie) return;  // not brushes
   const auto& wisps = style().wisps;
   if (wisps.empty()) return;
   const render::Ray ray = camera.ray(at.x, at.y, width, height), before = camera.ray(from.x, from.y, width, height);
@@ -215,12 +224,8 @@ void StylingSession::brushDab(const render::Camera& camera, int width, int heigh
       dab.weight[k] = f * f;
       touched[w] = true;
       // the pointer's move at the point's depth (in the plane through it facing the view)
-      const float t1 = glm::dot(key[k] - ray.origin, facing) / glm::dot(glm::normalize(ray.direction), facing);
-      const float den0 = glm::dot(glm::normalize(before.direction), facing);
-      if (std::abs(den0) > 1e-6f) {
-        const float t0 = glm::dot(key[k] - before.origin, facing) / den0;
-        dab.move[k] = (ray.origin + t1 * glm::normalize(ray.direction)) - (before.origin + t0 * glm::normalize(before.direction));
-      }
+      const std::optional<glm::vec3> now = rayMeetsPlane(ray, key[k], facing), was = rayMeetsPlane(before, key[k], facing);
+      if (now && was) dab.move[k] = *now - *was;
     }
     if (!touched[w]) continue;
     if (tool == Tool::Curl) {
@@ -265,9 +270,7 @@ void StylingSession::endStroke() {
       params.emplace_back(w, p);
     }
     stroke_curled_.clear();
-    stroke_edited_ = false;
     editor_.setParamsOf(params);  // checked as a style file's: throws naming the value
-    return;
   }
   stroke_curled_.clear();
   stroke_edited_ = false;
@@ -293,33 +296,6 @@ bool StylingSession::finishSettle(bool wait) {
     throw StyleError("the style was edited while it settled: the settle was dropped; press Settle again");
   editor_.setKeyStrands(keys);
   clampSelection();
-  return true;
-}
-
-bool StylingSession::select(const render::Ray& ray, float tolerance) {
-  const auto& wisps = style().wisps;
-  float best = std::numeric_limits<float>::max();
-  std::optional<std::pair<std::size_t, std::size_t>> pick;
-  for (std::size_t w = 0; w < wisps.size(); ++w)
-    for (std::size_t k = 0; k < wisps[w].key_strand.size(); ++k) {
-      const float d = distanceToRay(wisps[w].key_strand[k], ray.origin, ray.direction);
-      if (d < tolerance && d < best) best = d, pick = std::make_pair(w, k);
-    }
-  if (pick) {
-    wisp = pick->first;
-    point = pick->second;
-    return true;
-  }
-  best = std::numeric_limits<float>::max();
-  std::optional<std::size_t> strand;
-  for (std::size_t w = 0; w < wisps.size(); ++w)
-    for (const glm::vec3& p : sampleKeyStrand(wisps[w].key_strand, 8)) {
-      const float d = distanceToRay(p, ray.origin, ray.direction);
-      if (d < tolerance && d < best) best = d, strand = w;
-    }
-  if (!strand) return false;
-  wisp = strand;
-  point.reset();
   return true;
 }
 

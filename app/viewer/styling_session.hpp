@@ -54,10 +54,6 @@ class StylingSession {
   std::optional<std::size_t> wisp;   // selected wisp
   std::optional<std::size_t> point;  // its selected control point (>= 1 to move)
   StylingAxis axis = StylingAxis::Normal;
-  /// Selects the control point nearest the ray within `tolerance` metres
-  /// (at its depth), else the wisp whose key strand passes nearest; false
-  /// (selection unchanged) when nothing is near.
-  bool select(const render::Ray& ray, float tolerance);
   /// Keeps the selection valid after edits, undo and redo.
   void clampSelection();
 

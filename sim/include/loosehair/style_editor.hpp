@@ -97,10 +97,8 @@ class StyleEditor {
   /// (across x = HeadModel::mirrorPlaneX()), if it is another wisp and
   /// within `tolerance` metres: its partner for mirrored editing.
   std::optional<std::size_t> mirrorPartner(std::size_t w, float tolerance = 0.01f) const;
-  /// A key strand (wisp w's, or `key`) mirrored and moved onto wisp p's
-  /// root (the partner's key strand in mirrored editing), kept out of the
-  /// head.
-  std::vector<glm::vec3> mirroredOnto(std::size_t w, std::size_t p) const;
+  /// A key strand mirrored and moved onto wisp p's root (the partner's key
+  /// strand in mirrored editing), kept out of the head.
   std::vector<glm::vec3> mirroredOnto(const std::vector<glm::vec3>& key, std::size_t p) const;
   /// Several wisps' parameters set in one edit (a curl brush stroke).
   void setParamsOf(const std::vector<std::pair<std::size_t, WispParams>>& params);

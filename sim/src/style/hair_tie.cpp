@@ -23,6 +23,12 @@ std::optional<TieCrossing> crossTie(const std::vector<glm::vec3>& p, const HairT
   return std::nullopt;
 }
 
+bool tieHoldsAKeyStrand(const Style& style, const HairTie& tie) {
+  for (const Wisp& w : style.wisps)
+    if (crossTie(sampleKeyStrand(w.key_strand, 16), tie)) return true;
+  return false;
+}
+
 bool insideTie(const HairTie& tie, glm::vec3 p) {
   const glm::vec3 r = p - tie.center;
   const float along = glm::dot(r, tie.axis);

@@ -19,6 +19,11 @@ struct TieCrossing {
 /// within the ring's radius), if any.
 std::optional<TieCrossing> crossTie(const std::vector<glm::vec3>& polyline, const HairTie& tie);
 
+/// Whether any of the style's key strands (their splines) passes through the
+/// tie's ring: a tie that holds none is refused (StyleEditor::addTie,
+/// checkStyle).
+bool tieHoldsAKeyStrand(const Style& style, const HairTie& tie);
+
 /// Whether a point lies inside the ring: within its radius of the axis and
 /// half its width of the ring's plane.
 bool insideTie(const HairTie& tie, glm::vec3 p);

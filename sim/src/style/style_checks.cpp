@@ -61,13 +61,7 @@ void checkStyle(const Style& style, const HeadModel& head) {
   }
   for (std::size_t j = 0; j < style.ties.size(); ++j) {
     const HairTie& t = style.ties[j];
-    bool through = false;
-    for (const Wisp& w : style.wisps)
-      if (crossTie(sampleKeyStrand(w.key_strand, 16), t)) {
-        through = true;
-        break;
-      }
-    if (!through)
+    if (!tieHoldsAKeyStrand(style, t))
       throw StyleError(src + ": ties[" + std::to_string(j) + "]: no wisp's key strand passes through the ring (centre " +
                        point(t.center) + ", radius " + mm(t.radius) + ")");
     if (head.headDistance(t.center) < t.radius)

@@ -47,8 +47,8 @@ std::vector<glm::vec3> StyleEditor::newKeyStrand(glm::vec2 uv, float length) con
   // down the slope of the scalp there, lifted off it a little; on the
   // crown, where the slope is flat, towards the back (-z: the heads face
   // +z), so that it falls rather than standing on end
-  const glm::vec3 slope = down - glm::dot(down, n) * n;
-  const glm::vec3 back = glm::vec3(0.0f, 0.0f, -1.0f) - n.z * -1.0f * n;
+  const glm::vec3 to_back(0.0f, 0.0f, -1.0f);
+  const glm::vec3 slope = down - glm::dot(down, n) * n, back = to_back - glm::dot(to_back, n) * n;
   const float sl = glm::length(slope), bl = glm::length(back);
   const glm::vec3 along = sl > 0.2f ? slope / sl : bl > 1e-3f ? back / bl : glm::vec3(1.0f, 0.0f, 0.0f);
   const glm::vec3 dir = glm::normalize(along + 0.35f * n);
@@ -87,20 +87,9 @@ void StyleEditor::setKeyStrands(const std::vector<std::vector<glm::vec3>>& keys)
   if (keys.size() != style_.wisps.size())
     throw StyleError("setKeyStrands: " + std::to_string(keys.size()) + " key strands for " +
                      std::to_string(style_.wisps.size()) + " wisps");
-  std::vector<std::vector<glm::vec3>> checked(keys.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    if (keys[i].size() < 2) throw StyleError("setKeyStrands: wisp " + std::to_string(i) + ": fewer than two control points");
-    checked[i] = keys[i];
-    checked[i][0] = style_.wisps[i].key_strand[0];
-    for (std::size_t k = 1; k < checked[i].size(); ++k) {
-      checkPoint(i, k, checked[i][k]);
-      if (glm::length(checked[i][k] - checked[i][k - 1]) < 1e-5f)
-        throw StyleError("setKeyStrands: wisp " + std::to_string(i) + ": control points " + std::to_string(k - 1) +
-                         " and " + std::to_string(k) + " would coincide");
-    }
-  }
-  record();
-  for (std::size_t i = 0; i < keys.size(); ++i) style_.wisps[i].key_strand = std::move(checked[i]);
+  std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> all;
+  for (std::size_t i = 0; i < keys.size(); ++i) all.emplace_back(i, keys[i]);
+  setKeyStrandsOf(std::move(all));
 }
 
 void StyleEditor::setKeyStrand(std::size_t i, std::vector<glm::vec3> key, bool amend) {
@@ -142,11 +131,6 @@ std::optional<std::size_t> StyleEditor::mirrorPartner(std::size_t i, float toler
     if (d <= best_d) best_d = d, best = j;
   }
   return best;
-}
-
-std::vector<glm::vec3> StyleEditor::mirroredOnto(std::size_t i, std::size_t p) const {
-  if (i >= style_.wisps.size()) throw StyleError("mirroredOnto: there is no wisp " + std::to_string(i));
-  return mirroredOnto(style_.wisps[i].key_strand, p);
 }
 
 std::vector<glm::vec3> StyleEditor::mirroredOnto(const std::vector<glm::vec3>& from, std::size_t p) const {
@@ -387,9 +371,7 @@ std::size_t StyleEditor::addTie(const HairTie& tie) {
   checkTieValues("addTie", tie);
   HairTie t = tie;
   t.axis = glm::normalize(t.axis);
-  bool through = false;
-  for (const Wisp& w : style_.wisps) through = through || crossTie(sampleKeyStrand(w.key_strand, 16), t).has_value();
-  if (!through)
+  if (!tieHoldsAKeyStrand(style_, t))
     throw StyleError("a tie must hold hair: no wisp's key strand passes through a ring there; place it where the "
                      "key strands pass (the tie tool: click on them), not at a strand's tip");
   record();
