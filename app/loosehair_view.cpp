@@ -343,8 +343,13 @@ void mouseButton(Window& w, int button, bool press, bool shift, double x, double
   if (button == GLFW_MOUSE_BUTTON_LEFT) {
     if (press && st && st->tool == viewer::StylingSession::Tool::Tie) {  // a tie where the wisps pass
       const render::Ray r = rayAt(w, x, y);
+      // the key strands within the brush circle (its radius in metres at
+      // the camera's distance), or at least those picked at the click
+      const render::Camera& cam = c.view().camera;
+      const float brush = st->brush_pixels * 2.0f * cam.distance *
+                          std::tan(0.5f * glm::radians(cam.fov_deg)) / static_cast<float>(std::max(1, w.height));
       c.attempt([&] {
-        st->tieAt(r, 3.0f * pickTolerance(c));
+        st->tieAt(r, std::max(3.0f * pickTolerance(c), brush));
         c.note("tied: the ring goes round the key strands there");
       });
       return;

@@ -4,6 +4,7 @@
 // eyes, other proportions or an open neck it simulates without hair inside
 // it or unable to reach a root; a scan full of holes is refused with the
 // limit. The bundled scenes build clean.
+#include "loosehair/head_landmarks.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -279,4 +280,30 @@ TEST(HeadMeshes, ABustWithArmsIsNotTakenForAHeadInAnotherUnit) {
   for (auto& v : bust.vertices) v *= 100.0f;
   const Built centimetres = buildHead(bust, "bust-with-arms-cm");
   EXPECT_TRUE(mentions(centimetres, "head.scale")) << centimetres.error;
+}
+
+// The heights hairstyles are cut to (loosehair/head_landmarks.hpp): on the
+// bundled head in the order a head has them, the ears' span and the chin
+// where the mesh has them (measured by hand on its profile: ears about
+// +3..-3 cm, chin about -10.5 cm); scaled with the head; a mesh with no ears
+// (a sphere) is refused with a sentence.
+TEST(HeadMeshes, HeightsOfBrowsEarsAndChinAreFoundOnTheMesh) {
+  TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
+  const HeadHeights at = measureHeadHeights(head);
+  std::printf("top %.3f brows %.3f ears %.3f..%.3f chin %.3f m\n", at.top, at.brows, at.ear_top, at.ear_bottom, at.chin);
+  EXPECT_GT(at.top, at.brows);
+  EXPECT_GT(at.brows, at.ear_top);
+  EXPECT_GT(at.ear_top, at.ear_bottom);
+  EXPECT_GT(at.ear_bottom, at.chin);
+  EXPECT_NEAR(at.ear_top, 0.03f, 0.01f);
+  EXPECT_NEAR(at.ear_bottom, -0.03f, 0.01f);
+  EXPECT_NEAR(at.chin, -0.105f, 0.01f);
+  for (auto& v : head.vertices) v *= 1.2f;
+  const HeadHeights big = measureHeadHeights(head);
+  EXPECT_NEAR(big.chin, 1.2f * at.chin, 0.01f);
+  EXPECT_NEAR(big.ear_top, 1.2f * at.ear_top, 0.01f);
+  TriangleMesh ball;
+  lhtest::addBox(ball, glm::vec3(-0.08f), glm::vec3(0.08f));
+  EXPECT_THROW(measureHeadHeights(ball), MeshError);
+  EXPECT_THROW(measureHeadHeights(TriangleMesh{}), MeshError);
 }

@@ -5,6 +5,7 @@
 #include "loosehair/strand_files.hpp"
 #include "loosehair/style.hpp"
 #include "loosehair/style_editor.hpp"
+#include "style/hair_tie.hpp"
 #include "style/rotation_minimizing_frame.hpp"
 #include "style/style_seeding.hpp"
 #include "style_fixtures.hpp"
@@ -449,4 +450,25 @@ TEST(StyleSeeding, ParticlesFollowTheStrandsAndStayOutOfTheHead) {
   }
   ASSERT_GT(hair, 1000u);
   EXPECT_LT(angle_sum / static_cast<double>(hair) * 180.0 / M_PI, 15.0);
+}
+
+// Through a tie only the tail beyond the ring is shortened by the length
+// variation: a member ending before the ring would not be held by it.
+TEST(StyleStrands, EveryMemberOfATiedWispPassesItsRingWhateverItsLength) {
+  const HeadModel& h = lhtest::styles::sphereModel();
+  Style s = lhtest::styles::tiedStyle(4.0f);
+  for (Wisp& w : s.wisps) w.params.length_variation = 0.9f;
+  const StrandSet m = buildMemberStrands(s, h);
+  ASSERT_GT(m.size(), 50u);
+  std::size_t held = 0;
+  float shortest = INFINITY, longest = 0.0f;
+  for (std::size_t k = 0; k < m.size(); ++k) {
+    const std::vector<glm::vec3> p(m.points.begin() + m.first[k], m.points.begin() + m.first[k + 1]);
+    held += crossTie(p, s.ties[0]) ? 1 : 0;
+    float len = 0.0f;
+    for (std::size_t j = 1; j < p.size(); ++j) len += glm::length(p[j] - p[j - 1]);
+    shortest = std::min(shortest, len), longest = std::max(longest, len);
+  }
+  EXPECT_EQ(held, m.size());
+  EXPECT_LT(shortest, 0.8f * longest) << "the tails still vary in length";
 }

@@ -165,3 +165,55 @@ TEST(StyleDirectEditing, ATieThatHoldsNoHairIsRefusedSayingWhereToPutIt) {
   EXPECT_NO_THROW(ed.addTie(on));
   EXPECT_EQ(ed.style().ties.size(), 1u);
 }
+
+TEST(StyleDirectEditing, AStrandDraggedAcrossTheHeadGoesRoundItSoTheStyleStillLoads) {
+  const HeadModel& h = sphereModel();
+  StyleEditor ed(twoWispStyle(), h);
+  const std::vector<glm::vec3> key = ed.style().wisps[0].key_strand;
+  // every point but the root carried to the far side of the sphere: each
+  // lies outside, but the spline from the root to them cuts through it
+  std::vector<glm::vec3> across = key;
+  for (std::size_t k = 1; k < across.size(); ++k) across[k] = ed.keptOutside(glm::vec3(-key[k].x, key[k].y, -key[k].z));
+  float deepest = 0.0f;
+  for (const glm::vec3& p : sampleKeyStrand(across, 8)) deepest = std::min(deepest, h.headDistance(p));
+  ASSERT_LT(deepest, -0.003f) << "the spline as given would cut into the head";
+  ed.setKeyStrand(0, across);
+  const std::vector<glm::vec3>& kept = ed.style().wisps[0].key_strand;
+  EXPECT_GT(kept.size(), across.size()) << "control points were added";
+  for (const glm::vec3& p : across) EXPECT_NE(std::find(kept.begin(), kept.end(), p), kept.end()) << "the given points stay";
+  Style s = ed.style();
+  s.source = "dragged";
+  EXPECT_NO_THROW(checkStyle(s, h)) << "what the editor holds passes the style file's check";
+  // a single point moved across does the same
+  ed.undo();
+  ed.setControlPoint(0, 1, across[1]);
+  s = ed.style();
+  EXPECT_NO_THROW(checkStyle(s, h));
+}
+
+TEST(StyleDirectEditing, ATieWhoseRingReachesIntoTheHeadIsRefusedAsItsFileWouldBe) {
+  const HeadModel& h = sphereModel();
+  StyleEditor ed(twoWispStyle(), h);
+  const std::vector<glm::vec3> key = ed.style().wisps[0].key_strand;
+  HairTie tie;  // round the key strand where it lies on the head
+  tie.center = key[1];
+  tie.axis = glm::normalize(key[2] - key[1]);
+  tie.radius = 2.0f * h.headDistance(key[1]) + 0.01f;
+  try {
+    ed.addTie(tie);
+    FAIL() << "a ring reaching into the head was accepted";
+  } catch (const StyleError& e) {
+    EXPECT_NE(std::string(e.what()).find("would reach into the head"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(ed.style().ties.empty());
+  // the same ring with the strand gathered off the head, in one edit
+  const glm::vec3 n = glm::normalize(key[1]);  // the sphere's outward normal there
+  tie.center = key[1] + (tie.radius + 0.002f) * n;
+  std::vector<glm::vec3> gathered = key;
+  gathered.insert(gathered.begin() + 2, tie.center);
+  ASSERT_NO_THROW(ed.addTie(tie, {{0, gathered}}));
+  EXPECT_EQ(ed.style().ties.size(), 1u);
+  ed.undo();
+  EXPECT_TRUE(ed.style().ties.empty());
+  EXPECT_EQ(ed.style().wisps[0].key_strand, key) << "the tie and the gathering are one undo step";
+}

@@ -77,7 +77,7 @@ TEST(StyleSettle, TheSettledStyleLiesWhereGravityPutsIt) {
   const Style settled = ed.style();
   float fell = 0.0f;
   for (std::size_t w = 0; w < keys.size(); ++w) {
-    ASSERT_EQ(keys[w].size(), raw.wisps[w].key_strand.size());
+    ASSERT_GE(keys[w].size(), raw.wisps[w].key_strand.size());
     EXPECT_EQ(settled.wisps[w].key_strand[0], raw.wisps[w].key_strand[0]) << "the root stays on the region";
     for (std::size_t k = 1; k < keys[w].size(); ++k) EXPECT_GT(h.headDistance(keys[w][k]), 0.0f);
     fell = std::max(fell, raw.wisps[w].key_strand.back().y - keys[w].back().y);

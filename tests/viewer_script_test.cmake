@@ -127,6 +127,39 @@ elseif(CASE STREQUAL "styling-tie")
   endif()
   drawn("${out}" tie-tied.png 10)
   message(STATUS "styling-tie: ${o}")
+elseif(CASE STREQUAL "styling-bob" OR CASE STREQUAL "styling-ponytail")
+  # a bob and a ponytail made with the mouse from an empty style on the
+  # mannequin: the style looks like its name (the checker), loads in the
+  # command-line program as the viewer saved it, and the last step (the
+  # settle, the tie) is one undo step
+  string(REPLACE "styling-" "" name "${CASE}")
+  view("${DATA}/view-mannequin.json" "${SCRIPTS}/${CASE}.json" out)
+  execute_process(COMMAND "${CHECK}" --${name} "${OUT}/${name}.json" RESULT_VARIABLE rc OUTPUT_VARIABLE o
+    ERROR_VARIABLE e)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${o}\n${e}\n${out}")
+  endif()
+  execute_process(COMMAND "${LOOSEHAIR}" style "${OUT}/${name}.json" RESULT_VARIABLE rc OUTPUT_VARIABLE lo
+    ERROR_VARIABLE le)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the style the viewer saved does not load: ${lo}\n${le}")
+  endif()
+  if(name STREQUAL "bob")
+    set(before "${OUT}/bob-raw.json")
+  else()
+    set(before "${OUT}/ponytail-untied.json")
+  endif()
+  foreach(pair "${before};${OUT}/${name}-undo.json" "${OUT}/${name}.json;${OUT}/${name}-redo.json")
+    list(GET pair 0 want)
+    list(GET pair 1 got)
+    file(MD5 "${want}" a)
+    file(MD5 "${got}" b)
+    if(NOT a STREQUAL b)
+      message(FATAL_ERROR "${got} is not ${want}: undo/redo of the last step")
+    endif()
+  endforeach()
+  drawn("${out}" ${name}-back.png 10)
+  message(STATUS "${CASE}: ${o}")
 elseif(CASE STREQUAL "strands")
   # the panel's hair switch: strands drawn, then Marschner shading; the
   # simulation is the CLI's all the while

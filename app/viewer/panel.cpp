@@ -475,10 +475,11 @@ void Panel::styling() {
     tooltip("what a left drag does: select and drag points (on the scalp: paint a region), or brush the key "
             "strands: comb (pull along the drag, tips most), length (grow; with Shift: cut), puff (lift from the "
             "scalp), smooth, curl (the curl below to the wisps touched), tie (click where key strands pass: "
-            "a ring round them)");
-    if (s->tool != StylingSession::Tool::Select && s->tool != StylingSession::Tool::Tie) {
+            "the key strands within the brush gathered into a ring off the head)");
+    if (s->tool != StylingSession::Tool::Select) {
       ImGui::SliderFloat("brush size", &s->brush_pixels, 5.0f, 300.0f, "%.0f px", kClamp);
-      ImGui::SliderFloat("strength", &s->brush_strength, 0.0f, 1.0f, "%.2f", kClamp);
+      if (s->tool != StylingSession::Tool::Tie)
+        ImGui::SliderFloat("strength", &s->brush_strength, 0.0f, 1.0f, "%.2f", kClamp);
     }
     if (s->tool == StylingSession::Tool::Curl) {
       ImGui::SliderFloat("curl radius", &s->curl_radius, 0.0f, 0.05f, "%.3f m", kClamp);

@@ -361,9 +361,14 @@ std::size_t StylingSession::tieAtSelected(float radius) {
 
 std::size_t StylingSession::tieAt(const render::Ray& ray, float reach) {
   const auto& wisps = style().wisps;
-  std::vector<glm::vec3> at, along;
-  for (const Wisp& w : wisps) {
-    const std::vector<glm::vec3> dense = sampleKeyStrand(w.key_strand, 16);
+  constexpr int kPer = 16;
+  struct Hit {
+    std::size_t wisp, span;
+    glm::vec3 at, along;
+  };
+  std::vector<Hit> hits;
+  for (std::size_t w = 0; w < wisps.size(); ++w) {
+    const std::vector<glm::vec3> dense = sampleKeyStrand(wisps[w].key_strand, kPer);
     float best = reach;
     std::optional<std::size_t> hit;
     for (std::size_t j = 1; j + 1 < dense.size(); ++j) {
@@ -371,29 +376,60 @@ std::size_t StylingSession::tieAt(const render::Ray& ray, float reach) {
       if (d < best) best = d, hit = j;
     }
     if (!hit) continue;
-    at.push_back(dense[*hit]);
-    along.push_back(glm::normalize(dense[*hit + 1] - dense[*hit - 1]));
+    hits.push_back({w, std::min(*hit / kPer, wisps[w].key_strand.size() - 2), dense[*hit],
+                    glm::normalize(dense[*hit + 1] - dense[*hit - 1])});
   }
-  if (at.empty())
+  if (hits.empty())
     throw StyleError("no key strand passes there: click where the wisps' key strands (the dark lines) pass, and "
                      "the tie goes round them");
   glm::vec3 centre(0.0f), axis_sum(0.0f);
-  for (std::size_t i = 0; i < at.size(); ++i) {
-    centre += at[i];
-    axis_sum += glm::dot(along[i], along[0]) < 0.0f ? -along[i] : along[i];
+  for (const Hit& h : hits) {
+    centre += h.at;
+    axis_sum += glm::dot(h.along, hits[0].along) < 0.0f ? -h.along : h.along;
   }
-  centre /= static_cast<float>(at.size());
-  const glm::vec3 axis_dir = glm::length(axis_sum) > 1e-6f ? glm::normalize(axis_sum) : along[0];
+  centre /= static_cast<float>(hits.size());
+  const glm::vec3 axis_dir = glm::length(axis_sum) > 1e-6f ? glm::normalize(axis_sum) : hits[0].along;
   float spread = 0.0f;
-  for (const glm::vec3& p : at) {
-    const glm::vec3 d = p - centre;
+  for (const Hit& h : hits) {
+    const glm::vec3 d = h.at - centre;
     spread = std::max(spread, glm::length(d - glm::dot(d, axis_dir) * axis_dir));
   }
   HairTie tie;
-  tie.center = centre;
   tie.axis = axis_dir;
-  tie.radius = std::clamp(spread + 0.008f, 0.005f, 0.2f);
-  return editor_.addTie(tie);
+  tie.radius = std::clamp(spread + 0.008f, 0.008f, 0.02f);  // a hand's tie: at most 2 cm
+  // Hair lying on the head is gathered off it, as a hand does before
+  // tying: the ring is moved out until it clears the head by 2 mm, and each
+  // key strand it ties gets a control point inside it (within half its
+  // radius of the centre, on the strand's side), its points beyond moved
+  // as far.
+  float phi = 0.0f;
+  glm::vec3 normal(0.0f);
+  head_->head()->signedDistance(&centre, 1, &phi, &normal);
+  if (phi < tie.radius + 0.002f) centre += (tie.radius + 0.002f - phi) * normal;
+  tie.center = centre;
+  std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> gathered;
+  for (const Hit& h : hits) {
+    glm::vec3 off = h.at - centre;
+    off -= glm::dot(off, axis_dir) * axis_dir;
+    const float len = glm::length(off), most = 0.5f * tie.radius;
+    if (len > most) off *= most / len;
+    // the rest of the strand comes along (the tail hangs from the ring)
+    std::vector<glm::vec3> key = wisps[h.wisp].key_strand;
+    const glm::vec3 pulled = centre + off, by = pulled - h.at;
+    for (std::size_t k = h.span + 1; k < key.size(); ++k) key[k] = editor_.keptOutside(key[k] + by);
+    key.insert(key.begin() + static_cast<std::ptrdiff_t>(h.span + 1), pulled);
+    gathered.emplace_back(h.wisp, std::move(key));
+  }
+  // the ring faces the gathered strands as they now run through it
+  glm::vec3 along(0.0f);
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    const std::vector<glm::vec3>& key = gathered[i].second;
+    const std::size_t at = hits[i].span + 1;
+    const glm::vec3 d = key[std::min(at + 1, key.size() - 1)] - key[at - 1];
+    if (glm::length(d) > 1e-6f) along += glm::dot(d, axis_dir) < 0.0f ? -glm::normalize(d) : glm::normalize(d);
+  }
+  if (glm::length(along) > 1e-6f) tie.axis = glm::normalize(along);
+  return editor_.addTie(tie, std::move(gathered));
 }
 
 bool StylingSession::undo() {

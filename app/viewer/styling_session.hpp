@@ -144,7 +144,10 @@ class StylingSession {
   /// A tie where the ray passes the key strands (the tie tool's click): it
   /// snaps around every key strand passing within `reach` metres of the ray
   /// (at its depth), centred on them, along them, 8 mm wider than they lie
-  /// apart. Throws StyleError saying what to do where none passes.
+  /// apart (8 to 20 mm), moved off the head until it clears it, and gathers
+  /// them: each gets a control point inside the ring, the rest of the strand
+  /// moved as far. One undo step.
+  /// Throws StyleError saying what to do where none passes.
   std::size_t tieAt(const render::Ray& ray, float reach);
   bool undo();
   bool redo();

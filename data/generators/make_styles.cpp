@@ -14,9 +14,11 @@
 // leaves the root in a direction the style chooses, bends towards gravity
 // step by step, and is pushed off the head and torso by a clearance that
 // grows along the strand (hair from the crown lies over hair rooted lower).
+#include "loosehair/head_landmarks.hpp"
 #include "loosehair/head_model.hpp"
 #include "loosehair/style.hpp"
 #include "loosehair/style_editor.hpp"
+#include "loosehair/style_settle.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -32,26 +34,25 @@ namespace {
 using namespace loosehair;
 
 // Member settings of a style's wisps: density (strands per cm^2), largest
-// tip offset (m), length variation.
+// tip offset (m), length variation; wisps blend into their neighbours at
+// their borders and the hairline is thinned over 6 mm.
 WispParams memberParams(float density, float offset_radius, float length_variation) {
   WispParams p;
   p.density = density;
   p.offset_radius = offset_radius;
   p.length_variation = length_variation;
-  // translated copies, as these styles grew before wisps could blend at
-  // their borders (remaking them with blending, and the tools of the
-  // styling mode, is issue 44's last part)
-  p.blend = 0.0f;
+  p.blend = 1.0f;
+  p.edge_ramp = 0.006f;
   return p;
 }
 
-
 struct Drape {
   float length = 0.3f;   // m
-  float step = 0.02f;    // m between marched points
-  float bend = 0.35f;    // how fast the direction turns towards gravity per step
-  float clearance = 0.006f, layering = 0.06f;  // off the head: clearance + layering * s
-  int every = 3;         // a control point every this many steps
+  float step = 0.01f;    // m between marched points
+  float bend = 0.2f;     // how fast the direction turns towards gravity per step
+  float clearance = 0.003f, layering = 0.03f;  // off the head: clearance + layering * s
+  float cut = -INFINITY;  // the strand ends where it first falls below this height (m)
+  int every = 4;         // a control point every this many steps
 };
 
 // Pushes p off the head and torso to at least `gap`.
@@ -73,7 +74,9 @@ glm::vec3 pushOff(const HeadModel& head, glm::vec3 p, float gap) {
   return p;
 }
 
-// A key strand from `root`, leaving along `dir0`, falling under gravity.
+// A key strand from `root`, leaving along `dir0`, combed by `steer` (a
+// direction the hair is pulled towards at a point and arc length) and
+// falling under gravity, lying on the head where the head holds it up.
 std::vector<glm::vec3> drape(const HeadModel& head, glm::vec3 root, glm::vec3 dir0, const Drape& d,
                              const std::function<glm::vec3(glm::vec3, float)>& steer = nullptr) {
   std::vector<glm::vec3> control{root};
@@ -86,9 +89,12 @@ std::vector<glm::vec3> drape(const HeadModel& head, glm::vec3 root, glm::vec3 di
     const glm::vec3 next = pushOff(head, p + d.step * dir, d.clearance + d.layering * s);
     dir = glm::normalize(next - p);
     p = next;
-    if (k % d.every == 0 || k == steps) control.push_back(p);
+    const bool cut = p.y < d.cut && k >= 2;
+    if (k % d.every == 0 || k == steps || cut) control.push_back(p);
+    if (cut) break;
   }
-  return control;
+  if (control.size() < 3) control.insert(control.begin() + 1, 0.5f * (control[0] + control[1]));
+  return control;  // the editor adds points where the spline would cut into the head
 }
 
 WispRegion cell(int i, int j, int nu, int nv) {
@@ -106,11 +112,19 @@ glm::vec3 towardsNape(const HeadModel& head, glm::vec2 uv) {
   return glm::normalize(glm::cross(n, e));
 }
 
+// Away from the head's vertical axis, level.
+glm::vec3 outwards(glm::vec3 p) {
+  const glm::vec3 o(p.x, 0.0f, p.z);
+  return glm::length(o) > 1e-6f ? glm::normalize(o) : glm::vec3(0, 0, -1);
+}
+
 // A grid of wisps; `direction(uv, root, normal)` gives each key strand's
-// first direction and `drape` its fall.
+// first direction, `drape_at(uv)` its fall and `steer_at(uv)` its combing.
+using Direction = std::function<glm::vec3(glm::vec2, glm::vec3, glm::vec3)>;
+using Steer = std::function<glm::vec3(glm::vec3, float)>;
 Style gridStyle(const HeadModel& head, const std::string& name, int nu, int nv, const WispParams& params,
-                const Drape& d, const std::function<glm::vec3(glm::vec2, glm::vec3)>& direction,
-                const std::function<Drape(glm::vec2)>& drape_at = nullptr) {
+                const std::function<Drape(glm::vec2)>& drape_at, const Direction& direction,
+                const std::function<Steer(glm::vec2)>& steer_at = nullptr) {
   Style base;
   base.name = name;
   base.head = head.desc();
@@ -122,10 +136,25 @@ Style gridStyle(const HeadModel& head, const std::string& name, int nu, int nv, 
       const glm::vec3 root = head.scalpPoint(uv), n = head.scalpNormal(uv);
       WispParams p = params;
       p.seed = params.seed + static_cast<std::uint64_t>(j * nu + i);
-      const Drape di = drape_at ? drape_at(uv) : d;
-      ed.createWisp(r, p, drape(head, root, direction(uv, n), di),
+      ed.createWisp(r, p, drape(head, root, direction(uv, root, n), drape_at(uv), steer_at ? steer_at(uv) : nullptr),
                     name + " " + std::to_string(j) + "," + std::to_string(i));
     }
+  return ed.style();
+}
+
+// The style's key strands as the physics leaves them after a second on a
+// still head (settledKeyStrands): the hair lies where gravity puts it.
+// Wisps rooted along the front hairline (v < 0.2) keep their combed shape:
+// without the stiffness of real hair, plain LCP lets them fall over the face.
+Style settled(Style style, const HeadModel& head) {
+  checkStyle(style, head);
+  StyleEditor ed(std::move(style), head);
+  SettleOptions o;
+  o.seconds = 1.0;
+  std::vector<std::vector<glm::vec3>> keys = settledKeyStrands(ed.style(), o);
+  for (std::size_t w = 0; w < keys.size(); ++w)
+    if (regionRoot(ed.style().wisps[w].region, head).y < 0.2f) keys[w] = ed.style().wisps[w].key_strand;
+  ed.setKeyStrands(keys);
   return ed.style();
 }
 
@@ -134,9 +163,9 @@ Style ponytail(const HeadModel& head) {
   const glm::vec3 back = head.scalpPoint(back_uv), bn = head.scalpNormal(back_uv);
   HairTie tie;
   tie.name = "ponytail tie";
-  tie.center = back + 0.03f * bn;
+  tie.center = back + 0.022f * bn;
   tie.axis = glm::normalize(glm::vec3(0, -1, -0.35f));
-  tie.radius = 0.02f;
+  tie.radius = 0.016f;
   tie.width = 0.014f;
   Style base;
   base.name = "ponytail";
@@ -144,30 +173,41 @@ Style ponytail(const HeadModel& head) {
   // The style's default hold (1 Hz) for the tail; the hair between scalp
   // and tie is held at the tie's own, stronger hold (HairTie::hold).
   StyleEditor ed(base, head);
-  const int nu = 5, nv = 4;
-  WispParams params = memberParams(18.0f, 0.02f, 0.12f);
+  const int nu = 7, nv = 6;
+  WispParams params = memberParams(36.0f, 0.016f, 0.12f);
+  const glm::vec3 before = tie.center - 0.03f * tie.axis;
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       const WispRegion r = cell(i, j, nu, nv);
       const glm::vec2 uv = regionRoot(r, head);
-      const glm::vec3 root = head.scalpPoint(uv), n = head.scalpNormal(uv);
-      // from the root over the head to just before the tie, through the ring
-      // along its axis, then the tail falling away from the head
+      const glm::vec3 root = head.scalpPoint(uv);
+      // combed flat over the head from the root to just before the tie
+      // (each step towards it, kept 3 mm off the surface), through the
+      // ring along its axis, then the tail falling away from the head
       std::vector<glm::vec3> key{root};
-      const glm::vec3 before = tie.center - 0.035f * tie.axis;
-      const glm::vec3 lift = root + 0.012f * n;
-      const int n_mid = 4;
-      for (int k = 1; k <= n_mid; ++k) {
-        const float t = static_cast<float>(k) / (n_mid + 1);
-        const glm::vec3 q = (1.0f - t) * lift + t * before;
-        key.push_back(pushOff(head, q, 0.008f + 0.01f * t));
+      glm::vec3 p = root;
+      float walked = 0;
+      for (int k = 0; k < 60 && glm::distance(p, before) > 0.025f; ++k) {
+        const glm::vec3 next = head.scalpPoint(head.nearestScalpUv(p + 0.01f * glm::normalize(before - p)));
+        float phi;
+        glm::vec3 nn;
+        head.head()->signedDistance(&next, 1, &phi, &nn);
+        const glm::vec3 q = pushOff(head, next - phi * nn, 0.003f);
+        walked += glm::distance(p, q);
+        p = q;
+        if (walked > 0.03f) {
+          key.push_back(p);
+          walked = 0;
+        }
       }
+      if (glm::distance(key.back(), before) < 0.012f) key.pop_back();
       key.push_back(before);
       key.push_back(tie.center);
       // below the ring the tail fans out a little: each wisp towards the
       // side of the head it comes from
       const float side = std::clamp((root.x - tie.center.x) / 0.06f, -1.0f, 1.0f);
-      glm::vec3 p = tie.center, dir = glm::normalize(tie.axis + glm::vec3(0.35f * side, 0, 0));
+      p = tie.center;
+      glm::vec3 dir = glm::normalize(tie.axis + glm::vec3(0.25f * side, 0, 0));
       for (int k = 1; k <= 5; ++k) {
         dir = glm::normalize(dir + 0.25f * glm::vec3(0, -1, 0));
         p = pushOff(head, p + 0.05f * dir, 0.01f);
@@ -199,64 +239,84 @@ int main(int argc, char** argv) {
     const HeadModel head = HeadModel::build(desc, "bundled head");
     std::filesystem::create_directories(dir / "styles");
 
+    const HeadHeights at = measureHeadHeights(head.headMesh());
+    std::printf("bundled head: top %.3f, brows %.3f, ears %.3f..%.3f, chin %.3f m\n", at.top, at.brows, at.ear_top,
+                at.ear_bottom, at.chin);
+    const float jaw = at.chin + 0.35f * (at.ear_bottom - at.chin);
     // sideways away from the parting at u = parting, then down
-    auto parted = [&](float parting, float lift) {
-      return [&head, parting, lift](glm::vec2 uv, glm::vec3 n) {
+    auto parted = [&](float parting, float lift) -> Direction {
+      return [&head, parting, lift](glm::vec2 uv, glm::vec3, glm::vec3 n) {
         const glm::vec3 e = head.scalpTangentU(uv);
         const float side = uv.x < parting ? -1.0f : 1.0f;
         return lift * n + side * e + 0.3f * towardsNape(head, uv);
       };
     };
+    auto fixed = [](Drape d) { return [d](glm::vec2) { return d; }; };
+    // hair that would fall in front of the face below the brows is combed
+    // aside and back, behind the face's sides, as one frames a face
+    const float brow = at.brows;
+    auto clearOfFace = [brow](glm::vec2) -> Steer {
+      return [brow](glm::vec3 p, float) {
+        if (p.y > brow || p.z < 0.0f) return glm::vec3(0.0f);
+        return glm::vec3(p.x < 0.0f ? -0.5f : 0.5f, 0.0f, -0.5f);
+      };
+    };
     std::vector<std::pair<std::string, Style>> styles;
     {
-      WispParams p = memberParams(20.0f, 0.008f, 0.08f);
+      // to the middle of the back, over the shoulders
+      WispParams p = memberParams(26.0f, 0.008f, 0.06f);
       Drape d;
       d.length = 0.42f;
-      styles.emplace_back("long-straight", gridStyle(head, "long-straight", 6, 5, p, d, parted(0.5f, 0.6f)));
+      styles.emplace_back("long-straight",
+                          gridStyle(head, "long-straight", 7, 6, p, fixed(d), parted(0.5f, 0.5f), clearOfFace));
     }
     {
-      WispParams p = memberParams(22.0f, 0.006f, 0.05f);
-      Drape d;
-      d.length = 0.17f;
-      d.bend = 0.3f;
-      d.step = 0.015f;
-      d.layering = 0.1f;
-      Style s = gridStyle(head, "bob", 6, 5, p, d, parted(0.5f, 1.0f), [&](glm::vec2 uv) {
-        Drape e = d;
-        e.length = 0.1f + 0.12f * uv.y;  // short at the front, to the chin at the sides and back
+      // a fringe cut at the brows; everything else falls outwards from the
+      // crown and is cut level at the jaw, all round
+      WispParams p = memberParams(28.0f, 0.006f, 0.04f);
+      auto drape_at = [&](glm::vec2 uv) {
+        Drape e;
+        e.length = 0.25f;
+        e.cut = uv.y < 0.2f ? at.brows + 0.01f : jaw;
         return e;
-      });
-      styles.emplace_back("bob", s);
+      };
+      auto leave = [&](glm::vec2 uv, glm::vec3 root, glm::vec3 n) {
+        if (uv.y < 0.2f) return glm::normalize(0.3f * n - towardsNape(head, uv));
+        return glm::normalize(0.4f * n + outwards(root));
+      };
+      styles.emplace_back("bob", settled(gridStyle(head, "bob", 7, 6, p, drape_at, leave), head));
     }
     {
-      WispParams p = memberParams(20.0f, 0.01f, 0.1f);
+      // everything right of the parting at u = 0.3 combed over to the right
+      WispParams p = memberParams(26.0f, 0.01f, 0.08f);
       Drape d;
       d.length = 0.3f;
-      // everything right of the parting at u = 0.3 is swept over to the right
-      auto over = [&head](glm::vec2 uv, glm::vec3 n) {
+      auto over = [&head](glm::vec2 uv, glm::vec3, glm::vec3 n) {
         const glm::vec3 e = head.scalpTangentU(uv);
         const float side = uv.x < 0.3f ? -1.0f : 1.0f;
-        return 0.5f * n + side * e - 0.2f * towardsNape(head, uv);
+        return 0.3f * n + side * e - 0.2f * towardsNape(head, uv);
       };
-      styles.emplace_back("side-swept", gridStyle(head, "side-swept", 6, 5, p, d, over));
+      styles.emplace_back("side-swept", gridStyle(head, "side-swept", 7, 6, p, fixed(d), over, clearOfFace));
     }
     {
-      // fuller wisps than the others: swept back, neighbouring key strands
-      // part over the sides of the head, and narrow wisps show as stripes
-      WispParams p = memberParams(20.0f, 0.016f, 0.1f);
+      // combed back flat over the crown, falling from the back of the head
+      WispParams p = memberParams(34.0f, 0.012f, 0.08f);
       Drape d;
-      d.length = 0.28f;
-      d.bend = 0.2f;
-      auto back = [&head](glm::vec2 uv, glm::vec3 n) { return 0.4f * n + towardsNape(head, uv); };
-      styles.emplace_back("swept-back", gridStyle(head, "swept-back", 6, 5, p, d, back));
+      d.length = 0.26f;
+      d.bend = 0.1f;
+      auto back = [&head](glm::vec2 uv, glm::vec3, glm::vec3 n) { return 0.2f * n + towardsNape(head, uv); };
+      auto comb = [](glm::vec2) -> Steer {
+        return [](glm::vec3, float s) { return s < 0.08f ? glm::vec3(0, 0, -0.2f) : glm::vec3(0.0f); };
+      };
+      styles.emplace_back("swept-back", gridStyle(head, "swept-back", 7, 6, p, fixed(d), back, comb));
     }
     {
-      WispParams p = memberParams(18.0f, 0.01f, 0.1f);
+      WispParams p = memberParams(24.0f, 0.01f, 0.08f);
       p.curl_radius = 0.012f;
       p.curl_period = 0.045f;
       Drape d;
       d.length = 0.38f;
-      styles.emplace_back("wavy", gridStyle(head, "wavy", 6, 5, p, d, parted(0.5f, 0.8f)));
+      styles.emplace_back("wavy", gridStyle(head, "wavy", 7, 6, p, fixed(d), parted(0.5f, 0.5f), clearOfFace));
     }
     styles.emplace_back("ponytail", ponytail(head));
     for (auto& [file, style] : styles) {

@@ -164,6 +164,15 @@ double regionArea(const WispRegion& region, const HeadModel& head);
 /// The key strand sampled densely along its Catmull-Rom spline.
 std::vector<glm::vec3> sampleKeyStrand(const std::vector<glm::vec3>& control, int per_span = 16);
 
+/// `control` with control points added where its spline would pass 3 mm
+/// or more inside the head (what the style file refuses, though every
+/// control point lies outside: a strand dragged across the head, say):
+/// each the spline's own point halfway along such a span, kept `clearance`
+/// (m) outside the head and torso; a few rounds. What the editor stores
+/// (StyleEditor::setKeyStrand) goes through it, so an edit never makes a
+/// style its file would refuse.
+std::vector<glm::vec3> keyStrandKeptOutside(std::vector<glm::vec3> control, const HeadModel& head, float clearance);
+
 /// The three styling directions at control point k (Zhang & Wünsche Fig. 4):
 /// the curve's unit tangent, the unit scalp normal at the scalp point
 /// nearest to the control point, and the unit cross product tangent x normal.

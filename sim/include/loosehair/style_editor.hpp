@@ -84,6 +84,10 @@ class StyleEditor {
   /// falloff moves the whole strand but its root.
   std::vector<glm::vec3> dragged(const std::vector<glm::vec3>& key, std::size_t k, glm::vec3 offset,
                                  float falloff) const;
+  /// Every edit that changes a key strand adds control points where its
+  /// spline would cut into the head (keyStrandKeptOutside), so the style
+  /// always passes checkStyle.
+  ///
   /// Replaces the wisp's key strand (control point 0 stays the region's
   /// root). With `amend` the change joins the previous one if that was a
   /// setKeyStrand of the same wisp with no other edit, undo or redo
@@ -120,8 +124,12 @@ class StyleEditor {
 
   // ---- ties and the style's own fields --------------------------------
   /// A tie; refused (StyleError saying where to put it) when no key
-  /// strand passes through its ring, as the style's check would refuse it.
-  std::size_t addTie(const HairTie& tie);
+  /// strand passes through its ring or the ring reaches into the head, as
+  /// the style's check would refuse it. `gathered`: key strands replaced in
+  /// the same edit (as setKeyStrandsOf; the tie tool pulls the strands it
+  /// ties into the ring), one undo step with the tie.
+  std::size_t addTie(const HairTie& tie,
+                     std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> gathered = {});
   void deleteTie(std::size_t tie);
   void setTie(std::size_t tie, const HairTie& value);
   void setColour(glm::vec3 colour);
@@ -137,6 +145,13 @@ class StyleEditor {
 
  private:
   Wisp& wisp(std::size_t i, const char* what);
+  const Wisp& wisp(std::size_t i, const char* what) const;
+  /// setKeyStrandsOf's checks and mending of the keys (roots put back on
+  /// their regions); the wisps they replace, sorted.
+  std::vector<std::size_t> preparedKeys(std::vector<std::pair<std::size_t, std::vector<glm::vec3>>>& keys) const;
+  /// The tie checks of the style file (values, a key strand through the
+  /// ring, the ring out of the head) against `style`.
+  void checkTie(const char* what, const HairTie& tie, const Style& style) const;
   void checkPoint(std::size_t wisp, std::size_t k, glm::vec3 p) const;
   /// Records the current style for undo and clears the redo list.
   void record();

@@ -25,9 +25,12 @@ struct SettleOptions {
   int threads = 0;
 };
 
-/// Each wisp's key strand after the settle: as many control points as it
-/// has, each where the hair carried the point of the key strand it was
-/// (render strands' carry, StrandField), the root where it was. Throws
+/// Each wisp's key strand after the settle: each control point where the
+/// hair carried the point of the key strand it was (render strands' carry,
+/// StrandField), 3 mm out of the head and torso, the root where it was.
+/// A span whose spline would pass into the head gets the carried point
+/// halfway along it as a new control point, so the result always passes
+/// checkStyle; otherwise as many control points as before. Throws
 /// StyleError for a style without wisps or out-of-range options, and what
 /// growing the scene throws (SceneError) for a style that cannot be grown.
 std::vector<std::vector<glm::vec3>> settledKeyStrands(const Style& style, const SettleOptions& options = {});

@@ -1,17 +1,40 @@
-// Key strands (SPEC §6.2): their Catmull-Rom spline, the three styling
-// directions at a control point, and the local frame of a root.
+// Key strands (SPEC §6.2): their Catmull-Rom spline (kept out of the
+// head), the three styling directions at a control point, and the local
+// frame of a root.
 #include "init/mesh_scalp.hpp"
+#include "loosehair/strand_brushes.hpp"
 #include "loosehair/style.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace loosehair {
 
 std::vector<glm::vec3> sampleKeyStrand(const std::vector<glm::vec3>& control, int per_span) {
   return catmullRom(control, per_span);
+}
+
+std::vector<glm::vec3> keyStrandKeptOutside(std::vector<glm::vec3> c, const HeadModel& head, float clearance) {
+  constexpr int kPer = 8;        // as checkStyle samples a span
+  constexpr float kDip = 0.0029f;  // deeper than this is mended (checkStyle refuses 3 mm)
+  constexpr std::size_t kMaxPoints = 4096;
+  for (int round = 0; round < 6 && c.size() >= 2 && c.size() < kMaxPoints; ++round) {
+    const std::vector<glm::vec3> dense = sampleKeyStrand(c, kPer);
+    std::vector<std::size_t> dips;  // spans, in order
+    for (std::size_t j = 1; j < dense.size(); ++j) {
+      const std::size_t k = std::min((j - 1) / kPer, c.size() - 2);
+      if ((dips.empty() || dips.back() != k) && head.headDistance(dense[j]) < -kDip) dips.push_back(k);
+    }
+    if (dips.empty()) break;
+    const std::vector<glm::vec3> halves = sampleKeyStrand(c, 2);  // point 2k + 1: the middle of span k
+    for (auto it = dips.rbegin(); it != dips.rend(); ++it)
+      c.insert(c.begin() + static_cast<std::ptrdiff_t>(*it + 1), keptOutsideHead(head, halves[2 * *it + 1], clearance));
+  }
+  return c;
 }
 
 glm::mat3 rootFrame(const HeadModel& head, glm::vec2 uv) {

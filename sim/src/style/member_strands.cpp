@@ -319,8 +319,15 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
         }
         pts[j] = p;
       }
-      // cut to the member's length along its own arc
-      const float cut = keep * length;
+      // cut to the member's length along its own arc; through a tie only the
+      // tail beyond the ring is shortened (a member ending before the ring
+      // would not be held by it)
+      float cut = keep * length;
+      if (tie) {
+        float own = 0.0f;  // the member's own arc to where the key strand crosses the ring
+        for (std::size_t j = 1; j < pts.size() && sk[j - 1] < tie->arc_length; ++j) own += glm::length(pts[j] - pts[j - 1]);
+        cut = own + keep * std::max(0.0f, length - tie->arc_length);
+      }
       std::size_t n = 1;
       float s = 0;
       for (; n < pts.size(); ++n) {

@@ -25,6 +25,10 @@ std::string mm(double m) {
 StyleEditor::StyleEditor(Style style, const HeadModel& head) : style_(std::move(style)), head_(head) {}
 
 Wisp& StyleEditor::wisp(std::size_t i, const char* what) {
+  return const_cast<Wisp&>(static_cast<const StyleEditor&>(*this).wisp(i, what));
+}
+
+const Wisp& StyleEditor::wisp(std::size_t i, const char* what) const {
   if (i >= style_.wisps.size())
     throw StyleError(std::string(what) + ": there is no wisp " + std::to_string(i) + " (the style has " +
                      std::to_string(style_.wisps.size()) + ")");
@@ -97,11 +101,22 @@ void StyleEditor::setKeyStrand(std::size_t i, std::vector<glm::vec3> key, bool a
 }
 
 void StyleEditor::setKeyStrandsOf(std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> keys, bool amend) {
+  const std::vector<std::size_t> which = preparedKeys(keys);
+  const bool joins = amend && !which.empty() && amendable_ == which && !undo_.empty();
+  if (!joins) record();
+  for (auto& [i, key] : keys) style_.wisps[i].key_strand = std::move(key);
+  amendable_ = which;
+}
+
+std::vector<std::size_t> StyleEditor::preparedKeys(
+    std::vector<std::pair<std::size_t, std::vector<glm::vec3>>>& keys) const {
   std::vector<std::size_t> which;
   for (auto& [i, key] : keys) {
     const Wisp& w = wisp(i, "setKeyStrand");
     if (key.size() < 2) throw StyleError("setKeyStrand: a key strand needs at least two control points");
     key[0] = w.key_strand[0];
+    for (std::size_t k = 1; k < key.size(); ++k) checkPoint(i, k, key[k]);
+    key = keyStrandKeptOutside(std::move(key), head_, kClearance);
     for (std::size_t k = 1; k < key.size(); ++k) {
       checkPoint(i, k, key[k]);
       if (glm::length(key[k] - key[k - 1]) < 1e-5f)
@@ -113,10 +128,7 @@ void StyleEditor::setKeyStrandsOf(std::vector<std::pair<std::size_t, std::vector
   std::sort(which.begin(), which.end());
   if (std::adjacent_find(which.begin(), which.end()) != which.end())
     throw StyleError("setKeyStrand: a wisp given twice in one edit");
-  const bool joins = amend && !which.empty() && amendable_ == which && !undo_.empty();
-  if (!joins) record();
-  for (auto& [i, key] : keys) style_.wisps[i].key_strand = std::move(key);
-  amendable_ = which;
+  return which;
 }
 
 std::optional<std::size_t> StyleEditor::mirrorPartner(std::size_t i, float tolerance) const {
@@ -213,6 +225,7 @@ std::size_t StyleEditor::createWisp(const WispRegion& region_in, const WispParam
     w.key_strand[0] = root;
   }
   for (std::size_t k = 1; k < w.key_strand.size(); ++k) checkPoint(index, k, w.key_strand[k]);
+  w.key_strand = keyStrandKeptOutside(std::move(w.key_strand), head_, kClearance);
   record();
   style_.wisps.push_back(std::move(w));
   return index;
@@ -234,7 +247,7 @@ void StyleEditor::setRegion(std::size_t i, const WispRegion& region_in) {
   record();
   Wisp& v = style_.wisps[i];
   v.region = region;
-  v.key_strand = key;
+  v.key_strand = keyStrandKeptOutside(key, head_, kClearance);
 }
 
 void StyleEditor::setParams(std::size_t i, const WispParams& p) {
@@ -283,6 +296,7 @@ std::size_t StyleEditor::mirrorWisp(std::size_t i) {
   m.key_strand[0] = head_.scalpPoint(regionRoot(m.region, head_));
   const std::size_t index = style_.wisps.size();
   for (std::size_t k = 1; k < m.key_strand.size(); ++k) checkPoint(index, k, m.key_strand[k]);
+  m.key_strand = keyStrandKeptOutside(std::move(m.key_strand), head_, kClearance);
   record();
   style_.wisps.push_back(std::move(m));
   return index;
@@ -307,6 +321,7 @@ void StyleEditor::addControlPoint(std::size_t i, std::size_t k, std::optional<gl
   record();
   auto& key = style_.wisps[i].key_strand;
   key.insert(key.begin() + static_cast<std::ptrdiff_t>(k), p);
+  key = keyStrandKeptOutside(std::move(key), head_, kClearance);
 }
 
 void StyleEditor::deleteControlPoint(std::size_t i, std::size_t k) {
@@ -339,7 +354,9 @@ void StyleEditor::setControlPoint(std::size_t i, std::size_t k, glm::vec3 p) {
     throw StyleError("setControlPoint: the point would coincide with the previous control point");
   checkPoint(i, k, p);
   record();
-  style_.wisps[i].key_strand[k] = p;
+  auto& key = style_.wisps[i].key_strand;
+  key[k] = p;
+  key = keyStrandKeptOutside(std::move(key), head_, kClearance);
 }
 
 void StyleEditor::copyKeyStrand(std::size_t i) {
@@ -354,7 +371,7 @@ void StyleEditor::pasteKeyStrand(std::size_t i) {
       reRootKeyStrand(clipboard_->key, head_, clipboard_->root_uv, head_, regionRoot(w.region, head_));
   for (std::size_t k = 1; k < key.size(); ++k) checkPoint(i, k, key[k]);
   record();
-  style_.wisps[i].key_strand = key;
+  style_.wisps[i].key_strand = keyStrandKeptOutside(key, head_, kClearance);
 }
 
 namespace {
@@ -367,14 +384,29 @@ void checkTieValues(const char* operation, const HairTie& tie) {
 }
 }  // namespace
 
-std::size_t StyleEditor::addTie(const HairTie& tie) {
-  checkTieValues("addTie", tie);
+void StyleEditor::checkTie(const char* what, const HairTie& tie, const Style& style) const {
+  checkTieValues(what, tie);
   HairTie t = tie;
   t.axis = glm::normalize(t.axis);
-  if (!tieHoldsAKeyStrand(style_, t))
+  if (!tieHoldsAKeyStrand(style, t))
     throw StyleError("a tie must hold hair: no wisp's key strand passes through a ring there; place it where the "
                      "key strands pass (the tie tool: click on them), not at a strand's tip");
+  const float phi = head_.headDistance(t.center);
+  if (phi < t.radius)
+    throw StyleError(std::string(what) + ": the ring (radius " + mm(t.radius) + ") would reach into the head, its centre " +
+                     "being " + mm(phi) + " from it; gather the hair away from the head first, or use a smaller ring");
+}
+
+std::size_t StyleEditor::addTie(const HairTie& tie,
+                                std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> gathered) {
+  (void)preparedKeys(gathered);
+  Style with = style_;
+  for (auto& [i, key] : gathered) with.wisps[i].key_strand = key;
+  checkTie("addTie", tie, with);
+  HairTie t = tie;
+  t.axis = glm::normalize(t.axis);
   record();
+  for (auto& [i, key] : gathered) style_.wisps[i].key_strand = std::move(key);
   if (t.name.empty()) t.name = "tie " + std::to_string(style_.ties.size());
   style_.ties.push_back(t);
   return style_.ties.size() - 1;
@@ -388,7 +420,9 @@ void StyleEditor::deleteTie(std::size_t j) {
 
 void StyleEditor::setTie(std::size_t j, const HairTie& value) {
   if (j >= style_.ties.size()) throw StyleError("setTie: there is no tie " + std::to_string(j));
-  checkTieValues("setTie", value);
+  Style without = style_;
+  without.ties.erase(without.ties.begin() + static_cast<std::ptrdiff_t>(j));
+  checkTie("setTie", value, without);
   record();
   style_.ties[j] = value;
   style_.ties[j].axis = glm::normalize(value.axis);
