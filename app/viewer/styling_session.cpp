@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <thread>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -452,7 +453,10 @@ void StylingSession::rebuildPreview() {
   }
   preview_error.clear();
   try {
-    preview_ = buildMemberStrands(thin, *head_, 0.006f);
+    // drawn, not simulated: pushed out of the head by the bodies' grids, on
+    // the machine's cores (the same strands for any count)
+    const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+    preview_ = buildMemberStrands(thin, *head_, 0.006f, {}, threads, false);
   } catch (const std::exception& e) {
     preview_ = StrandSet{};
     preview_error = e.what();

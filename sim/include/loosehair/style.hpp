@@ -217,8 +217,14 @@ inline constexpr float kStrandSpacing = 0.004f;
 /// StyleError, naming the style and its largest wisp, when the strands or
 /// their points could exceed `budget` (StrandBudget, scene.hpp). The wisps
 /// are grown on `threads` threads; the strands are the same for any count.
+/// `exact` false: the members are pushed out of the head and torso by the
+/// bodies' fast approximation (Body::roughDistanceBelow) instead of exact
+/// distances, for a preview that is drawn, not simulated or saved (the
+/// styling mode's; a third of the time where the hair lies close to the
+/// head): all but a few points in ten thousand land within a voxel of the
+/// exact push.
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing = kStrandSpacing,
-                             const StrandBudget& budget = {}, int threads = 1);
+                             const StrandBudget& budget = {}, int threads = 1, bool exact = true);
 
 /// Re-roots every wisp on another head by (u, v): triangle regions become
 /// the (u, v) polygons of their triangles, and each key strand leaves its

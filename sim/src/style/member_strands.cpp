@@ -152,7 +152,7 @@ void checkBudget(const Style& style, const std::vector<double>& area, float spac
 }  // namespace
 
 StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float spacing, const StrandBudget& budget,
-                             int threads) {
+                             int threads, bool exact) {
   spacing = std::max(spacing, 1e-4f);
   // each region's scalp area, once (a pass over the scalp each)
   std::vector<double> area(style.wisps.size(), 0.0);
@@ -267,12 +267,20 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
         }
       }
     }
-    std::vector<std::pair<std::size_t, float>> weights;  // a member's: wisp, weight
+    // each neighbour's shape at the own key strand's samples (the same
+    // fractions of the length for every member)
+    std::vector<std::vector<glm::vec3>> near_shape(near.size(), std::vector<glm::vec3>(key.size()));
+    for (std::size_t n = 0; n < near.size(); ++n)
+      for (std::size_t k = 0; k < key.size(); ++k) near_shape[n][k] = shapeAt(near[n].first, sk[k] / length);
+    std::vector<std::pair<std::size_t, float>> weights;  // a member's: index into near, weight
     Random rng(par.seed);
     const std::vector<glm::vec2> roots = memberRoots(w, head, area[wi], rng);
     Random shape(par.seed ^ 0x6a09e667f3bcc909ULL);
     Random thin(par.seed ^ 0xbb67ae8584caa73bULL);
     std::vector<glm::vec3> pts(key.size());
+    std::vector<float> phi;  // the push's scratch
+    std::vector<glm::vec3> nrm, q;
+    std::vector<std::uint32_t> which;
     for (const glm::vec2 uv : roots) {
       const glm::vec3 root = head.scalpPoint(uv);
       if (par.edge_ramp > 0.0f && !hair_edge.empty() &&
@@ -283,11 +291,11 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
       weights.clear();
       float total = 1.0f;
       const float own2 = glm::dot(delta, delta);
-      for (const auto& [j, sigma2] : near) {
-        const glm::vec3 dj = root - dense[j][0];
-        const float r = std::exp(-(glm::dot(dj, dj) - own2) / (2.0f * sigma2));
+      for (std::size_t n = 0; n < near.size(); ++n) {
+        const glm::vec3 dj = root - dense[near[n].first][0];
+        const float r = std::exp(-(glm::dot(dj, dj) - own2) / (2.0f * near[n].second));
         if (r > 1e-3f) {
-          weights.emplace_back(j, r);
+          weights.emplace_back(n, r);
           total += r;
         }
       }
@@ -308,7 +316,7 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
           p = key[j] + (1.0f - g) * delta;
         } else {  // no tie here (g = 0): the blended shape from the member's root
           glm::vec3 blended = (key[j] - key[0]) / total;
-          for (const auto& [wj, r] : weights) blended += (r / total) * shapeAt(wj, s / length);
+          for (const auto& [n, r] : weights) blended += (r / total) * near_shape[n][j];
           p = root + blended;
         }
         p += (s / length) * (d.x * f.tangent + d.y * f.normal + d.z * f.binormal);
@@ -341,16 +349,31 @@ StrandSet buildMemberStrands(const Style& style, const HeadModel& head, float sp
       }
       n = std::max<std::size_t>(n, 2);
       // out of the head and torso (a translated copy may dip into a curved head)
-      std::vector<float> phi(n);
-      std::vector<glm::vec3> nrm(n);
+      phi.resize(n);
+      nrm.resize(n);
+      q.resize(n);
+      which.resize(n);
       const Body* bodies[2] = {head.head().get(), head.torso().get()};
       for (const Body* b : bodies) {
         if (!b) continue;
-        for (int pass = 0; pass < 2; ++pass) {
-          // exact only near the surface: the push acts only below the clearance
-          b->signedDistanceBelow(pts.data() + 1, n - 1, clearance, phi.data() + 1, nrm.data() + 1);
-          for (std::size_t j = 1; j < n; ++j)
-            if (phi[j] < clearance) pts[j] += (clearance - phi[j]) * nrm[j];
+        // exact only near the surface: the push acts only below the
+        // clearance; the second pass asks again about the points the first
+        // pushed (a crease), the others cannot have changed
+        std::size_t asked = n - 1;
+        for (std::size_t j = 0; j < asked; ++j) which[j] = static_cast<std::uint32_t>(j + 1);
+        for (int pass = 0; pass < 2 && asked > 0; ++pass) {
+          for (std::size_t k = 0; k < asked; ++k) q[k] = pts[which[k]];
+          if (exact)
+            b->signedDistanceBelow(q.data(), asked, clearance, phi.data(), nrm.data());
+          else
+            b->roughDistanceBelow(q.data(), asked, clearance, phi.data(), nrm.data());
+          std::size_t pushed = 0;
+          for (std::size_t k = 0; k < asked; ++k)
+            if (phi[k] < clearance) {
+              pts[which[k]] += (clearance - phi[k]) * nrm[k];
+              which[pushed++] = which[k];
+            }
+          asked = pushed;
         }
       }
       out.points.insert(out.points.end(), pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(n));
