@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <ostream>
 #include <cstdlib>
 #include <string>
 
@@ -116,6 +117,8 @@ struct Bound {
 constexpr Bound kBounds[] = {{"long-straight", 0.65, 0.33, 0.06}, {"bob", 0.12, 0.12, 0.03},
                              {"side-swept", 0.43, 0.13, 0.06},    {"swept-back", 0.74, 0.48, 0.03},
                              {"wavy", 0.63, 0.33, 0.06},          {"ponytail", 0.92, 0.68, 0.03}};
+
+void PrintTo(const Bound& b, std::ostream* os) { *os << b.style; }
 
 class BundledStyleLooks : public ::testing::TestWithParam<Bound> {};
 

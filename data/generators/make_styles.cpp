@@ -303,7 +303,7 @@ int main(int argc, char** argv) {
       WispParams p = memberParams(34.0f, 0.012f, 0.08f);
       Drape d;
       d.length = 0.26f;
-      d.bend = 0.1f;
+      d.bend = 0.14f;
       auto back = [&head](glm::vec2 uv, glm::vec3, glm::vec3 n) { return 0.2f * n + towardsNape(head, uv); };
       auto comb = [](glm::vec2) -> Steer {
         return [](glm::vec3, float s) { return s < 0.08f ? glm::vec3(0, 0, -0.2f) : glm::vec3(0.0f); };

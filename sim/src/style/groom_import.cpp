@@ -124,7 +124,9 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
       ++rep.skipped_short;
       continue;
     }
-    w.key_strand = std::move(kept);
+    // where the resampled spline would cut into the head, its midpoints
+    // pushed out become control points (as every edit's are)
+    w.key_strand = keyStrandKeptOutside(std::move(kept), head, kClear);
     w.params.strands = 1;
     w.params.offset_radius = 0.0f;
     w.params.length_variation = 0.0f;
