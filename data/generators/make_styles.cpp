@@ -20,6 +20,7 @@
 #include "loosehair/style_editor.hpp"
 #include "loosehair/style_settle.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -244,11 +245,15 @@ int main(int argc, char** argv) {
                 at.ear_bottom, at.chin);
     const float jaw = at.chin + 0.35f * (at.ear_bottom - at.chin);
     // sideways away from the parting at u = parting, then down
+    // A parting runs from the front hairline to the crown: behind it
+    // (v from 0.45 to 0.75) the sideways comb fades and the hair falls
+    // towards the nape, so the back of the head shows no parting line.
+    auto behindCrown = [](glm::vec2 uv) { return glm::smoothstep(0.45f, 0.75f, uv.y); };
     auto parted = [&](float parting, float lift) -> Direction {
-      return [&head, parting, lift](glm::vec2 uv, glm::vec3, glm::vec3 n) {
+      return [&head, parting, lift, behindCrown](glm::vec2 uv, glm::vec3, glm::vec3 n) {
         const glm::vec3 e = head.scalpTangentU(uv);
-        const float side = uv.x < parting ? -1.0f : 1.0f;
-        return lift * n + side * e + 0.3f * towardsNape(head, uv);
+        const float side = uv.x < parting ? -1.0f : 1.0f, back = behindCrown(uv);
+        return lift * n + (1.0f - back) * side * e + (0.3f + back) * towardsNape(head, uv);
       };
     };
     auto fixed = [](Drape d) { return [d](glm::vec2) { return d; }; };
@@ -291,10 +296,10 @@ int main(int argc, char** argv) {
       WispParams p = memberParams(26.0f, 0.01f, 0.08f);
       Drape d;
       d.length = 0.3f;
-      auto over = [&head](glm::vec2 uv, glm::vec3, glm::vec3 n) {
+      auto over = [&head, behindCrown](glm::vec2 uv, glm::vec3, glm::vec3 n) {
         const glm::vec3 e = head.scalpTangentU(uv);
-        const float side = uv.x < 0.3f ? -1.0f : 1.0f;
-        return 0.3f * n + side * e - 0.2f * towardsNape(head, uv);
+        const float side = uv.x < 0.3f ? -1.0f : 1.0f, back = behindCrown(uv);
+        return 0.3f * n + (1.0f - back) * side * e + (1.2f * back - 0.2f) * towardsNape(head, uv);
       };
       styles.emplace_back("side-swept", gridStyle(head, "side-swept", 7, 6, p, fixed(d), over, clearOfFace));
     }
