@@ -115,14 +115,15 @@ std::vector<std::size_t> StyleEditor::preparedKeys(
     const Wisp& w = wisp(i, "setKeyStrand");
     if (key.size() < 2) throw StyleError("setKeyStrand: a key strand needs at least two control points");
     key[0] = w.key_strand[0];
-    for (std::size_t k = 1; k < key.size(); ++k) checkPoint(i, k, key[k]);
-    key = keyStrandKeptOutside(std::move(key), head_, kClearance);
     for (std::size_t k = 1; k < key.size(); ++k) {
       checkPoint(i, k, key[k]);
       if (glm::length(key[k] - key[k - 1]) < 1e-5f)
         throw StyleError("setKeyStrand: control points " + std::to_string(k - 1) + " and " + std::to_string(k) +
                          " would coincide");
     }
+    // the given points are outside (checked): only the spline between
+    // them is mended, with points pushed out (no two of them coincide)
+    key = keyStrandKeptOutside(std::move(key), head_, kClearance);
     which.push_back(i);
   }
   std::sort(which.begin(), which.end());
