@@ -54,8 +54,9 @@ struct After {
   float support;     // 2 h1 (m)
 };
 
-After runScene(const std::string& motion_json, double seconds) {
+After runScene(const std::string& motion_json, double seconds, std::uint64_t seed = 1) {
   SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
+  scene.seed = seed;
   scene.motion = parseScene(R"({"head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "motion": )" +
                                 motion_json + "}",
                             "motion")
@@ -96,13 +97,7 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
   EXPECT_EQ(still.loose, 0u);
   EXPECT_LT(still.region_gap, still.support);
   EXPECT_EQ(still.loops, 0u);
-  // The issue asks for none above 5 cm/s after 3 s; over 3-3.5 s and
-  // three seeds 0-6 particles are, at up to 18 cm/s, rocking by a
-  // millimetre at a taut tether (docs/design.md, "The hair chain"):
-  // reported. What is asserted is that nothing runs: a particle held at
-  // the chain's reach kept 2.2 m/s, and one drawn back up to its first
-  // partners fell and bounced at 1 m/s, for ever.
-  EXPECT_LT(still.fastest, 0.3f) << "a still head's hair at rest after 3 s";
+  EXPECT_EQ(still.fast, 0u) << "a still head's hair at rest after 3 s (fastest " << still.fastest << " m/s)";
   // the viewer session's turn, turn back and nod end at 3.37 s; one second to settle
   const std::string drag = lhtest::sourceDir() + "/tests/data/drag-and-nod-motion.json";
   const std::string saved = readRegularFile(drag, kMaxTextFileBytes);
@@ -128,6 +123,21 @@ TEST(HairHolds, NoClumpComesLooseUnderAFastTurnAndANodOrAHeadBangingNod) {
     // after it, the hair at rest by then (docs/design.md). Allowed: one
     // in 500.
     EXPECT_LE(a.loops, a.strands / 500) << name << ": render strands looping off the crown";
+  }
+}
+
+// On a still head the hair comes to rest: 3 s after the settle, no
+// particle above 5 cm/s, whatever the seed. With the implicit spring solve
+// stopped at 5e-3 (the default before), 0-11 particles of each seed kept
+// circling at their taut tethers at 5-18 cm/s for ever: the error the
+// solve's warm start carries into the next step is a force one step late
+// (docs/design.md, "The hair chain").
+TEST(HairHolds, AStillHeadsHairComesToRest) {
+  for (std::uint64_t seed : {2, 3, 4}) {
+    const After a = runScene(R"({"type": "still"})", 3.0, seed);
+    std::printf("still head, seed %llu, 3 s: %zu above 5 cm/s, fastest %.3f m/s\n",
+                static_cast<unsigned long long>(seed), a.fast, a.fastest);
+    EXPECT_EQ(a.fast, 0u) << "seed " << seed << ": fastest " << a.fastest << " m/s";
   }
 }
 
