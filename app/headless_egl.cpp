@@ -3,7 +3,7 @@
 // platform (EGL_MESA_platform_surfaceless, llvmpipe here). No surface: the
 // picture is a framebuffer object of ours, read back with glReadPixels. The
 // GL functions come from eglGetProcAddress, never from a GL library, so
-// this lives beside OSMesa in one executable (SPEC §7.4).
+// this lives beside OSMesa in one executable (method.md §7.4).
 #include "headless_gl_context.hpp"
 
 #include "loosehair/render/gl_loader.hpp"

@@ -1,4 +1,4 @@
-// An OpenGL 3.3 core context without a display (SPEC §7.4), drawing into
+// An OpenGL 3.3 core context without a display (method.md §7.4), drawing into
 // a picture this object owns: OSMesa (software, llvmpipe; the default) or
 // EGL (a GPU where the machine has one: the device platform, else Mesa's
 // surfaceless platform), neither needing an X server. Making it loads the

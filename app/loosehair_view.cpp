@@ -9,7 +9,7 @@
 // the scene's fixed step, paced to real time; the window draws the newest
 // finished frame and handles input every displayed frame however slow the
 // simulation is. Links GLFW and libGL as the GL provider, never OSMesa
-// (SPEC §7.4).
+// (method.md §7.4).
 #include "loosehair/loosehair.hpp"
 #include "loosehair/render/frame.hpp"
 #include "loosehair/render/gl_loader.hpp"

@@ -1,5 +1,5 @@
 // `loosehair style`: build a style's member strands and export them, or
-// import a groom from another tool as a style (SPEC §6.2).
+// import a groom from another tool as a style (method.md §6.2).
 #pragma once
 
 #include <string>

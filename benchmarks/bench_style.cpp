@@ -1,4 +1,4 @@
-// Styling (SPEC §6.2): member-strand generation at about 10k and 100k
+// Styling (method.md §6.2): member-strand generation at about 10k and 100k
 // strands, an edit and its 20k-strand preview (issue 44's goal: under
 // 100 ms), a settle of the bob, seeding 10k and 50k particles from a
 // style's strands, and the cost of the shape-keeping term in a step (the

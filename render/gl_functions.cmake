@@ -1,4 +1,4 @@
-# Writes the renderer's table of OpenGL functions (SPEC §7.4: a loader that
+# Writes the renderer's table of OpenGL functions (method.md §7.4: a loader that
 # takes a get-proc-address function, so that one executable can draw with
 # OSMesa or EGL): every gl* function called in SOURCES becomes a pointer in
 # loosehair::render::gl::functions, loaded by loadGL(), and a macro of its

@@ -1,4 +1,4 @@
-// The back-hair-split scenario's measures (SPEC §8): the obstacle parts the
+// The back-hair-split scenario's measures (method.md §8): the obstacle parts the
 // back hair into two wisps, which fall back together. Shared by the head
 // scenario tests and the resolution tests.
 #pragma once

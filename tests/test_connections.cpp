@@ -1,4 +1,4 @@
-// SPEC §3.1: alignment, thresholds, pruning and the connectivity check.
+// method.md §3.1: alignment, thresholds, pruning and the connectivity check.
 #include "connection_builder.hpp"
 #include "connection_slices.hpp"
 #include "pair_columns.hpp"

@@ -1,4 +1,4 @@
-// SPEC §2 eq. 1: the SPH density on a regular lattice matches the lattice sum
+// method.md §2 eq. 1: the SPH density on a regular lattice matches the lattice sum
 // and the continuum value m / a^3 away from the border.
 #include "kernel.hpp"
 #include "loosehair/loosehair.hpp"

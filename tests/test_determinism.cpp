@@ -1,4 +1,4 @@
-// SPEC §5 Determinism: the same scene and seed give the same bits on any
+// method.md §5 Determinism: the same scene and seed give the same bits on any
 // thread count and in every run, and a committed golden sequence of state
 // hashes guards the physics against unintended change.
 //

@@ -1,4 +1,4 @@
-// Heads the bundled scenes do not cover (SPEC §5, §6.1), made from the
+// Heads the bundled scenes do not cover (method.md §5, §6.1), made from the
 // bundled one: turned on its side or upside down, or in other units, it is
 // named in a warning that says which setting to change; with open-shell
 // eyes, other proportions or an open neck it simulates without hair inside

@@ -1,4 +1,4 @@
-// SPEC §5: head trajectories and the kinematics behind the inertial forces.
+// method.md §5: head trajectories and the kinematics behind the inertial forces.
 #include "loosehair/head_motion.hpp"
 #include "loosehair/loosehair.hpp"
 

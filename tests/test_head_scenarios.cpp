@@ -1,4 +1,4 @@
-// The paper's scenarios on the bundled head, torso and scalp (SPEC §5, §6.1,
+// The paper's scenarios on the bundled head, torso and scalp (method.md §5, §6.1,
 // §8): each runs at least 3 simulated seconds and checks, at the end of every
 // step, that nothing is non-finite, inside the head or torso, or stretched.
 // These are the slowest tests; they have their own label ("scenario").

@@ -1,4 +1,4 @@
-// SPEC §2: the cubic spline kernel integrates to 1, its gradient to 0, and
+// method.md §2: the cubic spline kernel integrates to 1, its gradient to 0, and
 // the analytic derivative matches finite differences.
 #include "kernel.hpp"
 

@@ -1,4 +1,4 @@
-// Meshes (SPEC §5, §6.1): every supported format loads the same surface,
+// Meshes (method.md §5, §6.1): every supported format loads the same surface,
 // axis and scale options place it, bad meshes are rejected with the named
 // problem, and signed-distance grids have the right sign and distance.
 #include "random.hpp"

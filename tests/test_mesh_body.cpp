@@ -1,4 +1,4 @@
-// Exact distances to a closed mesh (SPEC §5 body collisions): MeshBody
+// Exact distances to a closed mesh (method.md §5 body collisions): MeshBody
 // against brute force over every triangle, signed by the generalised winding
 // number (an independent inside test), on meshes where a coarse grid is far
 // off (a box's sharp edges, a bumpy sphere's creases); and a solver that

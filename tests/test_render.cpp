@@ -1,4 +1,4 @@
-// The renderer on software OpenGL (OSMesa), as in CI (SPEC §7): billboard
+// The renderer on software OpenGL (OSMesa), as in CI (method.md §7): billboard
 // orientation and foreshortening, the default scene drawn over the head,
 // shadows that darken, repeatability and a reference image.
 #include "headless_gl.hpp"
@@ -176,7 +176,7 @@ TEST(Render, ShadowsDarkenHairAwayFromTheLightAndTheHeadUnderIt) {
   EXPECT_LT(darker_skin, 0.9 * skin) << "but not all of the skin: bare skin stays lit";
 }
 
-// SPEC §7.2 along the light: hair behind more hair (seen from the light) is
+// method.md §7.2 along the light: hair behind more hair (seen from the light) is
 // darker, wall by wall. The light comes from +x; a probe (a tuft, stacked
 // along the view so that it is nearly opaque on screen) stands at x = 0
 // and k = 0..4 thin walls of hair stand between it and the light. The

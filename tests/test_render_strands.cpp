@@ -361,7 +361,7 @@ TEST(RenderStrands, StillFrameMatchesTheReferenceImage) {
   lhtest::expectMatchesReference(img.rgba, w, h, "render_hang_strands_96x72.png");
 }
 
-// SPEC §7.4: the same executable draws with EGL (here Mesa's surfaceless
+// method.md §7.4: the same executable draws with EGL (here Mesa's surfaceless
 // platform or a device, on llvmpipe) and OSMesa, to the same picture.
 TEST(RenderStrands, EglAndOSMesaDrawTheSameImages) {
   const Camera cam = Camera::preset("three-quarter");

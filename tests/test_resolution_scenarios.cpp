@@ -3,7 +3,7 @@
 // particles with the default solver (implicit springs, 3 substeps a frame)
 // keep the stretch bound and the bodies' surfaces; the hanging hair's tip
 // sag and the shaken hair's lag agree between the two resolutions (the
-// stiffness does not depend on the spacing, SPEC §3.2); the head-shake gain
+// stiffness does not depend on the spacing, method.md §3.2); the head-shake gain
 // and lag agree with the explicit solver's; with hair-hair interactions the
 // split wisps interpenetrate less than without, at 50,000 particles too.
 #include "back_hair_split.hpp"

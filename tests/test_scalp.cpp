@@ -1,4 +1,4 @@
-// Scalp and initial hair state (SPEC §6.1): the harmonic map of a trimmed
+// Scalp and initial hair state (method.md §6.1): the harmonic map of a trimmed
 // scalp, f^-1, Poisson-disc sampling in (u, v, s), cantilever strands and
 // hair-length maps.
 #include "init/cantilever.hpp"

@@ -1,4 +1,4 @@
-// Whole-solver behaviour on the sphere head (SPEC §5, §9): hanging hair that
+// Whole-solver behaviour on the sphere head (method.md §5, §9): hanging hair that
 // does not stretch, penetrate or blow up, and a head shake that the hair
 // follows with a lag before settling back.
 #include "test_support.hpp"
@@ -41,7 +41,7 @@ TEST(Scenario, TethersAndStrainLimitEachHoldTheStretch) {
     EXPECT_TRUE(lhtest::allFinite(solver)) << solver_json;
     return lhtest::maxStretch(solver, scene.hair.length);
   };
-  // Soft springs alone sag (SPEC §9) and loosened particles drop away, but
+  // Soft springs alone sag (method.md §9) and loosened particles drop away, but
   // the state stays finite.
   const float springs_only = stretchAfterOneSecond(R"({"strain_limit": false, "tether": false})");
   EXPECT_GT(springs_only, 0.03f) << "soft springs alone should stretch; else this test shows nothing";
@@ -130,8 +130,8 @@ TEST(Scenario, HeadShakeNoStretchNoPenetrationAndSettles) {
   EXPECT_LT(r.mean_speed.back(), 0.1 * busiest);
 }
 
-// The hair trails the head (SPEC §8, the paper's shaken head). With a stiff
-// medium (E = 5e4 Pa, SPEC §9) it turns like a solid: lag about 1 ms.
+// The hair trails the head (method.md §8, the paper's shaken head). With a stiff
+// medium (E = 5e4 Pa, method.md §9) it turns like a solid: lag about 1 ms.
 TEST(Scenario, HeadShakeHairLagsBehindTheHead) {
   const ShakeRun r = runShake("{}");
   const auto [gain, lag] = gainAndLag(r);

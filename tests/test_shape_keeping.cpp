@@ -1,4 +1,4 @@
-// Shape keeping (SPEC §6.2, docs/design.md "Styles and shape keeping") on the
+// Shape keeping (method.md §6.2, docs/design.md "Styles and shape keeping") on the
 // sphere head: the styled state is at rest, the hold is what keeps it, a
 // tie's hold keeps the hair between scalp and ring in place while the tail
 // swings, and holds the step cannot integrate are refused.

@@ -1,4 +1,4 @@
-// SPEC §3.2-3.3 and §4: loose springs with constant tensile modulus, pair
+// method.md §3.2-3.3 and §4: loose springs with constant tensile modulus, pair
 // forces that conserve momentum, no force from rigid motion, and hair
 // directions that turn with the hair.
 #include "kernel.hpp"
@@ -55,7 +55,7 @@ std::vector<float> rawLooseness(const Solver& s, std::vector<std::uint8_t>& sele
 }  // namespace
 
 TEST(Springs, TensileModulusIsKeptWhileHairMovesAndLoosens) {
-  // T_i = (1/A_i) sum_{j in Nr(i)} l_ij alpha_ij k_ij (SPEC §3.2). The pair
+  // T_i = (1/A_i) sum_{j in Nr(i)} l_ij alpha_ij k_ij (method.md §3.2). The pair
   // factor alpha_ij averages the factors of i and j (eq. 14), so T_i is E up
   // to the spread of neighbouring factors; what the rescaling guarantees is
   // that each particle keeps its T_i while its springs loosen.

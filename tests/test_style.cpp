@@ -1,4 +1,4 @@
-// The styling library (SPEC §6.2): frames, member strands, editing with
+// The styling library (method.md §6.2): frames, member strands, editing with
 // undo, style files, seeding and strand files, on a sphere head (fast enough
 // for the sanitizer run).
 #include "loosehair/groom_import.hpp"

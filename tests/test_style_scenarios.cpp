@@ -1,4 +1,4 @@
-// Bundled styles simulated on the bundled head (SPEC §6.2): each holds its
+// Bundled styles simulated on the bundled head (method.md §6.2): each holds its
 // shape on a still head and still swings when the head shakes; the
 // ponytail's tail swings while the hair above the tie stays on the head.
 #include "loosehair/groom_import.hpp"

@@ -1,4 +1,4 @@
-// Wind as SPH air (SPEC §5): the hair-air drag is equal and opposite, air
+// Wind as SPH air (method.md §5): the hair-air drag is equal and opposite, air
 // forces conserve momentum, still air stays still in its open box, and a
 // steady wind crosses the box at its speed.
 #include "air.hpp"

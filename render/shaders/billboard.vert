@@ -1,4 +1,4 @@
-// Billboard geometry (SPEC §7.1), shared by both passes: the vertical axis is
+// Billboard geometry (method.md §7.1), shared by both passes: the vertical axis is
 // the hair direction made perpendicular to the projection direction d, whose
 // length is foreshortened by sin(phi); opacity is boosted by 1/sin(phi).
 layout(location = 0) in vec3 a_pos;

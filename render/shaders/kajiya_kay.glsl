@@ -1,4 +1,4 @@
-// Goldman's Kajiya-Kay hair shading (SPEC §7.3), shared by billboards and
+// Goldman's Kajiya-Kay hair shading (method.md §7.3), shared by billboards and
 // strands: the diffuse Kd sin(T, L) and specular Ks max(0, sin(T,L) sin(T,E)
 // - (T.L)(T.E))^p factors, each times the directionality f_dir (reflection
 // towards the lit side, transmission through to the other).

@@ -1,4 +1,4 @@
-// Deep opacity maps (Yuksel and Keyser 2008, with the slices of SPEC §7.2):
+// Deep opacity maps (Yuksel and Keyser 2008, with the slices of method.md §7.2):
 // the slices start at the hair nearest the light in each texel of the
 // light's view rather than at one plane across the whole head of hair, so
 // they follow the hair's lit surface. With one plane, the first slices cut

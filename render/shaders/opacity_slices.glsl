@@ -1,4 +1,4 @@
-// Pass 1 of the opacity shadow maps (SPEC §7.2): a fragment of opacity a at
+// Pass 1 of the opacity shadow maps (method.md §7.2): a fragment of opacity a at
 // depth z (in slices) adds a to every slice behind it, with a one-slice ramp
 // (so the lookup interpolates). Layer l of the slice array holds slices
 // 3l .. 3l+3 (neighbouring layers share one slice), so any two adjacent

@@ -1,4 +1,4 @@
-// The opacity lookup shared by the hair and the bodies (SPEC §7.2), per
+// The opacity lookup shared by the hair and the bodies (method.md §7.2), per
 // fragment, at light coordinates (s, t, z) interpolated from the vertices:
 // z is the depth in slices, less the offset against self-shadowing.
 // Omega(z) = sum_k Omega_k max(0, 1 - |z - k|): only the slices k and k+1

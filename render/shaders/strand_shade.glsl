@@ -1,4 +1,4 @@
-// Strand shading (SPEC §7.3 and issue "strands"): Kajiya-Kay with Goldman's
+// Strand shading (method.md §7.3 and issue "strands"): Kajiya-Kay with Goldman's
 // directionality, or Marschner's R, TT and TRT lobes from lookup textures
 // (the Nalu chapter's M(theta_i, theta_r) and N(phi, theta_d) tables),
 // times the light that reaches the fragment; a small per-strand variation

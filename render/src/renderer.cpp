@@ -1,6 +1,6 @@
-// SPEC §7: billboards (7.1), opacity shadow maps (7.2), Goldman shading
+// method.md §7: billboards (7.1), opacity shadow maps (7.2), Goldman shading
 // (7.3). Built against the GL headers only; the executable links the one
-// library that provides the GL functions (SPEC §7.4).
+// library that provides the GL functions (method.md §7.4).
 
 #include "loosehair/render/gl_functions.hpp"
 
@@ -298,7 +298,7 @@ Renderer::Renderer() {
                         frag_head + shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::body_frag);
   r.debug_prog = program(shaders::debug_vert, shaders::debug_frag);
 
-  // The hair-strand texture, mipmapped (SPEC §7.1).
+  // The hair-strand texture, mipmapped (method.md §7.1).
   const int tw = kStrandWidth, th = kStrandHeight;
   static_assert((1 << kStrandLevels) == kStrandWidth && kStrandHeight >= kStrandWidth);
   const auto pixels = makeHairTexture(tw, th);
@@ -335,7 +335,7 @@ Renderer::Renderer() {
   glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 16, reinterpret_cast<void*>(12));
   glBindVertexArray(0);
 
-  // 16 opacity slices in 5 RGBA targets, neighbouring layers sharing a slice (SPEC §7.2).
+  // 16 opacity slices in 5 RGBA targets, neighbouring layers sharing a slice (method.md §7.2).
   GLint previous_fbo = 0;  // restored below: the caller's picture may be a framebuffer object
   glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
   glGenFramebuffers(1, &r.shadow_fbo);
@@ -387,7 +387,7 @@ void Renderer::setBodies(const TriangleMesh* head, const TriangleMesh* torso) {
   impl_->upload(impl_->torso, torso);
 }
 
-// The billboards in back-to-front order (SPEC §7.1), by an O(N) sort, as 4
+// The billboards in back-to-front order (method.md §7.1), by an O(N) sort, as 4
 // vertices each (the index buffer grows with the count).
 void Renderer::Impl::uploadBillboards(const FrameInput& in, const glm::mat4& view,
                                       const std::vector<float>& quad_values, FrameTimes& times) {
@@ -495,7 +495,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   // with the square root of the depth: render/shaders/nearest_hair.glsl)
   const float dz = std::max(1e-4f, (zmax - zmin) / static_cast<float>(kSlices - 1));
 
-  // ---- billboards: back-to-front order (SPEC §7.1) and upload ----
+  // ---- billboards: back-to-front order (method.md §7.1) and upload ----
   auto t0 = Clock::now();
   if (!draw_strands) r.uploadBillboards(in, view, st.debug == DebugView::Density ? in.density : in.speed, times_);
 
@@ -539,7 +539,7 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     glActiveTexture(GL_TEXTURE0);
   };
 
-  // ---- pass 1: opacity slices from the light (SPEC §7.2), starting at
+  // ---- pass 1: opacity slices from the light (method.md §7.2), starting at
   // the hair nearest the light in each texel (deep opacity maps): first
   // that depth, by a MIN blend, then the slices behind it ----
   t0 = Clock::now();

@@ -1,5 +1,5 @@
 // Drawing strands (issue "strands"): thin ribbons facing the eye from a
-// buffer of strand points, into the opacity shadow maps (SPEC §7.2, from the
+// buffer of strand points, into the opacity shadow maps (method.md §7.2, from the
 // light) and into weighted blended transparency sums (from the camera),
 // shaded by Kajiya-Kay or by Marschner's lobes from lookup tables.
 #pragma once

@@ -1,4 +1,4 @@
-// The air particles of the wind (SPEC §5). Positions and velocities are in
+// The air particles of the wind (method.md §5). Positions and velocities are in
 // the head frame like the hair's; the box they live in is fixed in the world.
 // Every loop gathers into the particle it owns, and a hair-air pair's force
 // is computed by the same expression from both sides, so the exchange is

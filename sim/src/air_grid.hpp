@@ -4,7 +4,7 @@
 // `WindParams::spacing`. A step adds the hair's drag impulses and the
 // viscosity, carries the velocities along themselves (semi-Lagrangian), imposes the inflow and the bodies, and projects
 // the field to zero divergence (a pressure solve), so no sound speed bounds
-// the step. The hair and the air exchange the drag of SPEC §5,
+// the step. The hair and the air exchange the drag of method.md §5,
 //
 //   f_hair_i = dw m_i sum_c w_ic (U_c - v_i),   the cells c get minus it,
 //

@@ -1,4 +1,4 @@
-// Building the fixed connection set (SPEC §3.1).
+// Building the fixed connection set (method.md §3.1).
 #pragma once
 
 #include "loosehair/connections.hpp"
@@ -12,7 +12,7 @@
 
 namespace loosehair {
 
-/// Alignment a_ij of SPEC §3.1 (eq. 6 reconstructed) for directions t_i, t_j
+/// Alignment a_ij of method.md §3.1 (eq. 6 reconstructed) for directions t_i, t_j
 /// and the pair vector x_ij = x_j - x_i (any length > 0).
 float alignment(const glm::vec3& ti, const glm::vec3& tj, const glm::vec3& xij);
 
@@ -34,7 +34,7 @@ struct ConnectionOptions {
 /// least a0, pruned to about Nn per particle. Root-root pairs are left out:
 /// both ends are fixed, so such a spring could never act.
 ///
-/// Pruning (SPEC §3.1 open, our rule): pairs are visited from the weakest
+/// Pruning (method.md §3.1 open, our rule): pairs are visited from the weakest
 /// weight c_ij W(l_ij, h1) up (ties by the lower, then the higher index) and
 /// dropped while both partners still have more than Nn. A non-root particle's
 /// strongest root-side and strongest tip-side pair are never dropped, so
@@ -47,7 +47,7 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
                                const ConnectionOptions& options);
 
 /// Non-root particles that cannot reach a root particle by following
-/// root-side connections (SPEC §3.1 connectivity check).
+/// root-side connections (method.md §3.1 connectivity check).
 std::size_t countUnanchored(const ConnectionSet& c, std::span<const std::uint8_t> is_root);
 
 }  // namespace loosehair

@@ -1,4 +1,4 @@
-// Exact distance from points to a closed triangle mesh (SPEC §5 body
+// Exact distance from points to a closed triangle mesh (method.md §5 body
 // collisions): the nearest triangle from a bounding-volume hierarchy,
 // searched nearest box first inside a ball that seed triangles (the grid's
 // nearest triangles) make small, and the sign from the angle-weighted

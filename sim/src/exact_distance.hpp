@@ -1,4 +1,4 @@
-// Exact distances from points to a closed triangle mesh (SPEC §5 body
+// Exact distances from points to a closed triangle mesh (method.md §5 body
 // collisions), for MeshBody's contacts and for the voxels of the grid bake.
 #pragma once
 

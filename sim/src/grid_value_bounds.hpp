@@ -1,5 +1,5 @@
 // The baked grid's far values kept within what the clearance proofs allow
-// (SPEC §5 body collisions; docs/design.md "Contacts against the exact
+// (method.md §5 body collisions; docs/design.md "Contacts against the exact
 // surface").
 //
 // MeshBody takes the grid's trilinear answer less sqrt(3) voxels as a lower

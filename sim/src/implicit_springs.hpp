@@ -1,6 +1,6 @@
 // The loose springs taken implicitly (issue "real time at scale";
 // docs/design.md "Implicit springs"): one linearised backward-Euler step of
-// the damped springs of SPEC §3.2, solved for the velocity change by
+// the damped springs of method.md §3.2, solved for the velocity change by
 // conjugate gradients preconditioned with each particle's 3x3 block.
 //
 // With w = alpha_ij k_ij of an active connection and n its unit direction,

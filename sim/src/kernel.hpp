@@ -1,4 +1,4 @@
-// Cubic spline (M4) SPH kernel of SPEC §2, support 2h, integrating to 1 in 3-D.
+// Cubic spline (M4) SPH kernel of method.md §2, support 2h, integrating to 1 in 3-D.
 #pragma once
 
 #include <glm/geometric.hpp>
@@ -37,7 +37,7 @@ class CubicKernel {
   float support() const { return 2.0f * h_; }
   float support2() const { return support2_; }
 
-  /// W(r, h), SPEC §2 (eq. 2 reconstructed). Written as
+  /// W(r, h), method.md §2 (eq. 2 reconstructed). Written as
   /// (2-q)^3_+ - 4 (1-q)^3_+ (the same polynomial as the piecewise form
   /// 4 - 6q^2 + 3q^3 on [0,1)) so that it compiles to selects, not branches:
   /// the solver's pair loops call it millions of times a step with

@@ -1,4 +1,4 @@
-// A closed mesh as a collision body (SPEC §5 body collisions): the baked
+// A closed mesh as a collision body (method.md §5 body collisions): the baked
 // grid answers far from the surface; where it leaves a contact in doubt
 // (the trilinear interpolant of a 1-Lipschitz function is within sqrt(3)
 // voxels of it), the exact distance to the triangles decides.

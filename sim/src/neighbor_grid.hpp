@@ -1,4 +1,4 @@
-// Fixed-radius neighbour search on a voxel grid (SPEC §1 step 1), cell size
+// Fixed-radius neighbour search on a voxel grid (method.md §1 step 1), cell size
 // = the search radius, linear in N.
 //
 // Two layouts, chosen per build:

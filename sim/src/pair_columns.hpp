@@ -9,7 +9,7 @@
 //  3. reduce: each particle sums its pairs' terms in list order.
 // Element-wise IEEE arithmetic (no contraction, no fast-math) gives the same
 // bits vectorised or not, and the sums keep the list order, so the result
-// does not depend on the vector width or the thread count (SPEC §5
+// does not depend on the vector width or the thread count (method.md §5
 // Determinism). Nor on which thread takes which block: each thread takes one
 // contiguous range of blocks with about equal pairs
 // (NeighborGrid::pairBalancedPart), the same part of the hair in every step

@@ -1,5 +1,5 @@
 // Seeded random numbers mapped to floats by our own code, so that the same
-// seed gives the same numbers on every standard library (SPEC §5 Determinism).
+// seed gives the same numbers on every standard library (method.md §5 Determinism).
 #pragma once
 
 #include <cstdint>

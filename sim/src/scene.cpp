@@ -468,7 +468,7 @@ struct TieTethers {
   }
 };
 
-// The particles of a styled scene (SPEC §6.2): the style's member strands,
+// The particles of a styled scene (method.md §6.2): the style's member strands,
 // on the scene's head (retargeted by (u, v) when the style was made on
 // another one), sampled by Poisson-disc darts; particles inside a tie are
 // held like roots.
@@ -545,7 +545,7 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
 // Particles a thread takes at a time while growing their strands.
 constexpr std::size_t kStrandBatch = 64;
 
-// The particles of a scene without a style (SPEC §6.1): Poisson-disc
+// The particles of a scene without a style (method.md §6.1): Poisson-disc
 // samples of the hair pillar in (u, v, s), hung by cantilever strands from
 // root directions given by the whorl.
 void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp, BuildReport& rep) {
@@ -566,7 +566,7 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
   const std::size_t n = pillar.samples.size();
   if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed");
 
-  // 2. Root directions from the whorl and cantilever strands (SPEC §6.1).
+  // 2. Root directions from the whorl and cantilever strands (method.md §6.1).
   const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
   auto t_strands = Clock::now();
 
@@ -611,7 +611,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
                      " is above the limit of " + std::to_string(scene.limits.max_particles) +
                      " (about 3.7 kB of memory a particle): use fewer (or --allow-expensive)");
 
-  // 0. The head, its scalp and the bodies (SPEC §5, §6.1).
+  // 0. The head, its scalp and the bodies (method.md §5, §6.1).
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh, &rep);
   const std::shared_ptr<const Body> head = model.head();
   const std::shared_ptr<const Body> torso = model.torso();
@@ -636,8 +636,8 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     }
   }
 
-  // 1-2. The particles: from a style's strands (SPEC §6.2) or hung by
-  //      cantilever strands (SPEC §6.1).
+  // 1-2. The particles: from a style's strands (method.md §6.2) or hung by
+  //      cantilever strands (method.md §6.1).
   const float total_mass = hair.mass;
   const bool styled = hair.style_data || !hair.style.empty();
   Particles p;
@@ -651,7 +651,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   const std::size_t n = p.size();
 
   // 3. Order the particles along a Morton curve so that neighbours are near
-  //    in memory (SPEC-independent; keeps the gather loops cache-friendly).
+  //    in memory (our choice, not the method's; keeps the gather loops cache-friendly).
   {
     std::vector<std::uint64_t> key(n);
     for (std::size_t k = 0; k < n; ++k) key[k] = NeighborGrid::cellKey(p.position[k], 1.0f / rp);
@@ -663,7 +663,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
     tie_tethers.select(order);
   }
 
-  // 4. Smoothing lengths from the sampling (SPEC §9).
+  // 4. Smoothing lengths from the sampling (method.md §9).
   float mean_nn = 0;
   {
     NeighborGrid grid;
@@ -686,7 +686,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   if (scene.shape_keeping_auto) params.shape_keeping = styled ? style_shape_keeping : 0.0f;
   rep.shape_keeping = params.shape_keeping;
   if (scene.h1_auto) params.h1 = hair.h1_scale * rp;
-  // h2 a little below the spacing of the placed hair (SPEC §9), and in any
+  // h2 a little below the spacing of the placed hair (method.md §9), and in any
   // case below h1: hair that hangs loosely is not denser than its sampling.
   if (scene.h2_auto) params.h2 = std::min(hair.h2_scale * mean_nn, 0.8f * params.h1);
   if (!(params.h2 < params.h1))
@@ -723,7 +723,7 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
              std::to_string(scene.substeps) + "): more substeps, or \"substeps\": \"auto\", shorten it)";
     throw SceneError(msg);
   }
-  // 4b. Stragglers (SPEC §3.1 connectivity): a particle with no particle
+  // 4b. Stragglers (method.md §3.1 connectivity): a particle with no particle
   //     nearer the root within the springs' reach (most of 2 h1) can hang
   //     on its root tether alone; the Poisson sampling leaves a few where a
   //     pillar thins out at its edge. In order of s, those within twice

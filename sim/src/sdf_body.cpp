@@ -1,4 +1,4 @@
-// Signed-distance grid of a mesh (SPEC §5 body collisions). The bake uses
+// Signed-distance grid of a mesh (method.md §5 body collisions). The bake uses
 // OpenVDB (tools::meshToSignedDistanceField); the solver samples a dense copy.
 #include "loosehair/file_io.hpp"
 #include "loosehair/body.hpp"

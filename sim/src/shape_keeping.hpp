@@ -1,4 +1,4 @@
-// Shape keeping (our addition for styles, SPEC §6.2; docs/design.md): LCP
+// Shape keeping (our addition for styles, method.md §6.2; docs/design.md): LCP
 // has no bending stiffness, so a styled shape sags under gravity. Each hair
 // particle is pulled towards its initial (styled) position x0 in the head
 // frame, and the initial state is pre-stressed to equilibrium: the force it

@@ -1,7 +1,7 @@
-// The step of SPEC §1: neighbours, density, springs, hair-hair, external,
+// The step of method.md §1: neighbours, density, springs, hair-hair, external,
 // integrate, strain limit, directions. Every parallel loop owns particle i
 // and gathers from i's sorted lists, so the bits of the result do not depend
-// on the thread count (SPEC §5 Determinism).
+// on the thread count (method.md §5 Determinism).
 #include "loosehair/solver.hpp"
 #include "loosehair/param_table.hpp"
 
@@ -311,7 +311,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   resizeScratch(*scratch_, false);
 
   // Initial density: rest density rho0 and the kernel-free collision and
-  // friction coefficients (SPEC §4: d_c W / m summed over neighbours is about
+  // friction coefficients (method.md §4: d_c W / m summed over neighbours is about
   // d_c rho / m^2, so d_c = rate * m^2 / rho removes `rate` of the relative
   // normal velocity per second).
   findNeighbors();
@@ -750,7 +750,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
   s.sums_current = false;  // the step moves the particles
 }
 
-// ---- stage 3b: damped spring forces (SPEC §3.2) ----------------------------
+// ---- stage 3b: damped spring forces (method.md §3.2) ----------------------------
 namespace {
 
 // The damped spring forces of the connections of a run of slices:
@@ -876,7 +876,7 @@ void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) c
 
 namespace {
 
-// The hair-hair force on i of each gathered pair (SPEC §4, eqs. 16-18), for
+// The hair-hair force on i of each gathered pair (method.md §4, eqs. 16-18), for
 // accumulateHairHairForces. A function of its own with plain arguments so
 // that the loop vectorises (inside the parallel region's lambda it may not).
 struct HairHairTerms {
@@ -936,7 +936,7 @@ void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p, const float* _
 
 }  // namespace
 
-// ---- stage 3c: hair-hair pressure, collision, friction (SPEC §4) -----------
+// ---- stage 3c: hair-hair pressure, collision, friction (method.md §4) -----------
 // A blocked pair loop (pair_columns.hpp): every neighbour is within the
 // kernel's support; the terms are selected, not branched on.
 void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const {
@@ -1042,7 +1042,7 @@ void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_rea
   });
 }
 
-// ---- bodies (SPEC §5) ---------------------------------------------------------
+// ---- bodies (method.md §5) ---------------------------------------------------------
 // A world body seen from the head frame at one time: q = M x + d in the
 // body's frame, n_head = M^T n_body.
 struct Solver::BodyFrame {
@@ -1200,7 +1200,7 @@ void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float lim
   queryBodies(frames, head, points.data(), points.size(), phi.data(), normal.data(), nullptr, limit, rough);
 }
 
-// ---- wind (SPEC §5) -----------------------------------------------------------
+// ---- wind (method.md §5) -----------------------------------------------------------
 void Solver::setWind(const WindParams& wind) {
   std::vector<BodyFrame> frames;
   HeadKinematics head;
@@ -1298,7 +1298,7 @@ double Solver::holdTimeStep() const {
 
 double Solver::airStableTimeStep() const { return air_ ? air_->stableTimeStep() : INFINITY; }
 
-// ---- external forces in the head frame (SPEC §5) ----------------------------
+// ---- external forces in the head frame (method.md §5) ----------------------------
 void Solver::addExternalForces() {
   const std::size_t n = particles_.size();
   const auto& x = particles_.position;
@@ -1351,7 +1351,7 @@ void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
 }
 
 // ---- integrate: symplectic Euler with the inelastic, frictional body contact
-// applied to the new velocity (SPEC §5 body collisions) -------------------------
+// applied to the new velocity (method.md §5 body collisions) -------------------------
 std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
                               const HeadKinematics& head) {
   const std::size_t n = particles_.size();
@@ -1434,7 +1434,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   return contacts;
 }
 
-// ---- strain limit (SPEC §5, §9) ------------------------------------------------
+// ---- strain limit (method.md §5, §9) ------------------------------------------------
 namespace {
 
 // The strain-limit corrections of the connections of a run of slices (for
@@ -1963,7 +1963,7 @@ void Solver::step() {
   if (params_.hair_hair) accumulateHairHairForces(force_, true);
   lap(st.hair_hair);
   if (air_) {
-    // the hair-air drag (SPEC §5; wind_air.hpp)
+    // the hair-air drag (method.md §5; wind_air.hpp)
     air_->exchange(trajectory_.kinematics(time_), particles_.position, particles_.velocity, particles_.mass,
                    particles_.is_root, force_, dt, threads_);
     lap(st.air);

@@ -1,4 +1,4 @@
-// Tethers (long-range attachments; our addition to SPEC §5's strain limit):
+// Tethers (long-range attachments; our addition to method.md §5's strain limit):
 // a particle may be no further from its own root point than its arc length
 // allows, |x_i - r_i| <= (1 + slack) s_i. This is the no-stretch promise
 // itself, enforced per particle in O(N) without adding shear stiffness, so

@@ -12,7 +12,7 @@
 // each time they lose (up to kLongestInterval steps apart) and
 // frequent again when the step time moves the way a change of load moves it
 // (all threads slower, or one thread faster), so a load that comes is
-// noticed within a few dozen steps, one that goes within kLongestInterval. Results do not depend on the choice (bitwise, SPEC §5).
+// noticed within a few dozen steps, one that goes within kLongestInterval. Results do not depend on the choice (bitwise, method.md §5).
 #pragma once
 
 namespace loosehair {

@@ -1,4 +1,4 @@
-// The wind's air, whichever model carries it (SPEC §5; docs/design.md
+// The wind's air, whichever model carries it (method.md §5; docs/design.md
 // "Air on a grid"): the paper's SPH air particles (air.hpp, AirSystem) or a
 // velocity field on a grid (air_grid.hpp, AirGrid). Once it has built one,
 // the solver talks to the air through this interface only: the hair-air

@@ -1,4 +1,4 @@
-// Collision bodies as signed-distance functions (SPEC §5). Distances are
+// Collision bodies as signed-distance functions (method.md §5). Distances are
 // negative inside. Queries are batched so that a body costs one virtual call
 // per block of particles, not one per particle.
 #pragma once
@@ -175,7 +175,7 @@ struct SdfBakeOptions {
   std::string cache_dir;
 };
 
-/// A closed triangle mesh as a signed-distance grid (SPEC §5): baked once
+/// A closed triangle mesh as a signed-distance grid (method.md §5): baked once
 /// with OpenVDB's mesh-to-level-set conversion, sampled trilinearly, with
 /// the normal from the gradient of the interpolant.
 class GridSdfBody final : public Body {
@@ -248,7 +248,7 @@ class GridSdfBody final : public Body {
   std::vector<float> brick_min_;
 };
 
-/// A closed triangle mesh with exact distances at its surface (SPEC §5):
+/// A closed triangle mesh with exact distances at its surface (method.md §5):
 /// where the baked grid says a point may lie within `exact_band` of the
 /// surface (or inside it), the nearest triangle is found in a bounding-volume
 /// hierarchy and the distance signed by the angle-weighted pseudo-normal of

@@ -1,4 +1,4 @@
-// The fixed set of connections built once at initialisation (SPEC §3.1).
+// The fixed set of connections built once at initialisation (method.md §3.1).
 // Stored per particle (CSR), each pair twice: once in each partner's list,
 // with the quantities as seen from that particle, so that every force loop
 // can gather for one particle without writing to another. A particle's list

@@ -1,4 +1,4 @@
-// Grooms made elsewhere as the initial state of a simulation (SPEC §6.2
+// Grooms made elsewhere as the initial state of a simulation (method.md §6.2
 // import): polylines from a .hair, OBJ or PLY file become a style with one
 // wisp a strand (no clustering: the groom's own strands are kept exactly,
 // each a key strand with a single member of offset 0).

@@ -1,6 +1,6 @@
 // The head a scene or style grows hair on, built: the head and torso as
-// collision bodies (SPEC §5) and the scalp with its harmonic map to the unit
-// square (SPEC §6.1), with the queries styling needs (a point and normal for
+// collision bodies (method.md §5) and the scalp with its harmonic map to the unit
+// square (method.md §6.1), with the queries styling needs (a point and normal for
 // any (u, v), the (u, v) of the scalp point nearest to a point, and the
 // scalp's triangles for picking and for regions made of triangles).
 #pragma once

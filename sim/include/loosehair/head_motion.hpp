@@ -1,4 +1,4 @@
-// Prescribed rigid head trajectories (SPEC §5 "Head motion and inertia").
+// Prescribed rigid head trajectories (method.md §5 "Head motion and inertia").
 // A trajectory only has to give the pose at any time; velocities and
 // accelerations are taken by central differences in double precision, so any
 // smooth trajectory (procedural or keyframed) gets its inertial forces.

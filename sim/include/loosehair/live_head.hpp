@@ -1,5 +1,5 @@
 // A head moved by hand while the hair simulates (the viewer's head drag and
-// its shake and nod buttons; SPEC §5 inertial forces from the live
+// its shake and nod buttons; method.md §5 inertial forces from the live
 // trajectory). The simulation reads a keyframed trajectory whose keys are
 // the poses asked for, placed a few frames ahead of the simulation time, so
 // every key a step's kinematics depend on exists before the step is taken.

@@ -1,4 +1,4 @@
-// Triangle meshes for heads and bodies (SPEC §5 body collisions, §6.1 scalp):
+// Triangle meshes for heads and bodies (method.md §5 body collisions, §6.1 scalp):
 // loading (OBJ, PLY, OFF, STL through OpenMesh; glTF and GLB through
 // tinygltf), conversion to the simulator's frame (metres, +Y up, face
 // towards +Z) and checks that reject meshes the simulator cannot use.

@@ -1,5 +1,5 @@
 // Simulation parameters of the loosely-connected-particle hair solver.
-// Every field has a default, a unit and the SPEC.md section it belongs to.
+// Every field has a default, a unit and the docs/method.md section it belongs to.
 // Coefficients that the paper writes as raw multipliers of the SPH kernel
 // (collision, friction, air friction) are given here as rates in 1/s so that
 // they do not depend on the smoothing length, the particle mass or the step;
@@ -15,12 +15,12 @@
 namespace loosehair {
 
 struct SimParams {
-  // ---- time (SPEC §5 "Integration") -------------------------------------
+  // ---- time (method.md §5 "Integration") -------------------------------------
   /// Length of one solver step (unit: s). Symplectic Euler is stable while
   /// dt < 2/sqrt(sum_j alpha_ij k_ij / m_i); Solver::stableTimeStep() reports it.
   double time_step = 1.0e-3;
 
-  // ---- smoothing lengths (SPEC §1) -------------------------------------
+  // ---- smoothing lengths (method.md §1) -------------------------------------
   /// Connection smoothing length h1 (unit: m): pairs closer than 2*h1 at
   /// initialisation become connections; W(r, h1) is the spring's looseness.
   float h1 = 0.024f;
@@ -28,16 +28,16 @@ struct SimParams {
   /// between current neighbours closer than 2*h2. Must be smaller than h1.
   float h2 = 0.011f;
 
-  // ---- connections (SPEC §3.1) -----------------------------------------
+  // ---- connections (method.md §3.1) -----------------------------------------
   /// Alignment threshold a0 (dimensionless, 0..1): pairs with a_ij < a0 are
   /// never connected.
   float alignment_threshold = 0.5f;
   /// Target number of connections per particle Nn.
   int target_connections = 12;
 
-  // ---- loose springs (SPEC §3.2) ---------------------------------------
+  // ---- loose springs (method.md §3.2) ---------------------------------------
   /// Tensile (Young's) modulus E of the hair medium (unit: Pa). It also sets
-  /// how stiffly the hair volume resists shear and bending: at 5e4 (SPEC §9)
+  /// how stiffly the hair volume resists shear and bending: at 5e4 (method.md §9)
   /// a 25 cm hair turns with a shaken head like a solid; at 1e3 it trails
   /// visibly. Stretch is held by the tethers and the strain limit instead.
   float youngs_modulus = 1.0e3f;
@@ -66,7 +66,7 @@ struct SimParams {
   /// Most conjugate-gradient iterations of the implicit spring solve a step.
   int implicit_iterations = 50;
 
-  // ---- strain limit (SPEC §5, §9) ---------------------------------------
+  // ---- strain limit (method.md §5, §9) ---------------------------------------
   /// Move over-stretched active connections back to (1 + max_strain) l_ij
   /// after each step (Jacobi, roots immovable).
   bool strain_limit = true;
@@ -89,7 +89,7 @@ struct SimParams {
   /// Allowed excess of |x_i - r_i| over s_i (dimensionless).
   float tether_slack = 0.01f;
 
-  // ---- hair-hair interactions (SPEC §4) --------------------------------
+  // ---- hair-hair interactions (method.md §4) --------------------------------
   /// One switch for pressure, collision and friction between hair particles.
   bool hair_hair = true;
   /// Pressure coefficient k_a in P = k_a (rho - rho0) (unit: m^2/s^2, a
@@ -105,7 +105,7 @@ struct SimParams {
   /// velocity of approaching pairs is removed (unit: 1/s).
   float friction_rate = 10.0f;
 
-  // ---- external forces (SPEC §5) ---------------------------------------
+  // ---- external forces (method.md §5) ---------------------------------------
   /// Gravity in world coordinates (unit: m/s^2).
   glm::vec3 gravity{0.0f, -9.81f, 0.0f};
   /// Air friction -d_air v as a rate: each particle's world velocity decays
@@ -118,7 +118,7 @@ struct SimParams {
   float contact_thickness = 0.002f;
 
   // ---- shape keeping (our addition; docs/design.md "Shape keeping") ----
-  /// Holds a styled shape (SPEC §6.2): each hair particle is pulled towards
+  /// Holds a styled shape (method.md §6.2): each hair particle is pulled towards
   /// its initial position in the head frame with the acceleration
   /// (2 pi f)^2 (x0 - x), and the initial state is pre-stressed so that it
   /// is at rest under gravity and the internal forces it starts with. f is

@@ -1,6 +1,6 @@
-// Struct-of-arrays particle storage (SPEC §1).
+// Struct-of-arrays particle storage (method.md §1).
 // Positions, velocities and directions are in the head frame: roots are fixed
-// there and inertial forces stand for the head's motion (SPEC §5).
+// there and inertial forces stand for the head's motion (method.md §5).
 #pragma once
 
 #include <glm/vec2.hpp>

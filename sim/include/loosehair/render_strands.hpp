@@ -1,9 +1,9 @@
-// The strands drawn for a scene (issue "strands", SPEC §7.5): thousands of
+// The strands drawn for a scene (issue "strands", method.md §7.5): thousands of
 // thin strands, independent of the particle count, whose shape the
 // particles carry (loosehair/strand_field.hpp). A styled scene draws its
 // style's member strands (an imported groom: its own strands); a scene
 // without a style draws one strand per scalp sample, hung by the same
-// cantilever as its particles (SPEC §6.1).
+// cantilever as its particles (method.md §6.1).
 #pragma once
 
 #include "loosehair/style.hpp"

@@ -23,13 +23,13 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The hair to grow (SPEC §6.1).
+/// The hair to grow (method.md §6.1).
 struct Style;  // loosehair/style.hpp
 
 struct HairSpec {
   int particles = 3000;        // target particle count, roots included
   /// A style file (resolved path) whose member strands the hair is seeded
-  /// from instead of the cantilever placement (SPEC §6.2); `style_data`, if
+  /// from instead of the cantilever placement (method.md §6.2); `style_data`, if
   /// set, is used instead of reading it. The cantilever fields below are
   /// then unused.
   std::string style;
@@ -48,8 +48,8 @@ struct HairSpec {
   /// Grayscale image of the length over the scalp square (resolved path;
   /// empty: every hair is `length` long). Hair length = grey * length.
   std::string length_map;
-  float h1_scale = 1.2f;  // h1 = h1_scale * Poisson radius (SPEC §9)
-  /// h2 = min(h2_scale * mean nearest-neighbour distance, 0.8 h1) (SPEC §9)
+  float h1_scale = 1.2f;  // h1 = h1_scale * Poisson radius (method.md §9)
+  /// h2 = min(h2_scale * mean nearest-neighbour distance, 0.8 h1) (method.md §9)
   float h2_scale = 0.9f;
 };
 
@@ -77,7 +77,7 @@ enum class HeadKind { Sphere, Mesh };
 enum class ScalpKind { SphereCap, Auto, Curves };
 
 /// The head a scene or a style grows hair on: the head (a sphere or a
-/// mesh), the torso below it and the scalp (SPEC §5, §6.1). Fields "head",
+/// mesh), the torso below it and the scalp (method.md §5, §6.1). Fields "head",
 /// "torso" and "scalp" of scene and style files.
 struct HeadDesc {
   HeadKind head_kind = HeadKind::Sphere;

@@ -1,10 +1,10 @@
-// The loosely-connected-particle hair solver (SPEC §1-5).
+// The loosely-connected-particle hair solver (method.md §1-5).
 //
 //   Solver solver(params, particles, head_body, trajectory);
 //   for (int f = 0; f < frames; ++f) solver.advance(substeps);
 //   std::printf("%016llx\n", (unsigned long long)solver.stateHash());
 //
-// One step runs the named stages of SPEC §1 in order and times each
+// One step runs the named stages of method.md §1 in order and times each
 // (StepStats). The result is bitwise the same for any thread count: every
 // loop gathers into the particle it owns from sorted neighbour lists.
 #pragma once
@@ -74,7 +74,7 @@ struct InitReport {
   double mean_degree = 0;
   std::uint32_t min_degree = 0, max_degree = 0;  // over non-root particles
   /// Non-root particles that cannot reach a root through root-side
-  /// connections (SPEC §3.1): they hang on nothing. Should be 0.
+  /// connections (method.md §3.1): they hang on nothing. Should be 0.
   std::size_t unanchored = 0;
   float median_density = 0;       // kg/m^3, initial
   float rest_density = 0;         // rho0 (kg/m^3)
@@ -126,7 +126,7 @@ class Solver {
   /// parameters are no longer valid with it.
   void setTimeStep(double dt);
 
-  /// Adds a body that does not turn with the head (SPEC §5): a torso, or a
+  /// Adds a body that does not turn with the head (method.md §5): a torso, or a
   /// kinematic obstacle. `body` is given in its own frame, placed in the
   /// world by `motion` (pose of its frame over time), and collides only
   /// while begin <= t < end. Its surface velocity enters the contact
@@ -139,7 +139,7 @@ class Solver {
                     double begin = -INFINITY, double end = INFINITY, bool obstacle = false);
   std::size_t worldBodyCount() const { return world_bodies_.size(); }
 
-  /// Tethers towards a hair tie (SPEC §6.2, docs/design.md): particle i may
+  /// Tethers towards a hair tie (method.md §6.2, docs/design.md): particle i may
   /// be no farther than (1 + tether_slack) reach[i] from point[i] (head
   /// frame), besides its root tether; reach[i] < 0 means none. Hair between
   /// the scalp and a tie is held from both ends, as a tie holds it taut.
@@ -154,7 +154,7 @@ class Solver {
   /// unless hz has one finite entry >= 0 a particle.
   void setShapeKeepingStrengths(const std::vector<float>& hz);
 
-  /// Turns on wind (SPEC §5): fills the air box at the current time.
+  /// Turns on wind (method.md §5): fills the air box at the current time.
   /// Throws std::invalid_argument with every problem of `wind`.
   void setWind(const WindParams& wind);
   bool hasWind() const { return air_ != nullptr; }
@@ -259,7 +259,7 @@ class Solver {
 
   // ---- diagnostics -------------------------------------------------------
   /// (1/A_i) sum_{j in side(i)} l_ij alpha_ij k_ij for every particle at the
-  /// current positions (Pa); SPEC §3.2 requires it to stay E.
+  /// current positions (Pa); method.md §3.2 requires it to stay E.
   std::vector<float> tensileModulus(Side side) const;
   /// Spring plus hair-hair forces on every particle at the current state (N).
   std::vector<glm::vec3> internalForces() const;

@@ -1,4 +1,4 @@
-// Strands carried by the particle field (issue "strands", SPEC §7.5).
+// Strands carried by the particle field (issue "strands", method.md §7.5).
 //
 // The particles are a deformation field of the hair volume: each render
 // strand point is bound once, at the rest state, to the few particles near

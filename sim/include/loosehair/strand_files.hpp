@@ -1,4 +1,4 @@
-// Strands as polylines in files, chosen by extension (SPEC §6.2 export and
+// Strands as polylines in files, chosen by extension (method.md §6.2 export and
 // import): Wavefront OBJ (`v` and `l` elements), PLY (vertex and edge
 // elements) and the binary `.hair` format of Cem Yuksel's cyHair (a 128-byte
 // header, a 16-bit segment count per strand, then float x y z points).

@@ -1,4 +1,4 @@
-// Wisp-based hairstyles (SPEC §6.2, Zhang & Wünsche 2007): a style is a
+// Wisp-based hairstyles (method.md §6.2, Zhang & Wünsche 2007): a style is a
 // head, a hair colour hint and a list of wisps; each wisp grows member
 // strands over a region of the scalp that copy its key strand. Ties gather
 // the wisps that pass through them (a ponytail, a bun). Style files are

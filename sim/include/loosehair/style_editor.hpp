@@ -1,4 +1,4 @@
-// Editing a style (SPEC §6.2): the operations the viewer, the command line
+// Editing a style (method.md §6.2): the operations the viewer, the command line
 // and the tests share, each undoable. Every operation checks its arguments
 // and either applies whole or throws StyleError leaving the style as it was.
 //
@@ -43,7 +43,7 @@ class StyleEditor {
   /// leaves the scalp tilted down the slope (on the flat crown, towards the
   /// back, -z), bends under gravity (-y, the
   /// style's head at rest) as a cantilever of the scenes' default hair
-  /// stiffness (SPEC §6.1) and stays kClearance outside the head and the
+  /// stiffness (method.md §6.1) and stays kClearance outside the head and the
   /// torso; five control points along its `length` (m, in [0.01, 2]).
   std::vector<glm::vec3> newKeyStrand(glm::vec2 uv, float length) const;
   void deleteWisp(std::size_t wisp);

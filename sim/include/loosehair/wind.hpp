@@ -1,4 +1,4 @@
-// Wind (SPEC §5): air in a box around the head that enters upwind with the
+// Wind (method.md §5): air in a box around the head that enters upwind with the
 // wind velocity and leaves downwind, kept incompressible, with viscosity and
 // drag forces exchanged with the hair, equal and opposite. Two models of the
 // air: a grid (the default; sim/src/air_grid.hpp, docs/design.md "Air on a

@@ -9,7 +9,7 @@ namespace loosehair {
 
 namespace {
 // Height a strand may gain off the surface per unit of arc length while it
-// reaches its clearance (SPEC §6.1 leaves the first pieces' path open). The
+// reaches its clearance (method.md §6.1 leaves the first pieces' path open). The
 // scene's pieces are at most half a Poisson radius and, where that radius
 // sets their number (hair longer than 4 radii; shorter hair gets 8 pieces),
 // more than 0.44 of it; its clearance is a quarter of that radius unless

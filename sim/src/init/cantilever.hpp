@@ -1,5 +1,5 @@
 // Initial strand shape by a cantilever beam bending under gravity (Anjyo et
-// al. 1992; SPEC §6.1): the strand leaves the scalp along its root direction
+// al. 1992; method.md §6.1): the strand leaves the scalp along its root direction
 // and each piece turns towards gravity by the moment of the hair below it,
 // kappa(s) = (L - s)^2 sin(psi) / (2 S), S = EI / (weight per length).
 // Pieces that would enter the body are pushed back out of it, to a clearance

@@ -1,4 +1,4 @@
-// Hair hung from the scalp of a scene without a style (SPEC §6.1): the
+// Hair hung from the scalp of a scene without a style (method.md §6.1): the
 // length over the scalp (hair.length times the length map), the root
 // direction from the whorl, and the cantilever strand from any scalp point.
 // Shared by the particles (scene.cpp) and the render strands

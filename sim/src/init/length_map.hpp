@@ -1,4 +1,4 @@
-// Hair length over the scalp square (SPEC §6.1): a grayscale image (PNG,
+// Hair length over the scalp square (method.md §6.1): a grayscale image (PNG,
 // binary or plain PGM, or anything stb_image reads) whose row 0 is v = 0
 // (the front hairline) and column 0 is u = 0 (the left temple); the hair
 // length is the grey level (0..1) times the maximum length.

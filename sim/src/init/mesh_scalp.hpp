@@ -1,4 +1,4 @@
-// The scalp of a head mesh (SPEC §6.1): the part of the surface inside four
+// The scalp of a head mesh (method.md §6.1): the part of the surface inside four
 // Catmull-Rom curves (front, right, back, left), mapped to the unit square by
 // a piecewise-linear harmonic map with the four curves on its four sides:
 //

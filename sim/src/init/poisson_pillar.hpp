@@ -1,6 +1,6 @@
 // Poisson-disc sampling of the hair pillar {(u,v,s): -s_r <= s <= L(u,v)}
 // with the world metric d^2 = |f^-1(u1,v1) - f^-1(u2,v2)|^2 + (s1 - s2)^2
-// (SPEC §6.1). Deterministic for a seed.
+// (method.md §6.1). Deterministic for a seed.
 #pragma once
 
 #include "init/scalp_surface.hpp"

@@ -1,4 +1,4 @@
-// A scalp parameterised over the unit square D = [0,1]^2 (SPEC §6.1):
+// A scalp parameterised over the unit square D = [0,1]^2 (method.md §6.1):
 // f^-1(u, v) gives a point and normal. Implementations: the analytic sphere
 // cap here; the harmonic map of a trimmed head mesh later.
 #pragma once

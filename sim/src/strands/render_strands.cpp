@@ -72,7 +72,7 @@ StrandSet styleStrands(const SceneDesc& scene, const HeadModel& model, std::size
   return buildMemberStrands(style, model, kStrandSpacing, scene.limits.style, threads);
 }
 
-// One strand per scalp sample, hung like the particles (SPEC §6.1):
+// One strand per scalp sample, hung like the particles (method.md §6.1):
 // samples uniform in area from the scene's seed.
 StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::size_t target, int points,
                          float poisson_radius, int threads) {

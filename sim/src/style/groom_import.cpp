@@ -1,4 +1,4 @@
-// importGroom: one wisp a strand (SPEC §6.2 import). Each polyline is
+// importGroom: one wisp a strand (method.md §6.2 import). Each polyline is
 // resampled evenly by arc length into a key strand whose first control
 // point is the root moved onto the scalp; its region is a small (u, v)
 // square around that root, and its single member (strands 1, offset 0,

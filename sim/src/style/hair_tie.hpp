@@ -1,4 +1,4 @@
-// Hair ties (our addition to SPEC §6.2): where a key strand passes through a
+// Hair ties (our addition to method.md §6.2): where a key strand passes through a
 // tie's ring, and which points a tie holds.
 #pragma once
 

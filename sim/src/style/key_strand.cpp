@@ -1,4 +1,4 @@
-// Key strands (SPEC §6.2): their Catmull-Rom spline (kept out of the
+// Key strands (method.md §6.2): their Catmull-Rom spline (kept out of the
 // head), the three styling directions at a control point, and the local
 // frame of a root.
 #include "init/mesh_scalp.hpp"

@@ -1,4 +1,4 @@
-// Member strands of a wisp (SPEC §6.2; Zhang & Wünsche §3.2).
+// Member strands of a wisp (method.md §6.2; Zhang & Wünsche §3.2).
 //
 // Roots: Poisson-disc darts over the region's scalp triangles, drawn by area,
 // the region's root first. Shape: the key strand's dense Catmull-Rom

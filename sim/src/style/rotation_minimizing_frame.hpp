@@ -4,7 +4,7 @@
 // plane of the chord, then by a second reflection that takes the reflected
 // tangent onto the next tangent. The frames do not twist about the curve
 // and, unlike the Frenet frame, do not flip where the curvature vanishes.
-// Member strands express their offsets in these frames (SPEC §6.2).
+// Member strands express their offsets in these frames (method.md §6.2).
 #pragma once
 
 #include <glm/vec3.hpp>

@@ -1,4 +1,4 @@
-// checkStyle: a style against its head (SPEC §6.2), every problem named by
+// checkStyle: a style against its head (method.md §6.2), every problem named by
 // its field.
 #include "loosehair/style.hpp"
 #include "style/hair_tie.hpp"

@@ -1,4 +1,4 @@
-// Loading a style's wisps onto another head by (u, v) (SPEC §6.2).
+// Loading a style's wisps onto another head by (u, v) (method.md §6.2).
 #include "loosehair/style.hpp"
 
 #include <glm/geometric.hpp>

@@ -1,6 +1,6 @@
-// Seeding the LCP particles from a style's member strands (SPEC §6.2): a
+// Seeding the LCP particles from a style's member strands (method.md §6.2): a
 // Poisson-disc sampling, in the world metric, of the volume the strands
-// sweep, roots included (SPEC §6.1).
+// sweep, roots included (method.md §6.1).
 #pragma once
 
 #include "loosehair/style.hpp"

@@ -1,4 +1,4 @@
-// Wisp regions on the scalp (SPEC §6.2): which scalp triangles a region
+// Wisp regions on the scalp (method.md §6.2): which scalp triangles a region
 // touches, for sampling roots over it by area.
 #pragma once
 

@@ -1,5 +1,5 @@
 // The renderer calls OpenGL through a table of functions loaded from the
-// context's own get-proc-address (SPEC §7.4): OSMesaGetProcAddress,
+// context's own get-proc-address (method.md §7.4): OSMesaGetProcAddress,
 // eglGetProcAddress or glfwGetProcAddress. So one executable can draw with
 // OSMesa or with EGL (a GPU where there is one). Call loadGL once a context
 // is current, before creating a Renderer or an OverlayRenderer.

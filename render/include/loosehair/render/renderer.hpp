@@ -1,4 +1,4 @@
-// The hair renderer (SPEC §7): one textured billboard per particle along its
+// The hair renderer (method.md §7): one textured billboard per particle along its
 // hair direction, Goldman shading, two-pass light attenuation with 16
 // opacity slices, the head and torso shaded and shadowed by the hair, and
 // debug views. It draws into the OpenGL 3.3 core context that is current
@@ -69,12 +69,12 @@ HairColor parseHairColor(const std::string& name);
 enum class DebugView { None, Density, Speed, Connections, Directions };
 DebugView parseDebugView(const std::string& name);
 
-/// What the hair is drawn as: a billboard a particle (SPEC §7.1) or the
+/// What the hair is drawn as: a billboard a particle (method.md §7.1) or the
 /// thin strands the particles carry (FrameInput::strand_points).
 enum class HairGeometry { Billboards, Strands };
 /// "billboards" or "strands"; throws RenderError otherwise.
 HairGeometry parseHairGeometry(const std::string& name);
-/// How strands are lit: Kajiya-Kay with Goldman's directionality (SPEC
+/// How strands are lit: Kajiya-Kay with Goldman's directionality (method.md
 /// §7.3), or Marschner's R, TT and TRT lobes from lookup tables.
 enum class HairShading { KajiyaKay, Marschner };
 /// "kajiya-kay" or "marschner"; throws RenderError otherwise.
@@ -88,7 +88,7 @@ struct RenderSettings {
   /// Direction the light comes from (towards the light, world), parallel.
   glm::vec3 light_direction{0.4f, 0.8f, 0.6f};
   bool shadows = true;
-  float kappa = 5.5f;        // transmittance exp(-kappa * Omega) (SPEC §7.2)
+  float kappa = 5.5f;        // transmittance exp(-kappa * Omega) (method.md §7.2)
   float shadow_offset = 0.6f;  // lookup offset along the light, in slices
   /// Billboard size as multiples of the particle spacing: width across the
   /// hair and length along it (before the sin(phi) foreshortening).
