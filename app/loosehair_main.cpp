@@ -400,7 +400,8 @@ int simulate(const Options& o) {
   } rows[] = {{"neighbors", s.neighbors}, {"density", s.density},
               {"springs", s.springs},     {"hair-hair", s.hair_hair},
               {"external", s.external},   {"integrate", s.integrate},
-              {"constraints", s.strain_limit}, {"directions", s.directions},
+              {"strain limit", s.strain_limit}, {"tethers", s.tethers},
+              {"body contacts", s.body_contacts}, {"directions", s.directions},
               {"air", s.air}};
   const double total = s.total();
   for (const auto& row : rows) {

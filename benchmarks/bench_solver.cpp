@@ -188,6 +188,8 @@ void BM_Step(benchmark::State& state) {
   state.counters["springs_ms"] = sum.springs * ms;
   state.counters["hairhair_ms"] = sum.hair_hair * ms;
   state.counters["strain_ms"] = sum.strain_limit * ms;
+  state.counters["tethers_ms"] = sum.tethers * ms;
+  state.counters["bodies_ms"] = sum.body_contacts * ms;
   state.counters["ext_int_ms"] = (sum.external + sum.integrate) * ms;
   state.counters["directions_ms"] = sum.directions * ms;
 }

@@ -254,15 +254,17 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);
   ImGui::Text("state hash %016" PRIx64, frame.state_hash);
   static const char* stages[] = {"whole frame", "step: all stages", "neighbours", "density", "springs",
-                                  "hair-hair",   "external",         "integrate",  "strain limit", "air"};
-  ImGui::Combo("plot", &plot_stage_, stages, 10);
+                                  "hair-hair",   "external",         "integrate",  "strain limit", "tethers",
+                                  "body contacts", "directions", "air"};
+  ImGui::Combo("plot", &plot_stage_, stages, IM_ARRAYSIZE(stages));
   tooltip("the last five seconds of one stage's time (ms)");
   if (!stage_ms_.empty()) {
     std::vector<float> ms;
     for (const auto& [frame_ms, st] : stage_ms_) {
       const double v[] = {frame_ms,     1e3 * st.total(),     1e3 * st.neighbors, 1e3 * st.density,
                           1e3 * st.springs, 1e3 * st.hair_hair, 1e3 * st.external, 1e3 * st.integrate,
-                          1e3 * st.strain_limit, 1e3 * st.air};
+                          1e3 * st.strain_limit, 1e3 * st.tethers, 1e3 * st.body_contacts,
+                          1e3 * st.directions, 1e3 * st.air};
       ms.push_back(static_cast<float>(v[plot_stage_]));
     }
     char label[64];
@@ -272,7 +274,10 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   const StageTimes& s = frame.last_step;
   ImGui::Text("last step %.2f ms: neighbours %.2f, density %.2f,", 1e3 * s.total(), 1e3 * s.neighbors, 1e3 * s.density);
   ImGui::Text("  springs %.2f, hair-hair %.2f, external %.2f,", 1e3 * s.springs, 1e3 * s.hair_hair, 1e3 * s.external);
-  ImGui::Text("  integrate %.2f, strain limit %.2f, air %.2f", 1e3 * s.integrate, 1e3 * s.strain_limit, 1e3 * s.air);
+  ImGui::Text("  integrate %.2f, strain limit %.2f, tethers %.2f,", 1e3 * s.integrate, 1e3 * s.strain_limit,
+              1e3 * s.tethers);
+  ImGui::Text("  body contacts %.2f, directions %.2f, air %.2f", 1e3 * s.body_contacts, 1e3 * s.directions,
+              1e3 * s.air);
   SimParams& p = c_.pending().sim;
   bool hh = p.hair_hair;
   if (ImGui::Checkbox("hair-hair interactions", &hh)) c_.setParam("hair_hair", hh ? 1.0 : 0.0);

@@ -16,6 +16,10 @@
 #include "pair_columns.hpp"
 #include "parallel.hpp"
 #include "solver_scratch.hpp"
+#include "solver/connection_passes.hpp"
+#include "solver/step_context.hpp"
+#include "solver/strain_limit.hpp"
+#include "solver/tethers.hpp"
 #include "shape_keeping.hpp"
 #include "tether.hpp"
 #include "thread_choice.hpp"
@@ -49,25 +53,11 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
   integrate += o.integrate;
   air += o.air;
   strain_limit += o.strain_limit;
+  tethers += o.tethers;
+  body_contacts += o.body_contacts;
   directions += o.directions;
   return *this;
 }
-
-// Per-step spring quantities. Per connection entry only what a later pass
-// cannot recompute from the positions: the connection passes stream these
-// arrays every step, and at 100k particles (1.2 M entries) their memory
-// traffic, not their arithmetic, bounds the step. |x_ij| and k_ij are
-// recomputed where they are needed, from the same expressions, so they have
-// the same bits in every pass.
-
-// The connections in the solver's slice layout (connection_slices.hpp) with
-// the per-entry constants of the connection passes.
-struct Solver::Sliced {
-  ConnectionSlices layout;
-  std::vector<float> rest;      // l_ij
-  std::vector<float> strength;  // c_ij
-  std::vector<float> cos_rest;  // of theta_ij (the pass takes sin from it: restSine)
-};
 
 namespace {
 
@@ -75,29 +65,6 @@ using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
-
-using Index = std::int64_t;
-
-// alpha_ij (eq. 14) of an entry from the owner's factor on the entry's side
-// and the partner's factor on the other side: j on i's tip side means i on
-// j's root side. `own_weight` is 1/2 for a pair of hair particles; a root
-// particle is part of the head, so a pair with a root takes the hair
-// particle's factor alone (own_weight 1 if the partner is a root, 0 if the
-// owner is), and the hair keeps its modulus where it is attached (a root's
-// tip side gathers many connections and would halve it).
-inline float pairFactor(float own, float other, float own_weight) {
-  return own_weight * own + (1.0f - own_weight) * other;
-}
-// The `own_weight` of an entry from whether its owner and partner are roots.
-inline float ownWeight(bool owner_root, bool partner_root) {
-  return partner_root ? 1.0f : owner_root ? 0.0f : 0.5f;
-}
-// A root's side factors are weighted by 0 in every alpha_ij it enters (there
-// are no root-root connections), so the spring pass's records carry this
-// marker in their place and the entries find their roots from it; 0 * -1 is
-// -0 where 0 * a_root was +0, and x + -0 = x + +0 for every x >= 0 (a
-// factor), so alpha_ij keeps its bits.
-constexpr float kRootFactor = -1.0f;
 
 constexpr std::size_t kBodyBlock = 256;
 using tether::kSkin;
@@ -107,142 +74,6 @@ constexpr float kClearMargin = 2e-5f;
 // m/s: the fastest approach to a body that speculative contacts catch
 // within one step (faster ones are left to the projection)
 constexpr float kSpeculativeSpeed = 2.0f;
-
-// Work items of the connection passes: chunks of kSliceChunk slices,
-// handed out by whole sorting windows of the slice layout (its particles'
-// lanes are shuffled by degree), so that no two threads write results of
-// particles that share a cache line.
-constexpr int kWindowChunks =
-    static_cast<int>(kSliceWindow / (ConnectionSlices::kLanes * kSliceChunk));
-static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWindow);
-
-// How the work is shared among threads. Every pass gives each thread one
-// contiguous range: the per-particle loops an equal range of particle
-// indices (parallel::share), the connection passes about the same
-// range cut at whole windows with about equal work (workItemPart), the
-// neighbour search an equal range of the search order, density and
-// hair-hair about the same range with about equal pairs
-// (NeighborGrid::pairBalancedPart). The two
-// orders hold about the same part of the hair (both follow space). So a
-// thread works on the same particles in every pass and step, and finds
-// their data still in its own caches; with dynamic schedules the next pass
-// gave about half of them to the other thread. On the 2-core test machine
-// the cores do not seem to share a last-level cache: 16 MB written by one
-// thread is read back by it at 56-66 GB/s and by the other at 38 GB/s.
-// There two threads at 200k particles took 33.9-35.6 ms a step with dynamic
-// schedules and 30.1-34.3 with these (identical steps, lowest of 3, the
-// lower 7 of 10 alternations); on the head-shake scene at 100k both take
-// 23-24 ms. (Splitting the neighbour search by the last build's pairs too
-// made it slower, 7.3-7.9 against 6.7-7.1 ms: its work goes more with the
-// points than with the pairs.) The results do not depend on the split:
-// every work item writes its own particles' sums, each added in a fixed
-// order.
-
-// One work item of a connection pass: slices [s0, s1) of the layout, their
-// entries from q0 on, their lanes from s0 * 16 on (`used` of them hold a
-// particle) and each slice's row count; `readable` entries of the layout's
-// per-entry columns follow q0 (for the gathers' look-ahead).
-struct SliceRun {
-  static constexpr std::size_t L = ConnectionSlices::kLanes;
-  std::size_t s0, s1, q0, entries, lanes, used, readable;
-  std::uint32_t rows[kSliceChunk];
-  SliceRun(const ConnectionSlices& cs, Index chunk)
-      : s0(static_cast<std::size_t>(chunk) * kSliceChunk),
-        s1(std::min(cs.sliceCount(), s0 + kSliceChunk)),
-        q0(std::size_t{cs.row_begin[s0]} * L),
-        entries(std::size_t{cs.row_begin[s1]} * L - q0),
-        lanes((s1 - s0) * L),
-        used(std::min(lanes, cs.particle_count - s0 * L)),
-        readable(cs.entryCount() - q0) {
-    for (std::size_t k = s0; k < s1; ++k) rows[k - s0] = cs.row_begin[k + 1] - cs.row_begin[k];
-  }
-  static Index count(const ConnectionSlices& cs) {
-    return static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
-  }
-  // Sorting windows: groups of kWindowChunks work items.
-  static Index windows(const ConnectionSlices& cs) {
-    return (count(cs) + kWindowChunks - 1) / kWindowChunks;
-  }
-  // The gathers' look-ahead (connection_slices.hpp) from an array of the
-  // partners' records of `record_bytes`: prefetching pays only where the
-  // array does not stay in a core's L2 (1-2 MB on current x86 CPUs) through
-  // the pass; at 10k particles it cost 3-11% of the strain and direction
-  // passes (three alternations).
-  std::size_t gatherAhead(std::size_t record_bytes) const {
-    constexpr std::size_t kCachedRecordBytes = std::size_t{1} << 20;
-    return record_bytes > kCachedRecordBytes ? readable : 0;
-  }
-  // Asks for the next work item's part of per-entry columns of 4-byte
-  // values (given by their starts) to be brought into L2 while this item
-  // gathers and computes: its entries follow this item's, and the hardware
-  // would otherwise find each column's stream anew at every item.
-  template <class... Column>
-  void prefetchNext(const Column*... column) const {
-    static_assert(((sizeof(Column) == 4) && ...));
-    const std::size_t next = std::min(readable - entries, entries);  // next item: about as long
-    for (std::size_t b = 0; b < next * 4; b += 64)
-      (__builtin_prefetch(reinterpret_cast<const char*>(column + q0 + entries) + b, 0, 2), ...);
-  }
-};
-
-// The work items [first, second) of part `part` of `parts`: contiguous,
-// starting at whole sorting windows, with about equal work. The work of a
-// slice is counted as its entries plus kLaneWork a lane (the owner's gather
-// and its results); each part starts at the window boundary nearest its
-// share, the lower one on a tie. (Equal numbers of windows are not equal
-// work: on the bundled mesh-head scenes, 6k particles in 24 windows, they
-// gave one thread 53.9% of the entries and lanes; this split 50.5%.)
-constexpr std::size_t kLaneWork = 2;
-std::pair<Index, Index> workItemPart(const ConnectionSlices& cs, int part, int parts) {
-  constexpr std::size_t L = ConnectionSlices::kLanes;
-  const Index chunks = SliceRun::count(cs), windows = SliceRun::windows(cs);
-  const auto boundary = [&](Index w) {  // the first work item of window w
-    return std::min(chunks, w * kWindowChunks);
-  };
-  const auto work = [&](Index w) {  // the work of windows [0, w)
-    const std::size_t s =
-        std::min(cs.sliceCount(), static_cast<std::size_t>(boundary(w)) * kSliceChunk);
-    return (std::size_t{cs.row_begin.empty() ? 0u : cs.row_begin[s]} + kLaneWork * s) * L;
-  };
-  const auto start = [&](int p) -> Index {
-    if (p <= 0) return 0;
-    if (p >= parts) return chunks;
-    const auto scale = static_cast<std::size_t>(parts);
-    const std::size_t target = work(windows) * static_cast<std::size_t>(p);  // times `parts`
-    Index lo = 0, hi = windows;  // the last window w with work(w) * parts <= target
-    while (hi - lo > 1) {
-      const Index w = (lo + hi) / 2;
-      if (work(w) * scale <= target)
-        lo = w;
-      else
-        hi = w;
-    }
-    const std::size_t below = target - work(lo) * scale;
-    const bool next_nearer = lo < windows && work(lo + 1) * scale - target < below;
-    return boundary(next_nearer ? lo + 1 : lo);
-  };
-  return {start(part), start(part + 1)};
-}
-
-// Runs body(run) for each work item of the calling thread's part
-// (workItemPart): the same in every pass and step (the note on work sharing
-// above). Called by every thread of a parallel region; ends with a barrier.
-template <class Body>
-void forOwnWorkItems(const ConnectionSlices& cs, Body&& body) {
-  const auto [first, second] = workItemPart(cs, parallel::threadIndex(), parallel::threadCount());
-  for (Index cc = first; cc < second; ++cc) body(SliceRun(cs, cc));
-  parallel::barrier();
-}
-
-// k_ij = c_ij W(r, h1) (eq. 7), W written as CubicKernel::W: one expression
-// for every pass that needs k_ij, so that each recomputes the same bits.
-struct SpringKernel {
-  float inv_h, norm_w;  // W(r, h1): 1/h1, 1/(4 pi h1^3)
-  explicit SpringKernel(const CubicKernel& k1) : inv_h(1.0f / k1.h()), norm_w(k1.W(0.0f) / 4.0f) {}
-};
-inline float springCoefficient(float strength, float r, float inv_h, float norm_w) {
-  return strength * cubicW(r, inv_h, norm_w);
-}
 
 }  // namespace
 
@@ -254,7 +85,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
       trajectory_(std::move(trajectory)),
       time_(start_time),
       scratch_(std::make_unique<Scratch>()),
-      sliced_(std::make_unique<Sliced>()) {
+      sliced_(std::make_unique<SlicedConnections>()) {
   const auto problems = validate(params_);
   if (!problems.empty()) {
     std::string msg = "invalid simulation parameters:";
@@ -289,25 +120,17 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   inverse_mass_.resize(n);  // 0 for a root (fixed); no root-root connections
   for (std::size_t i = 0; i < n; ++i)
     inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
-  {
-    Sliced& sl = *sliced_;
-    sl.layout = sliceConnections(connections_, kSliceWindow);
-    // padding entries: finite values, masked out by the passes
-    sl.rest = sl.layout.arrange(connections_.rest_length, 1.0f);
-    sl.strength = sl.layout.arrange(connections_.strength, 0.0f);
-    sl.cos_rest = sl.layout.arrange(connections_.cos_rest, 1.0f);
-  }
+  *sliced_ = sliceForPasses(connections_);
 
   grid_ = std::make_unique<NeighborGrid>();
   density_.assign(n, 0.0f);
   pressure_.assign(n, 0.0f);
   pressure_term_.assign(n, 0.0f);
   force_.assign(n, glm::vec3(0.0f));
-  integrated_position_.assign(n, glm::vec3(0.0f));
-  limited_position_.assign(n, glm::vec3(0.0f));
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
-  body_clearance_.assign(n, -INFINITY);
+  step_ = std::make_unique<StepContext>();
+  step_->resize(n);
   resizeScratch(*scratch_, false);
 
   // Initial density: rest density rho0 and the kernel-free collision and
@@ -835,7 +658,7 @@ void springSlices(
 
 void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const {
   constexpr std::size_t L = ConnectionSlices::kLanes;
-  const Sliced& sl = *sliced_;
+  const SlicedConnections& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
   const CubicKernel k1(params_.h1);
   const SpringKernel sk(k1);
@@ -1352,9 +1175,10 @@ void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
 
 // ---- integrate: symplectic Euler with the inelastic, frictional body contact
 // applied to the new velocity (method.md §5 body collisions) -------------------------
-std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
+std::size_t Solver::integrate(StepContext& ctx, const std::vector<BodyFrame>& frames,
                               const HeadKinematics& head) {
   const std::size_t n = particles_.size();
+  const float dt = ctx.dt;
   auto& x = particles_.position;
   auto& v = particles_.velocity;
   const auto& m = particles_.mass;
@@ -1363,8 +1187,8 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   const bool implicit = params_.implicit_springs;
   const float reach = thickness + kSpeculativeSpeed * dt;
   // the strain limit's first records, (x, 1/m), made here in the same pass
-  strain_records_[0].resize(n);
-  glm::vec4* strain_record = strain_records_[0].data();
+  ctx.strain_records[0].resize(n);
+  glm::vec4* strain_record = ctx.strain_records[0].data();
   const float* inv_mass = inverse_mass_.data();
   // the rough answers' worst error over the bodies asked: phi - error is a
   // lower bound of the distance (Body::roughError); a body without such a
@@ -1372,7 +1196,8 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   auto error = [](const Body& body) { return body.roughError() < 0.0f ? INFINITY : body.roughError(); };
   float rough_error = error(*head_);
   for (const BodyFrame& f : frames) rough_error = std::max(rough_error, error(*f.body));
-  float* clearance = body_clearance_.data();
+  float* clearance = ctx.body_clearance.data();
+  glm::vec3* integrated_position = ctx.integrated_position.data();
   std::size_t contacts = 0;
   std::atomic<std::size_t> contacts_sum{0};
   parallel::run(threads_, [&] {
@@ -1421,7 +1246,7 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
         }
         v[i] = vi;
         x[i] += dt * vi;
-        integrated_position_[i] = x[i];
+        integrated_position[i] = x[i];
         // phi is 1-Lipschitz: the step moved the particle dt |v| at most
         clearance[i] = body_phi_[i] - rough_error - dt * glm::length(vi);
         strain_record[i] = glm::vec4(x[i], inv_mass[i]);
@@ -1434,166 +1259,21 @@ std::size_t Solver::integrate(float dt, const std::vector<BodyFrame>& frames,
   return contacts;
 }
 
-// ---- strain limit (method.md §5, §9) ------------------------------------------------
-namespace {
-
-// The strain-limit corrections of the connections of a run of slices (for
-// Solver::limitStrain): a connection longer than (1 + max_strain) l_ij and
-// still within the kernel's support pulls i towards j by its share
-// w_i / (w_i + w_j) of the excess, scaled by the spring's looseness
-// W(r)/W(l_ij) (so a connection that is letting go, hair splitting, is not
-// pulled back hard). Each lane sums, in its list's order, the shift and
-// the number of acting connections. 1/W(l_ij) and the shares are computed
-// here, as the constructor would (the same bits), rather than streamed
-// from memory: the pass runs twice a step over every connection entry.
-struct StrainTerms {
-  float inv_h, norm_w;  // kernel W(r, h1)
-  float support2, max_len_scale;
-};
-LOOSEHAIR_PAIR_KERNEL
-void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows, const StrainTerms& p,
-                  const float* __restrict degree, const float* __restrict xi,
-                  const float* __restrict yi, const float* __restrict zi,
-                  const float* __restrict wi, const float* __restrict xj,
-                  const float* __restrict yj, const float* __restrict zj,
-                  const float* __restrict wj, const float* __restrict rest,
-                  float* __restrict shift_x, float* __restrict shift_y, float* __restrict shift_z,
-                  float* __restrict acting) {
-  constexpr std::size_t L = ConnectionSlices::kLanes;
-  const float inv_h = p.inv_h, norm_w = p.norm_w, support2 = p.support2, scale = p.max_len_scale;
-  std::size_t q0 = 0;  // first entry of the slice's rows
-  for (std::size_t sl = 0; sl < slices; ++sl) {
-    float sx[L], sy[L], sz[L], act[L];
-    for (std::size_t l = 0; l < L; ++l) sx[l] = sy[l] = sz[l] = act[l] = 0.0f;
-    const std::size_t o = sl * L;
-    for (std::uint32_t r = 0; r < rows[sl]; ++r, q0 += L) {
-      const float row = static_cast<float>(r);
-      for (std::size_t l = 0; l < L; ++l) {
-        const std::size_t q = q0 + l;
-        const float dx = xj[q] - xi[o + l], dy = yj[q] - yi[o + l], dz = zj[q] - zi[o + l];
-        const float r2 = dx * dx + dy * dy + dz * dz;
-        const float limit = scale * rest[q];
-        // slack connections and connections beyond the support stay free
-        const float on = r2 > limit * limit ? (r2 < support2 ? 1.0f : 0.0f) : 0.0f;
-        const float len = std::sqrt(r2);
-        const float inv_rest_w = 1.0f / cubicW(rest[q], inv_h, norm_w);
-        const float looseness = std::min(1.0f, cubicW(len, inv_h, norm_w) * inv_rest_w);
-        const float w_i = wi[o + l], share = w_i / (w_i + wj[q]);  // w: inverse mass
-        const float coef = on > 0.0f ? looseness * (len - limit) * share / len : 0.0f;
-        const bool valid = row < degree[o + l];  // not a padding entry
-        sx[l] = valid ? sx[l] + coef * dx : sx[l];
-        sy[l] = valid ? sy[l] + coef * dy : sy[l];
-        sz[l] = valid ? sz[l] + coef * dz : sz[l];
-        act[l] = valid ? act[l] + on : act[l];
-      }
-    }
-    for (std::size_t l = 0; l < L; ++l) {
-      shift_x[o + l] = sx[l];
-      shift_y[o + l] = sy[l];
-      shift_z[o + l] = sz[l];
-      acting[o + l] = act[l];
-    }
-  }
-}
-
-}  // namespace
-
-std::size_t Solver::limitStrain() {
-  constexpr std::size_t L = ConnectionSlices::kLanes;
-  const auto& root = particles_.is_root;
-  std::size_t limited = 0;
-  if (!params_.strain_limit || params_.strain_limit_iterations <= 0) return 0;
-  const CubicKernel k1(params_.h1);
-  const StrainTerms terms{1.0f / k1.h(), k1.W(0.0f) / 4.0f, k1.support2(),
-                          1.0f + params_.max_strain};
-  const Sliced& sl = *sliced_;
-  const ConnectionSlices& cs = sl.layout;
-  enum { XJ, YJ, ZJ, WJ, kEntryColumns };
-  enum { XI, YI, ZI, WI, SX, SY, SZ, ACT, kLaneColumns };
-  // The partners' (x, w) records, w the inverse mass, made for the first
-  // iteration by integrate (from the positions it leaves, in its pass) and
-  // by each iteration for the next.
-  const std::size_t n = particles_.size();
-  const float* inv_mass = inverse_mass_.data();
-  assert(strain_records_[0].size() == n);
-  strain_records_[1].resize(n);
-  for (int it = 0; it < params_.strain_limit_iterations; ++it) {
-    const glm::vec3* x = particles_.position.data();
-    glm::vec3* out = limited_position_.data();
-    const float* rec_in = &strain_records_[it & 1][0].x;
-    glm::vec4* rec_out = strain_records_[(it + 1) & 1].data();
-    std::size_t count = 0;
-    std::atomic<std::size_t> count_sum{0};
-    parallel::run(threads_, [&] {
-      std::size_t count_part = 0;
-      SliceColumns& col = threadSliceColumns();
-      forOwnWorkItems(cs, [&](const SliceRun& run) {
-        const std::size_t q0 = run.q0, s0 = run.s0;
-        col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
-        const std::uint32_t* owner = cs.owner.data() + s0 * L;
-        run.prefetchNext(cs.partner.data(), sl.rest.data());
-        gatherRecords(rec_in, cs.partner.data() + q0, run.entries,
-                      run.gatherAhead(n * sizeof(glm::vec4)), col.entry(XJ), col.entry(YJ),
-                      col.entry(ZJ), col.entry(WJ));
-        gatherRecords(rec_in, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI),
-                      col.lane(WI));
-        strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI),
-                     col.lane(YI), col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ),
-                     col.entry(ZJ), col.entry(WJ), sl.rest.data() + q0, col.lane(SX), col.lane(SY),
-                     col.lane(SZ), col.lane(ACT));
-        for (std::size_t l = 0; l < run.used; ++l) {
-          const std::uint32_t i = owner[l];
-          out[i] = x[i];
-          const float active = col.lane(ACT)[l];
-          if (!root[i] && active > 0.0f) {
-            out[i] = x[i] + glm::vec3(col.lane(SX)[l], col.lane(SY)[l], col.lane(SZ)[l]) / active;
-            ++count_part;
-          }
-          rec_out[i] = glm::vec4(out[i], inv_mass[i]);
-        }
-      });
-      count_sum += count_part;
-    });
-    count = count_sum.load();
-    particles_.position.swap(limited_position_);
-    if (it == 0) limited = count;
-    if (count == 0) break;
-  }
-  return limited;
-}
-
 // The hair chain (sim/src/hair_chain.hpp) with the tethers: each particle
 // within reach of hair nearer its root and of its root (and tie), nearer
 // the root first. Its moves may stop a particle moving away from the hair,
-// never throw it back (chain_moved_, projectOutOfBodies).
-void Solver::holdHairChains() {
+// never throw it back (`moved`, projectOutOfBodies).
+void Solver::holdHairChains(std::vector<std::uint8_t>& moved) {
   const auto& rp = particles_.root_point;
   const auto& sarc = particles_.arc_length;
   const float scale = 1.0f + params_.tether_slack;
-  chain_moved_.assign(particles_.size(), 0);
+  moved.assign(particles_.size(), 0);
   chain_->project(particles_.position, sarc, [&](std::size_t i, glm::vec3 y) {
-    chain_moved_[i] = 1;
+    moved[i] = 1;
     y = tether::within(y, rp[i], scale * sarc[i]);
     if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) y = tether::within(y, tie_point_[i], scale * tie_reach_[i]);
     return y;
   });
-}
-
-// Tethers (sim/src/tether.hpp) on particles [b, e): called by
-// projectOutOfBodies, block by block, just before their bodies are asked
-// (one pass over the particles for both).
-void Solver::applyTethers(std::size_t b, std::size_t e) {
-  if (!params_.tether) return;
-  auto& x = particles_.position;
-  const auto& root = particles_.is_root;
-  const auto& rp = particles_.root_point;
-  const auto& sarc = particles_.arc_length;
-  const float scale = 1.0f + params_.tether_slack;
-  for (std::size_t i = b; i < e; ++i)
-    if (!root[i]) x[i] = tether::within(x[i], rp[i], scale * sarc[i]);
-  if (!tie_reach_.empty())
-    for (std::size_t i = b; i < e; ++i)
-      if (!root[i] && tie_reach_[i] >= 0.0f) x[i] = tether::within(x[i], tie_point_[i], scale * tie_reach_[i]);
 }
 
 void Solver::setShapeKeepingStrengths(const std::vector<float>& hz) {
@@ -1639,7 +1319,7 @@ void Solver::setTieTethers(std::vector<glm::vec3> point, std::vector<float> reac
 // pushed are outside the bodies with obstacles, so outside those without.
 // On the mesh-head scenes the later rounds asked all 256 particles of any
 // block with one particle inside.
-void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
+void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
                                 const std::vector<BodyFrame>& frames,
                                 const std::vector<BodyFrame>& solid_frames,
                                 const HeadKinematics& head) {
@@ -1651,8 +1331,10 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
   // last slide round the tethers (docs/design.md "Implicit springs")
   const int rounds = frames.empty() ? 2 : 4;
   const bool has_obstacles = solid_frames.size() != frames.size();
-  const bool absorb = absorb_corrections_;
-  absorb_corrections_ = false;
+  const float dt = ctx.dt;
+  const bool absorb = ctx.absorb_corrections;
+  const auto& chain_moved = ctx.chain_moved;
+  const glm::vec3* integrated_position = ctx.integrated_position.data();
   const int total_rounds = rounds + (has_obstacles ? 1 : 0);
   const bool slide = params_.tether;
   const auto& rp = particles_.root_point;
@@ -1673,10 +1355,10 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
   bool bodies_moved = false;
   for (std::size_t k = 0; same_bodies && k < frames.size(); ++k)
     bodies_moved = bodies_moved || frames[k].m != start_frames[k].m || frames[k].d != start_frames[k].d;
-  const float* clear = body_clearance_.data();
+  const float* clear = ctx.body_clearance.data();
   auto clearance = [&](std::size_t i) {
     if (!same_bodies) return -INFINITY;
-    const glm::vec3 xi = integrated_position_[i];
+    const glm::vec3 xi = integrated_position[i];
     float body_move = 0.0f;  // the farthest a world body moved at xi
     for (std::size_t k = 0; bodies_moved && k < frames.size(); ++k)
       body_move = std::max(body_move, glm::length((frames[k].m * xi + frames[k].d) -
@@ -1689,7 +1371,6 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
       threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
         const std::size_t b = bb * kBodyBlock;
         const std::size_t len = std::min(n, b + kBodyBlock) - b;
-        applyTethers(b, b + len);
         glm::vec3 surface[kBodyBlock];
         bool pushed[kBodyBlock] = {};
         glm::vec3 push_normal[kBodyBlock];
@@ -1754,14 +1435,14 @@ void Solver::projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_fr
         for (std::size_t i = b; i < b + len; ++i) {
           if (root[i]) continue;
           glm::vec3 vi = v[i];
-          if (x[i] != integrated_position_[i] && !absorb) {
+          if (x[i] != integrated_position[i] && !absorb) {
             // The corrections' move over dt is a velocity (position-based
             // dynamics: hair dragged along keeps the drag's speed), but
-            // where the hair chain moved the particle (chain_moved_) the
+            // where the hair chain moved the particle (chain_moved) the
             // move only stops a motion against it: counted whole, a
             // particle the chain drew back flew on past it, and fell again.
-            const glm::vec3 d = x[i] - integrated_position_[i];
-            if (!chain_moved_.empty() && chain_moved_[i]) {
+            const glm::vec3 d = x[i] - integrated_position[i];
+            if (!chain_moved.empty() && chain_moved[i]) {
               const float moved = glm::length(d);
               const glm::vec3 dir = d / moved;
               const float a = glm::dot(vi, dir);
@@ -1873,7 +1554,7 @@ std::size_t Solver::updateDirections(Scratch& s) {
   const glm::vec3* v = particles_.velocity.data();
   glm::vec3* dir = particles_.direction.data();
   const auto& root = particles_.is_root;
-  const Sliced& sl = *sliced_;
+  const SlicedConnections& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
   const SpringKernel terms{CubicKernel(params_.h1)};
   enum { XJ, YJ, ZJ, kEntryColumns };
@@ -1975,22 +1656,39 @@ void Solver::step() {
     lap(st.springs);
   }
 
+  StepContext& ctx = *step_;
+  ctx.dt = dt;
+  ctx.t_start = time_;
+  ctx.t_end = t_end;
+  ctx.threads = threads_;
+  ctx.absorb_corrections = absorb_corrections_;
+  absorb_corrections_ = false;
+
   HeadKinematics head_start;
   placeBodies(time_, start_frames_, head_start);
-  const std::size_t contacts = integrate(dt, start_frames_, head_start);
+  ctx.contacts = integrate(ctx, start_frames_, head_start);
   lap(st.integrate);
 
-  // Corrections: strain limit, the hair chain, tethers, and no particle
-  // left inside a body.
-  const std::size_t limited = limitStrain();
-  if (params_.tether && params_.hair_chain) holdHairChains();
-  else chain_moved_.clear();
+  // Corrections: strain limit, the hair chain and the tethers, and no
+  // particle left inside a body.
+  ctx.limited = 0;
+  if (params_.strain_limit)
+    ctx.limited = limitStrain({params_.h1, params_.max_strain, params_.strain_limit_iterations}, *sliced_,
+                              particles_.is_root, particles_.position, ctx.strain_records,
+                              ctx.limited_position, threads_);
+  lap(st.strain_limit);
+  if (params_.tether && params_.hair_chain) holdHairChains(ctx.chain_moved);
+  else ctx.chain_moved.clear();
+  if (params_.tether)
+    applyTethers(params_.tether_slack, particles_.is_root, particles_.root_point, particles_.arc_length,
+                 tie_point_, tie_reach_, particles_.position, threads_);
+  lap(st.tethers);
   HeadKinematics head_end;
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);
   placeBodies(t_end, solid_frames_, head_end, false);  // without obstacles: the last round
-  projectOutOfBodies(dt, start_frames_, frames, solid_frames_, head_end);  // and the tethers
-  lap(st.strain_limit);
+  projectOutOfBodies(ctx, start_frames_, frames, solid_frames_, head_end);
+  lap(st.body_contacts);
 
   if (air_ && air_->due(dt)) {
     // the air moves (the grid's at its own pace), the bodies where they
@@ -2044,8 +1742,8 @@ void Solver::step() {
   ++stats_.steps;
   stats_.neighbor_pairs = grid_->pairCount();
   stats_.clamped_sides = s.clamped;
-  stats_.body_contacts = contacts;
-  stats_.strain_limited = limited;
+  stats_.body_contacts = ctx.contacts;
+  stats_.strain_limited = ctx.limited;
   stats_.active_connections = s.active_entries / 2;
   if (air_) {
     air_->report(stats_);

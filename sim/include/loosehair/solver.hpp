@@ -32,21 +32,24 @@ class NeighborGrid;
 class WindAir;
 class ThreadChoice;
 struct ShapeKeeping;
+struct SlicedConnections;  // solver/connection_passes.hpp
+struct StepContext;        // solver/step_context.hpp
 class ImplicitSprings;
 class HairChain;
 
-/// Wall-clock seconds spent in each stage of a step. `strain_limit` covers
-/// everything after integration that corrects positions: the strain limit,
-/// the tethers and the projection out of the body.
+/// Wall-clock seconds spent in each stage of a step. After integration:
+/// `strain_limit` the strain limit, `tethers` the hair chain and the
+/// tethers, `body_contacts` the projection out of the bodies (and the
+/// trapped-hair pass).
 struct StageTimes {
   double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0,
-         integrate = 0, strain_limit = 0, directions = 0;
+         integrate = 0, strain_limit = 0, tethers = 0, body_contacts = 0, directions = 0;
   /// The wind's air particles: neighbours, density, forces, integration,
   /// body contact, emission and removal (0 without wind).
   double air = 0;
   double total() const {
-    return neighbors + density + springs + hair_hair + external + integrate + strain_limit +
-           directions + air;
+    return neighbors + density + springs + hair_hair + external + integrate + strain_limit + tethers +
+           body_contacts + directions + air;
   }
   StageTimes& operator+=(const StageTimes& o);
 };
@@ -307,16 +310,23 @@ class Solver {
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
   void solveSpringsImplicitly(const Scratch& s, float dt);
-  std::size_t integrate(float dt, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
-  std::size_t limitStrain();
-  void applyTethers(std::size_t b, std::size_t e);  // particles [b, e)
-  void holdHairChains();
+  /// Reads the forces (or the implicit solve's velocity change) and the
+  /// bodies at the step's start; writes velocities and positions, and into
+  /// `ctx` the strain limit's first records, the integrated positions and
+  /// the body clearances. Returns the particles in contact.
+  std::size_t integrate(StepContext& ctx, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
+  /// The hair chain's moves, with the tethers (hair_chain.hpp); writes
+  /// positions, and `moved` (which particles it moved).
+  void holdHairChains(std::vector<std::uint8_t>& moved);
   /// Particles that the push-out left beyond their tethers (trapped_) put
   /// back along the hair, within reach of a particle nearer the root
   /// (trapped_hair.cpp).
   void freeTrappedHair(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
   /// `start_frames`: the world bodies where integrate() saw them.
-  void projectOutOfBodies(float dt, const std::vector<BodyFrame>& start_frames,
+  /// Reads from `ctx` the integrated positions, the clearances, the chain's
+  /// moves and whether to absorb the corrections; writes positions and
+  /// velocities (the corrections' moves as velocities).
+  void projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
                           const std::vector<BodyFrame>& frames,
                           const std::vector<BodyFrame>& solid_frames, const HeadKinematics& head);
   /// Whether the bodies are placed otherwise than at the last call (the
@@ -336,7 +346,6 @@ class Solver {
   std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
   std::unique_ptr<HairChain> chain_;   // no particle loose from the hair (hair_chain.hpp)
-  std::vector<std::uint8_t> chain_moved_;  // this step's particles the hair chain moved
   std::vector<std::uint8_t> trapped_;      // this step's particles caught beyond their tethers
   float longest_hair_ = 0.0f;              // the largest arc length (m)
   std::vector<std::uint32_t> trapped_list_;
@@ -366,21 +375,16 @@ class Solver {
   // per step
   std::unique_ptr<NeighborGrid> grid_;
   std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
-  std::vector<glm::vec3> force_, integrated_position_, limited_position_;
+  std::vector<glm::vec3> force_;
   std::vector<float> inverse_mass_;  // 0 for a root
-  std::vector<glm::vec4> strain_records_[2];  // (x, 1/m) in and out of a strain iteration
+  std::unique_ptr<StepContext> step_;  // what the stages hand on (solver/step_context.hpp)
   std::vector<float> body_phi_;
   std::vector<glm::vec3> body_normal_;
-  // per particle, made by integrate(): a lower bound of its distance from
-  // every body at its integrated position, with the bodies where they were
-  // at the step's start (projectOutOfBodies skips whom it proves clear)
-  std::vector<float> body_clearance_;
   // step()'s placements of the world bodies, reused from step to step: at
   // the start, at the end, and at the end without obstacles
   std::vector<BodyFrame> start_frames_, end_frames_, solid_frames_;
   std::unique_ptr<Scratch> scratch_;
-  struct Sliced;  // the connections in the layout of the connection passes
-  std::unique_ptr<Sliced> sliced_;
+  std::unique_ptr<SlicedConnections> sliced_;  // the connections in the layout of the connection passes
   std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
   std::unique_ptr<ImplicitSprings> implicit_;  // params_.implicit_springs
   std::vector<glm::vec3> spring_dv_;          // its velocity change, this step (the next one's start)

@@ -1,0 +1,65 @@
+// What one step hands from stage to stage (Solver::step; the order and the
+// data flow are drawn in docs/design.md, "One step"). The inputs are set
+// before the first stage. Every other field is written by exactly one
+// stage and read only by the stages after it, which is why each says who
+// writes it and who reads it; the buffers stay allocated from step to step.
+// Nothing here outlives the step: what a step leaves for the next (the
+// spring sums of the direction pass, the implicit solve's warm start) is
+// the solver's state.
+#pragma once
+
+#include "loosehair/solver.hpp"
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace loosehair {
+
+struct StepContext {
+  // ---- inputs ------------------------------------------------------------
+  float dt = 0.0f;         // the step (s)
+  double t_start = 0.0;    // the time at the step's start (s)
+  double t_end = 0.0;      // and at its end
+  int threads = 1;         // the team size of this step's passes
+  /// The step after Solver::setKinematicState: the corrections put the
+  /// particles where they belong without making their moves velocities.
+  bool absorb_corrections = false;
+
+  // ---- integrate -> strain limit -----------------------------------------
+  /// (x, 1/m) of every particle where integrate left it (1/m = 0 for a
+  /// root): the strain limit's first round reads [0], each round writes the
+  /// other for the next.
+  std::vector<glm::vec4> strain_records[2];
+  std::vector<glm::vec3> limited_position;  // the strain limit's output buffer
+
+  // ---- integrate -> body contacts ----------------------------------------
+  /// Positions as integrate left them, before any correction.
+  std::vector<glm::vec3> integrated_position;
+  /// A lower bound of each particle's distance from every body at its
+  /// integrated position, the bodies where they were at the step's start
+  /// (-inf: not known); the body contacts skip whom it proves clear.
+  std::vector<float> body_clearance;
+
+  // ---- hair chain -> body contacts ---------------------------------------
+  /// The particles the hair chain moved (empty: the chain is off); their
+  /// moves only stop a motion against them (body_contacts.cpp).
+  std::vector<std::uint8_t> chain_moved;
+
+  // ---- outputs -------------------------------------------------------------
+  StageTimes times;
+  std::size_t contacts = 0;  // particles in contact with a body in integrate
+  std::size_t limited = 0;   // particles the strain limit moved in its first round
+
+  /// Sizes the per-particle buffers for n particles.
+  void resize(std::size_t n) {
+    integrated_position.resize(n);
+    body_clearance.resize(n, -INFINITY);
+    limited_position.resize(n);
+  }
+};
+
+}  // namespace loosehair
