@@ -338,7 +338,6 @@ class Solver {
   void worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                        const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity,
                        bool rough) const;
-  std::size_t updateDirections(Scratch& s);  // returns the particles with non-finite state
 
   SimParams params_;
   Particles particles_;

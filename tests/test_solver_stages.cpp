@@ -1,8 +1,9 @@
-// The correction stages alone, on hand-made particles (no scene, no
-// solver): the strain limit (solver/strain_limit.hpp) and the tethers
-// (solver/tethers.hpp).
+// Stages of the step alone, on hand-made particles (no scene, no solver):
+// the strain limit (solver/strain_limit.hpp), the tethers
+// (solver/tethers.hpp) and the direction pass (solver/directions.hpp).
 #include "connection_builder.hpp"
 #include "solver/connection_passes.hpp"
+#include "solver/directions.hpp"
 #include "solver/strain_limit.hpp"
 #include "solver/tethers.hpp"
 
@@ -135,4 +136,45 @@ TEST(TetherStage, HoldsEachParticleWithinReachOfItsRootAndTie) {
   applyTethers(0.0f, root, rp, s, tie, reach, x, 1);
   EXPECT_NEAR(glm::length(x[3] - tie[3]), 0.01f, 1e-6f) << "the tie comes last: it holds";
   EXPECT_NEAR(x[3].y, -0.2f, 1e-7f);
+}
+
+// The direction pass (solver/directions.hpp) on the same straight hair.
+TEST(DirectionStage, TurnsAStrayDirectionBackAlongTheHairAndMeasuresTheNextSprings) {
+  const Hair h(5, 0.01f, 0.012f);
+  const std::size_t n = h.x.size();
+  std::vector<glm::vec3> dir = h.t;
+  dir[2] = glm::normalize(glm::vec3(1.0f, -0.2f, 0.0f));  // knocked sideways
+  dir[0] = glm::vec3(1.0f, 0.0f, 0.0f);                   // a root keeps whatever it has
+  const std::vector<glm::vec3> v(n, glm::vec3(0.0f));
+  std::vector<float> weight(h.sliced.layout.entryCount(), 1.0f);
+  std::vector<float> sum_root(n, -1.0f), sum_tip(n, -1.0f);
+  const DirectionPassResult r =
+      updateDirections(0.012f, h.sliced, weight, h.root, h.x, v, dir, sum_root, sum_tip, 2);
+  EXPECT_EQ(r.broken, 0u);
+  EXPECT_EQ(r.active_entries, 2 * h.c.pairCount());
+  EXPECT_NEAR(dir[2].x, 0.0f, 1e-6f);
+  EXPECT_NEAR(dir[2].y, -1.0f, 1e-6f);
+  EXPECT_EQ(dir[0], glm::vec3(1.0f, 0.0f, 0.0f));
+  // the side sums of l_ij k_ij at these (rest) positions: what the factor
+  // pass of the next step divides E A by
+  for (std::size_t i = 0; i < n; ++i) {
+    double root_side = 0, tip_side = 0;
+    const CubicKernel k1(0.012f);
+    for (std::uint32_t e = h.c.begin(i); e < h.c.end(i); ++e) {
+      const float l = h.c.rest_length[e];
+      (h.c.tip_side[e] ? tip_side : root_side) += static_cast<double>(l) * h.c.strength[e] * k1.W(l);
+    }
+    EXPECT_NEAR(sum_root[i], root_side, 1e-6 * root_side + 1e-12) << i;
+    EXPECT_NEAR(sum_tip[i], tip_side, 1e-6 * tip_side + 1e-12) << i;
+  }
+  // no active connection (all weights 0): a particle keeps its direction
+  std::vector<float> none(weight.size(), 0.0f);
+  std::vector<glm::vec3> kept = dir;
+  kept[3] = glm::vec3(0.0f, 0.0f, 1.0f);
+  updateDirections(0.012f, h.sliced, none, h.root, h.x, v, kept, sum_root, sum_tip, 1);
+  EXPECT_EQ(kept[3], glm::vec3(0.0f, 0.0f, 1.0f));
+  // a state that is not finite is counted, never passed on silently
+  std::vector<glm::vec3> bad_v = v;
+  bad_v[4].y = NAN;
+  EXPECT_EQ(updateDirections(0.012f, h.sliced, weight, h.root, h.x, bad_v, dir, sum_root, sum_tip, 1).broken, 1u);
 }
