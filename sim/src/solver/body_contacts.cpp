@@ -1,0 +1,171 @@
+// Body contacts after the corrections: no particle left inside a body.
+#include "solver/solver_internal.hpp"
+
+namespace loosehair {
+
+// The tethers, then: project what is still inside the body to its surface
+// and take the new velocity from the corrected positions (no added normal
+// speed, so nothing is thrown off the body).
+// Several bodies (head, torso, obstacles) may meet in a crease, where
+// leaving one can mean entering another: a few rounds settle it. The first
+// round asks the bodies about every particle of a block; a later round only
+// about the particles whose answer can differ from what asking all of them
+// would give: a particle that has not moved gets the same answer from the
+// same bodies, so the rounds with obstacles ask those pushed in the round
+// before, and the last round, without obstacles, asks every particle pushed
+// so far (its surface velocity is the one that counts). The particles never
+// pushed are outside the bodies with obstacles, so outside those without.
+// On the mesh-head scenes the later rounds asked all 256 particles of any
+// block with one particle inside.
+void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
+                                const std::vector<BodyFrame>& frames,
+                                const std::vector<BodyFrame>& solid_frames,
+                                const HeadKinematics& head) {
+  const std::size_t n = particles_.size();
+  auto& x = particles_.position;
+  auto& v = particles_.velocity;
+  const auto& root = particles_.is_root;
+  // rounds of the head and the world bodies (obstacles too): all but the
+  // last slide round the tethers (docs/design.md "Implicit springs")
+  const int rounds = frames.empty() ? 2 : 4;
+  const bool has_obstacles = solid_frames.size() != frames.size();
+  const float dt = ctx.dt;
+  const bool absorb = ctx.absorb_corrections;
+  const auto& chain_moved = ctx.chain_moved;
+  const glm::vec3* integrated_position = ctx.integrated_position.data();
+  const int total_rounds = rounds + (has_obstacles ? 1 : 0);
+  const bool slide = params_.tether;
+  const auto& rp = particles_.root_point;
+  const auto& sarc = particles_.arc_length;
+  const float reach_scale = 1.0f + params_.tether_slack;
+  if (slide) trapped_.resize(n);
+  std::atomic<bool> any_trapped{false};
+  static_assert(kBodyBlock <= 65536);
+  prepareBodyHints(frames);
+  // A particle's clearance now: integrate()'s bound, less how far it moved
+  // since (the strain limit, the tethers) and how far any world body moved
+  // in its frame (rigidly: a body's distance is 1-Lipschitz in the point).
+  // Bodies that came or went since integrate(): no bound.
+  const bool same_bodies =
+      start_frames.size() == frames.size() &&
+      std::equal(frames.begin(), frames.end(), start_frames.begin(),
+                 [](const BodyFrame& a, const BodyFrame& c) { return a.body == c.body; });
+  bool bodies_moved = false;
+  for (std::size_t k = 0; same_bodies && k < frames.size(); ++k)
+    bodies_moved = bodies_moved || frames[k].m != start_frames[k].m || frames[k].d != start_frames[k].d;
+  const float* clear = ctx.body_clearance.data();
+  auto clearance = [&](std::size_t i) {
+    if (!same_bodies) return -INFINITY;
+    const glm::vec3 xi = integrated_position[i];
+    float body_move = 0.0f;  // the farthest a world body moved at xi
+    for (std::size_t k = 0; bodies_moved && k < frames.size(); ++k)
+      body_move = std::max(body_move, glm::length((frames[k].m * xi + frames[k].d) -
+                                                  (start_frames[k].m * xi + start_frames[k].d)));
+    return clear[i] - glm::length(x[i] - xi) - body_move;
+  };
+  // Blocks near the surface cost the exact queries, the others little:
+  // handed out one by one (each block's result is its own).
+  parallel::forEachDynamic(
+      threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
+        const std::size_t b = bb * kBodyBlock;
+        const std::size_t len = std::min(n, b + kBodyBlock) - b;
+        glm::vec3 surface[kBodyBlock];
+        bool pushed[kBodyBlock] = {};
+        glm::vec3 push_normal[kBodyBlock];
+        std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
+        glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
+        float q_phi[kBodyBlock];
+        std::size_t asked = 0;
+        std::uint32_t index[kBodyBlock];  // the particles asked
+        // The first round asks about the particles integrate() did not
+        // prove clear of every body; the others keep that proof.
+        for (std::size_t o = 0; o < len; ++o) {
+          const std::size_t i = b + o;
+          if (root[i]) continue;  // never pushed
+          const float lower = clearance(i);
+          if (lower > kClearMargin) {
+            body_phi_[i] = lower;
+            continue;
+          }
+          ask[asked++] = static_cast<std::uint16_t>(o);
+        }
+        for (int round = 0; round < total_rounds; ++round) {
+          if (round == 0 && asked == len) {
+            for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
+            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f, false,
+                        index);
+          } else {
+            for (std::size_t k = 0; k < asked; ++k) {
+              q[k] = x[b + ask[k]];
+              index[k] = static_cast<std::uint32_t>(b + ask[k]);
+            }
+            queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
+                        q_surface, 0.0f, false, index);
+            for (std::size_t k = 0; k < asked; ++k) {
+              body_phi_[b + ask[k]] = q_phi[k];
+              body_normal_[b + ask[k]] = q_normal[k];
+              surface[ask[k]] = q_surface[k];
+            }
+          }
+          std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
+          for (std::size_t k = 0; k < asked; ++k) {
+            const std::size_t o = ask[k], i = b + o;
+            if (root[i] || !(body_phi_[i] < 0.0f)) continue;
+            // onto the surface and kSkin beyond, so that rounding does not
+            // leave it a hair's breadth inside (and asked again)
+            x[i] -= (body_phi_[i] - kSkin) * body_normal_[i];
+            // a tether through the body: slide round it (a later round
+            // checks where that went; the last one only pushes out)
+            if (slide && round + 1 < total_rounds)
+              x[i] += tether::slideAlongSurface(x[i], body_normal_[i], rp[i], reach_scale * sarc[i]);
+            if (!pushed[o]) push_normal[o] = body_normal_[i];
+            pushed[o] = true;
+            ask[moved++] = static_cast<std::uint16_t>(o);
+          }
+          if (moved == 0) break;
+          asked = moved;
+          if (round + 1 == rounds && has_obstacles) {  // next: the round without obstacles
+            asked = 0;
+            for (std::size_t o = 0; o < len; ++o)
+              if (pushed[o]) ask[asked++] = static_cast<std::uint16_t>(o);
+          }
+        }
+        for (std::size_t i = b; i < b + len; ++i) {
+          if (root[i]) continue;
+          glm::vec3 vi = v[i];
+          if (x[i] != integrated_position[i] && !absorb) {
+            // The corrections' move over dt is a velocity (position-based
+            // dynamics: hair dragged along keeps the drag's speed), but
+            // where the hair chain moved the particle (chain_moved) the
+            // move only stops a motion against it: counted whole, a
+            // particle the chain drew back flew on past it, and fell again.
+            const glm::vec3 d = x[i] - integrated_position[i];
+            if (!chain_moved.empty() && chain_moved[i]) {
+              const float moved = glm::length(d);
+              const glm::vec3 dir = d / moved;
+              const float a = glm::dot(vi, dir);
+              vi += (std::min(a + moved / dt, std::max(a, 0.0f)) - a) * dir;
+            } else {
+              vi += d / dt;
+            }
+          }
+          if (pushed[i - b]) {
+            const glm::vec3 nrm = push_normal[i - b];
+            const float vn = glm::dot(vi - surface[i - b], nrm);
+            if (vn > 0.0f) vi -= vn * nrm;  // the push-out is not a velocity
+          }
+          v[i] = vi;
+          // pushed out beyond its tether's reach: caught where sliding
+          // does not help (freeTrappedHair)
+          if (slide) {
+            const float caught = reach_scale * sarc[i] + tether::kTrappedExcess * longest_hair_;
+            const glm::vec3 d = x[i] - rp[i];
+            trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
+            if (trapped_[i]) any_trapped.store(true, std::memory_order_relaxed);
+          }
+        }
+      });
+  if (any_trapped.load()) freeTrappedHair(solid_frames, head);  // rare: most steps catch none
+}
+
+}  // namespace loosehair

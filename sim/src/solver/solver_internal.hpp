@@ -1,0 +1,69 @@
+// What the solver's files share (solver.cpp and the stages' files in
+// sim/src/solver/ that are still members of Solver): the internal headers,
+// the body-contact constants and the placement of a world body.
+#pragma once
+
+#include "loosehair/solver.hpp"
+#include "loosehair/param_table.hpp"
+
+#include "connection_builder.hpp"
+#include "connection_slices.hpp"
+#include "hair_chain.hpp"
+#include "implicit_springs.hpp"
+#include "kernel.hpp"
+#include "air.hpp"
+#include "air_grid.hpp"
+#include "neighbor_grid.hpp"
+#include "pair_columns.hpp"
+#include "parallel.hpp"
+#include "solver_scratch.hpp"
+#include "solver/connection_passes.hpp"
+#include "solver/step_context.hpp"
+#include "solver/strain_limit.hpp"
+#include "solver/tethers.hpp"
+#include "solver/directions.hpp"
+#include "shape_keeping.hpp"
+#include "tether.hpp"
+#include "thread_choice.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/vec4.hpp>
+
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace loosehair {
+
+inline constexpr std::size_t kBodyBlock = 256;
+using tether::kSkin;
+// m: what a particle's clearance must exceed to skip the exact query, room
+// for the rounding of positions and body placements (~1e-7 m) many times over
+inline constexpr float kClearMargin = 2e-5f;
+// m/s: the fastest approach to a body that speculative contacts catch
+// within one step (faster ones are left to the projection)
+inline constexpr float kSpeculativeSpeed = 2.0f;
+
+// A world body seen from the head frame at one time: q = M x + d in the
+// body's frame, n_head = M^T n_body.
+struct Solver::BodyFrame {
+  const Body* body = nullptr;
+  glm::mat3 m{1.0f};
+  glm::vec3 d{0.0f};
+  // for the surface velocity: world velocity vo + Ro (wo x q)
+  glm::mat3 ro{1.0f}, rh_t{1.0f};
+  glm::vec3 vo{0.0f}, wo{0.0f};
+};
+
+}  // namespace loosehair
