@@ -2,11 +2,16 @@
 // viewer's panel): the table describes every parameter with a usable range,
 // a live change takes effect, setting it back gives the bits of never
 // changing it, and changes that need a new solver are refused by name.
+#include "loosehair/file_io.hpp"
 #include "loosehair/param_table.hpp"
+#include "loosehair/scene.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <set>
@@ -23,7 +28,9 @@ TEST(ParamTable, EveryEntryReadsWritesAndItsRangeIsValid) {
     EXPECT_LT(p.lo, p.hi) << p.name;
     EXPECT_GT(std::string(p.help).size(), 10u) << p.name;
     const SimParams defaults;
-    for (double v : {p.lo, p.hi}) {
+    const double lowest = p.lo_open ? std::nextafter(p.lo, p.hi) : p.lo;
+    for (double v : {lowest, p.hi}) {
+      if (p.lo_open && p.lo == 0.0) v = std::max(v, 1e-30);  // a float field's smallest positive value
       SimParams q;
       p.set(q, v);
       const double want = p.kind == ParamInfo::Kind::Switch ? (v != 0 ? 1.0 : 0.0) : v;
@@ -31,10 +38,16 @@ TEST(ParamTable, EveryEntryReadsWritesAndItsRangeIsValid) {
       if (std::string(p.name) == "h2") q.h1 = 0.08f;  // h2 < h1
       if (std::string(p.name) == "h1") q.h2 = 0.001f;
       if (std::string(p.name) == "shape_keeping") q.time_step = 1e-3;
+      // a rate at the top of its range is refused with this step (rate * dt);
+      // the step at the top of its range likewise for the default rates
+      if (std::string(p.name) == "time_step") q.collision_rate = q.friction_rate = q.air_drag = 0.0f;
+      if (v == p.hi && (std::string(p.unit) == "1/s" || std::string(p.name) == "shape_keeping")) continue;
+      if (std::string(p.name) == "h1") q.h2 = v == p.hi ? 0.011f : static_cast<float>(0.5 * v);
+      if (std::string(p.name) == "h2" && v == p.hi) continue;  // h2 below h1 (at most 10 m)
       EXPECT_TRUE(validate(q).empty()) << p.name << " = " << v << ": " << validate(q).front();
     }
     const double d = p.get(defaults);
-    EXPECT_TRUE(d >= p.lo && d <= p.hi) << p.name << " default " << d << " outside the control's range";
+    EXPECT_TRUE(p.check(d).empty()) << p.name << " default " << d << " outside its range";
   }
   EXPECT_EQ(findParam("no_such_parameter"), nullptr);
   // one entry per scalar of SimParams: 28 scalars + the 3 components of gravity
@@ -77,7 +90,13 @@ TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
                           std::string(p.name) == "youngs_modulus";
     const std::uint64_t base = implicit ? base_implicit : base_explicit;
     const double v0 = p.get(SimParams{});
-    double v = p.kind == ParamInfo::Kind::Switch ? (v0 != 0.0 ? 0.0 : 1.0) : p.lo + 0.37 * (p.hi - p.lo);
+    // a change a user would make: ten times the default where the range
+    // spans decades, half again elsewhere (or 0.37 where it is 0)
+    const double factor = p.logarithmic ? 10.0 : 1.5;
+    double v = p.kind == ParamInfo::Kind::Switch ? (v0 != 0.0 ? 0.0 : 1.0)
+               : v0 != 0.0                       ? std::min(p.hi, std::round(factor * v0 * 1e6) / 1e6)
+                                                 : std::clamp(0.37, p.lo, p.hi);
+    if (p.kind == ParamInfo::Kind::Integer) v = std::max(p.lo, std::round(v + 1.0));
     // run() chooses the spring solve itself: flip it from the explicit base
     if (std::string(p.name) == "implicit_springs") v = 1.0;
     // a cap on the iterations acts only below what the solve needs
@@ -189,4 +208,53 @@ TEST(LiveParams, ShapeKeepingTurnedOffLiveIsPlainLcpFromThen) {
   EXPECT_NE(held.stateHash(), plain.stateHash()) << "the hold acts";
   EXPECT_NE(weaker.stateHash(), held.stateHash()) << "a new strength acts";
   EXPECT_THROW(off.setParams(weaker.params()), std::invalid_argument) << "turned back on live";
+}
+
+// The parameter reference users read (data/scenes/README.md) is the table
+// itself, between its markers.
+TEST(ParamTable, TheSceneReferenceIsTheTable) {
+  const std::string path = lhtest::sourceDir() + "/data/scenes/README.md";
+  std::string text = readRegularFile(path, kMaxTextFileBytes);
+  const std::string begin = "<!-- solver parameters: begin -->\n", end = "<!-- solver parameters: end -->";
+  const std::size_t a = text.find(begin), b = text.find(end);
+  ASSERT_NE(a, std::string::npos) << path;
+  ASSERT_NE(b, std::string::npos) << path;
+  const std::string now = text.substr(a + begin.size(), b - a - begin.size());
+  if (std::getenv("LOOSEHAIR_UPDATE_GOLDEN")) {
+    text.replace(a + begin.size(), b - a - begin.size(), paramReferenceMarkdown());
+    writeFileAtomically(path, {text});
+    GTEST_SKIP() << "reference renewed: " << path;
+  }
+  EXPECT_EQ(now, paramReferenceMarkdown()) << path << " is not the table; renew it (see the file)";
+}
+
+// One range: what the table allows, validate() and the scene file take, and
+// what it refuses they refuse, naming the parameter.
+TEST(ParamTable, ValidateAndTheSceneFileKeepTheTablesRange) {
+  for (const ParamInfo& p : paramTable()) {
+    if (p.kind == ParamInfo::Kind::Switch) continue;
+    const double below = p.lo_open ? p.lo : p.lo - (p.kind == ParamInfo::Kind::Integer ? 1.0 : 1e-3 * (1.0 + std::abs(p.lo)));
+    const double above = p.hi + (p.kind == ParamInfo::Kind::Integer ? 1.0 : 1e-3 * (1.0 + std::abs(p.hi)));
+    for (double bad : {below, above}) {
+      EXPECT_FALSE(p.check(bad).empty()) << p.name << " " << bad;
+      SimParams q;
+      q.time_step = 1e-3;
+      p.set(q, bad);
+      const auto problems = validate(q);
+      ASSERT_FALSE(problems.empty()) << p.name << " = " << bad << " passes validate()";
+      EXPECT_NE(problems.front().find(p.name), std::string::npos) << problems.front();
+      if (p.in_scene && std::string(p.name) != "h1" && std::string(p.name) != "h2") {
+        char value[64];
+        std::snprintf(value, sizeof value, "%.17g", bad);
+        const std::string scene = std::string(R"({"head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "solver": {")") +
+                                  p.name + "\": " + value + "}}";
+        try {
+          (void)parseScene(scene, "range.json");
+          ADD_FAILURE() << p.name << " = " << value << " read from a scene file";
+        } catch (const SceneError& e) {
+          EXPECT_NE(std::string(e.what()).find(std::string("solver.") + p.name), std::string::npos) << e.what();
+        }
+      }
+    }
+  }
 }

@@ -95,18 +95,14 @@ bool Controller::setParam(const std::string& name, double value_in, const std::s
   double value = value_in;
   try {
     // as a scene file's "solver" object checks it; the few that no file
-    // holds (the step, the threads, a component of gravity) by their own rules
-    if (name != "time_step" && name != "threads" && name.find('.') == std::string::npos) {
+    // holds by that name (the step, the threads, a component of gravity)
+    // against the same table's range
+    if (info->in_scene) {
       value = checkSceneValue("solver." + name, value_in, source);
-    } else {
-      const bool whole = info->kind != ParamInfo::Kind::Real;
-      const double bound = name == "threads" ? 1e4 : 1e3;  // then validate() below
-      if (!std::isfinite(value) || std::abs(value) > bound || (whole && value != std::floor(value))) {
-        char buf[200];
-        std::snprintf(buf, sizeof buf, ": solver.%s: must be a %s of magnitude at most %g, got %g", name.c_str(),
-                      whole ? "whole number" : "number", bound, value);
-        throw std::invalid_argument(source + buf);
-      }
+    } else if (const std::string why = info->check(value); !why.empty()) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%g", value);
+      throw std::invalid_argument(source + ": solver." + name + ": " + why + ", got " + buf);
     }
   } catch (const std::exception& e) {
     fail(e.what());

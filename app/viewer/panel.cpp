@@ -305,19 +305,23 @@ void Panel::parameters() {
       bool b = v != 0;
       changed = ImGui::Checkbox(label, &b);
       v = b ? 1 : 0;
-    } else if (info.kind == ParamInfo::Kind::Integer) {
-      int i = static_cast<int>(v);
-      changed = ImGui::SliderInt(label, &i, static_cast<int>(info.lo), static_cast<int>(info.hi), "%d", kClamp);
-      v = i;
     } else {
-      float f = static_cast<float>(v);
-      changed = ImGui::SliderFloat(label, &f, static_cast<float>(info.lo), static_cast<float>(info.hi), "%.4g",
-                                   (info.logarithmic ? ImGuiSliderFlags_Logarithmic : 0) | kClamp);
-      v = f;
+      // the parameter's one range (param_table.cpp), dragged in ratios
+      // where it spans decades; Ctrl+click types a value
+      const double lo = info.lo_open ? std::nextafter(info.lo, info.hi) : info.lo, hi = info.hi;
+      const ImGuiSliderFlags flags = (info.logarithmic ? ImGuiSliderFlags_Logarithmic : 0) | kClamp;
+      if (info.kind == ParamInfo::Kind::Integer) {
+        int i = static_cast<int>(v);
+        changed = ImGui::DragInt(label, &i, 0.2f, static_cast<int>(lo), static_cast<int>(hi), "%d", flags);
+        v = i;
+      } else {
+        const float speed = static_cast<float>(info.logarithmic ? 0.002 : 0.002 * (hi - lo));
+        changed = ImGui::DragScalar(label, ImGuiDataType_Double, &v, speed, &lo, &hi, "%.4g", flags);
+      }
     }
     char help[320];
-    std::snprintf(help, sizeof help, "%s\nrange here %g to %g%s", info.help, info.lo, info.hi,
-                  info.live ? "" : "\napplies on restart");
+    std::snprintf(help, sizeof help, "%s\nvalues %s%g to %g%s", info.help, info.lo_open ? "above " : "", info.lo,
+                  info.hi, info.live ? "" : "\napplies on restart");
     tooltip(help);
     if (!info.live) {
       ImGui::SameLine();

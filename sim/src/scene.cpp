@@ -1,4 +1,5 @@
 #include "loosehair/scene.hpp"
+#include "loosehair/param_table.hpp"
 
 #include "init/cantilever.hpp"
 #include "init/hanging_hair.hpp"
@@ -41,42 +42,31 @@ namespace {
 
 using namespace detail;
 
+// The "solver" object: every parameter the table marks in_scene, checked
+// against its one range (param_table.cpp); h1 and h2 may be "auto",
+// gravity is one vector, and a shape_keeping given is no longer automatic.
 void readSolver(Fields f, SceneDesc& s) {
   SimParams& p = s.sim;
-  p.h1 = static_cast<float>(f.numberOrAuto("h1", p.h1, s.h1_auto, 0.0, 10.0));
-  p.h2 = static_cast<float>(f.numberOrAuto("h2", p.h2, s.h2_auto, 0.0, 10.0));
-  p.alignment_threshold = f.real("alignment_threshold", p.alignment_threshold, 0.0, 1.0);
-  p.target_connections =
-      static_cast<int>(f.integer("target_connections", p.target_connections, 1, 256));
-  p.youngs_modulus = f.real("youngs_modulus", p.youngs_modulus, 0.0, 1e12, true);
-  // from a light foam to beyond any metal (hair keratin: about 1300)
-  p.material_density = f.real("material_density", p.material_density, 1.0, 1e5);
-  p.stiffness_clamp = f.real("stiffness_clamp", p.stiffness_clamp, 1.0, 1e6);
-  p.spring_damping = f.real("spring_damping", p.spring_damping, 0.0, 1.0);
-  p.implicit_springs = f.boolean("implicit_springs", p.implicit_springs);
-  p.implicit_tolerance = f.real("implicit_tolerance", p.implicit_tolerance, 1e-8, 1.0);
-  p.implicit_iterations =
-      static_cast<int>(f.integer("implicit_iterations", p.implicit_iterations, 1, 10000));
-  p.strain_limit = f.boolean("strain_limit", p.strain_limit);
-  p.max_strain = f.real("max_strain", p.max_strain, 0.0, 0.5);
-  p.strain_limit_iterations =
-      static_cast<int>(f.integer("strain_limit_iterations", p.strain_limit_iterations, 0, 1000));
-  p.tether = f.boolean("tether", p.tether);
-  p.hair_chain = f.boolean("hair_chain", p.hair_chain);
-  p.tether_slack = f.real("tether_slack", p.tether_slack, 0.0, 1.0);
-  p.hair_hair = f.boolean("hair_hair", p.hair_hair);
-  p.pressure_stiffness = f.real("pressure_stiffness", p.pressure_stiffness, 0.0, 1e6);
-  p.rest_density_scale = f.real("rest_density_scale", p.rest_density_scale, 0.0, 100.0, true);
-  p.collision_rate = f.real("collision_rate", p.collision_rate, 0.0, 1e6);
-  p.friction_rate = f.real("friction_rate", p.friction_rate, 0.0, 1e6);
-  p.gravity = glm::vec3(f.vec3("gravity", glm::dvec3(p.gravity), 1e3));
-  p.air_drag = f.real("air_drag", p.air_drag, 0.0, 1e6);
-  p.body_friction = f.real("body_friction", p.body_friction, 0.0, 100.0);
-  p.contact_thickness = f.real("contact_thickness", p.contact_thickness, 0.0, 1.0);
-  if (f.has("shape_keeping")) {
-    p.shape_keeping = f.real("shape_keeping", p.shape_keeping, 0.0, 100.0);
-    s.shape_keeping_auto = false;
+  for (const ParamInfo& info : paramTable()) {
+    if (!info.in_scene) continue;
+    const std::string name = info.name;
+    const double fallback = info.get(p);
+    double v = fallback;
+    if (name == "h1" || name == "h2") {
+      v = f.numberOrAuto(name, fallback, name == "h1" ? s.h1_auto : s.h2_auto, info.lo, info.hi);
+    } else if (info.kind == ParamInfo::Kind::Switch) {
+      v = f.boolean(name, fallback != 0.0) ? 1.0 : 0.0;
+    } else if (info.kind == ParamInfo::Kind::Integer) {
+      v = static_cast<double>(f.integer(name, static_cast<std::int64_t>(fallback), static_cast<std::int64_t>(info.lo),
+                                        static_cast<std::int64_t>(info.hi)));
+    } else {
+      if (name == "shape_keeping" && f.has(name)) s.shape_keeping_auto = false;
+      v = f.real(name, static_cast<float>(fallback), info.lo, info.hi, info.lo_open);
+    }
+    info.set(p, v);
   }
+  const ParamInfo& g = *findParam("gravity.y");
+  p.gravity = glm::vec3(f.vec3("gravity", glm::dvec3(p.gravity), g.hi));
   f.finish();
 }
 

@@ -1,4 +1,5 @@
 #include "loosehair/snapshot.hpp"
+#include "loosehair/param_table.hpp"
 
 #include "loosehair/file_io.hpp"
 #include "loosehair/solver.hpp"
@@ -200,16 +201,13 @@ struct SnapshotAccess {
     }
     // the physical parameters (not the thread count, nor the time step,
     // which the snapshot carries)
+    // (param_table.cpp: those marked Always, in the table's order, then
+    // the count of world bodies; those marked WhenOn below)
     const SimParams& q = s.params_;
-    const std::vector<float> values = {
-        q.h1, q.h2, q.alignment_threshold, static_cast<float>(q.target_connections),
-        q.youngs_modulus, q.material_density, q.stiffness_clamp, q.spring_damping,
-        static_cast<float>(q.strain_limit), q.max_strain,
-        static_cast<float>(q.strain_limit_iterations), static_cast<float>(q.tether),
-        q.tether_slack, static_cast<float>(q.hair_hair), q.pressure_stiffness,
-        q.rest_density_scale, q.collision_rate, q.friction_rate, q.gravity.x, q.gravity.y,
-        q.gravity.z, q.air_drag, q.body_friction, q.contact_thickness,
-        static_cast<float>(s.world_bodies_.size())};
+    std::vector<float> values;
+    for (const ParamInfo& info : paramTable())
+      if (info.print == ParamInfo::Print::Always) values.push_back(static_cast<float>(info.get(q)));
+    values.push_back(static_cast<float>(s.world_bodies_.size()));
     mix(values);
     if (q.shape_keeping > 0.0f) mix(std::vector<float>{q.shape_keeping});
     if (q.hair_chain) mix(std::vector<float>{2.0f});
