@@ -310,12 +310,18 @@ void Panel::parameters() {
       // where it spans decades; Ctrl+click types a value
       const double lo = info.lo_open ? std::nextafter(info.lo, info.hi) : info.lo, hi = info.hi;
       const ImGuiSliderFlags flags = (info.logarithmic ? ImGuiSliderFlags_Logarithmic : 0) | kClamp;
+      // a logarithmic drag moves through [0, 1] of the range's log: 500 px
+      // cross it; a linear one moves by 0.5 % of the value (or of the range)
+      // a pixel
+      const double log_speed = 0.002 * (hi - lo);
       if (info.kind == ParamInfo::Kind::Integer) {
         int i = static_cast<int>(v);
-        changed = ImGui::DragInt(label, &i, 0.2f, static_cast<int>(lo), static_cast<int>(hi), "%d", flags);
+        const float speed = static_cast<float>(info.logarithmic ? log_speed : 0.2);
+        changed = ImGui::DragInt(label, &i, speed, static_cast<int>(lo), static_cast<int>(hi), "%d", flags);
         v = i;
       } else {
-        const float speed = static_cast<float>(info.logarithmic ? 0.002 : 0.002 * (hi - lo));
+        const double linear_speed = 0.005 * std::max(std::abs(v), 0.01 * (hi - lo));
+        const float speed = static_cast<float>(info.logarithmic ? log_speed : linear_speed);
         changed = ImGui::DragScalar(label, ImGuiDataType_Double, &v, speed, &lo, &hi, "%.4g", flags);
       }
     }
