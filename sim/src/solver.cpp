@@ -79,7 +79,6 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   density_.assign(n, 0.0f);
   pressure_.assign(n, 0.0f);
   pressure_term_.assign(n, 0.0f);
-  force_.assign(n, glm::vec3(0.0f));
   body_phi_.assign(n, 0.0f);
   body_normal_.assign(n, glm::vec3(0.0f));
   step_ = std::make_unique<StepContext>();
@@ -335,29 +334,6 @@ void Solver::step() {
     t0 = t;
   };
 
-  findNeighbors();
-  lap(st.neighbors);
-  computeDensity();
-  lap(st.density);
-  computeSpringFactors(s);
-  accumulateSpringForces(s, force_);
-  lap(st.springs);
-  // the (x, m) records are computeDensity's
-  if (params_.hair_hair) accumulateHairHairForces(force_, true);
-  lap(st.hair_hair);
-  if (air_) {
-    // the hair-air drag (method.md §5; wind_air.hpp)
-    air_->exchange(trajectory_.kinematics(time_), particles_.position, particles_.velocity, particles_.mass,
-                   particles_.is_root, force_, dt, threads_);
-    lap(st.air);
-  }
-  addExternalForces();
-  lap(st.external);
-  if (params_.implicit_springs) {
-    solveSpringsImplicitly(s, dt);
-    lap(st.springs);
-  }
-
   StepContext& ctx = *step_;
   ctx.dt = dt;
   ctx.t_start = time_;
@@ -365,6 +341,30 @@ void Solver::step() {
   ctx.threads = threads_;
   ctx.absorb_corrections = absorb_corrections_;
   absorb_corrections_ = false;
+
+  findNeighbors();
+  lap(st.neighbors);
+  computeDensity();
+  lap(st.density);
+  computeSpringFactors(s);
+  accumulateSpringForces(s, ctx.force);
+  lap(st.springs);
+  // the (x, m) records are computeDensity's
+  if (params_.hair_hair) accumulateHairHairForces(ctx.force, true);
+  lap(st.hair_hair);
+  if (air_) {
+    // the hair-air drag (method.md §5; wind_air.hpp)
+    air_->exchange(trajectory_.kinematics(time_), particles_.position, particles_.velocity, particles_.mass,
+                   particles_.is_root, ctx.force, dt, threads_);
+    lap(st.air);
+  }
+  addExternalForces(ctx.force);
+  lap(st.external);
+  if (params_.implicit_springs) {
+    solveSpringsImplicitly(s, ctx.force, dt);
+    lap(st.springs);
+  }
+
 
   HeadKinematics head_start;
   placeBodies(time_, start_frames_, head_start);

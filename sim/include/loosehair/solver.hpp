@@ -282,7 +282,7 @@ class Solver {
   void computeDerivedCoefficients();   // rho0, d_c, d_fr from the parameters
   void computeDensity();
   void findNeighbors();
-  void addExternalForces();
+  void addExternalForces(std::vector<glm::vec3>& force);  // adds to force
 
   struct WorldBody {
     std::shared_ptr<const Body> body;
@@ -309,7 +309,7 @@ class Solver {
   void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
-  void solveSpringsImplicitly(const Scratch& s, float dt);
+  void solveSpringsImplicitly(const Scratch& s, const std::vector<glm::vec3>& force, float dt);
   /// Reads the forces (or the implicit solve's velocity change) and the
   /// bodies at the step's start; writes velocities and positions, and into
   /// `ctx` the strain limit's first records, the integrated positions and
@@ -374,7 +374,6 @@ class Solver {
   // per step
   std::unique_ptr<NeighborGrid> grid_;
   std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
-  std::vector<glm::vec3> force_;
   std::vector<float> inverse_mass_;  // 0 for a root
   std::unique_ptr<StepContext> step_;  // what the stages hand on (solver/step_context.hpp)
   std::vector<float> body_phi_;

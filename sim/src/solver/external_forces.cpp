@@ -5,7 +5,7 @@
 namespace loosehair {
 
 // ---- external forces in the head frame (method.md §5) ----------------------------
-void Solver::addExternalForces() {
+void Solver::addExternalForces(std::vector<glm::vec3>& force) {
   const std::size_t n = particles_.size();
   const auto& x = particles_.position;
   const auto& v = particles_.velocity;
@@ -27,7 +27,7 @@ void Solver::addExternalForces() {
     const glm::vec3 world_velocity = u + glm::cross(omega, r) + frame_vel;
     glm::vec3 a = gravity - inertial - drag * world_velocity;
     if (shape) a += shape->acceleration(i, r);
-    force_[i] += m[i] * a;
+    force[i] += m[i] * a;
   });
 }
 

@@ -5,7 +5,7 @@
 namespace loosehair {
 
 // ---- implicit springs: the velocity change of the step (implicit_springs.hpp)
-void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
+void Solver::solveSpringsImplicitly(const Scratch& s, const std::vector<glm::vec3>& force, float dt) {
   if (!implicit_) implicit_ = std::make_unique<ImplicitSprings>();
   ImplicitSprings::Input in;
   in.layout = &sliced_->layout;
@@ -14,7 +14,7 @@ void Solver::solveSpringsImplicitly(const Scratch& s, float dt) {
   in.unit_y = s.unit_y.data();
   in.unit_z = s.unit_z.data();
   in.pull = s.pull.data();
-  in.force = force_.data();
+  in.force = force.data();
   in.mass = particles_.mass.data();
   in.is_root = particles_.is_root.data();
   in.particles = particles_.size();

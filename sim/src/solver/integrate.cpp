@@ -50,7 +50,7 @@ std::size_t Solver::integrate(StepContext& ctx, const std::vector<BodyFrame>& fr
           strain_record[i] = glm::vec4(x[i], inv_mass[i]);
           continue;
         }
-        glm::vec3 vi = v[i] + (implicit ? spring_dv_[i] : (dt / m[i]) * force_[i]);
+        glm::vec3 vi = v[i] + (implicit ? spring_dv_[i] : (dt / m[i]) * ctx.force[i]);
         if (body_phi_[i] >= thickness && body_phi_[i] < reach) {
           // Speculative: a particle that would go through the contact
           // layer into the body within this step only reaches the layer

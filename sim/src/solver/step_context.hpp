@@ -29,6 +29,12 @@ struct StepContext {
   /// particles where they belong without making their moves velocities.
   bool absorb_corrections = false;
 
+  // ---- the forces -> the implicit solve, integrate ------------------------
+  /// Every force on each particle this step (N, head frame): written by the
+  /// spring pass, added to by hair-hair, the wind's air and the external
+  /// forces; read by the implicit spring solve and by integrate.
+  std::vector<glm::vec3> force;
+
   // ---- integrate -> strain limit -----------------------------------------
   /// (x, 1/m) of every particle where integrate left it (1/m = 0 for a
   /// root): the strain limit's first round reads [0], each round writes the
@@ -56,6 +62,7 @@ struct StepContext {
 
   /// Sizes the per-particle buffers for n particles.
   void resize(std::size_t n) {
+    force.assign(n, glm::vec3(0.0f));
     integrated_position.resize(n);
     body_clearance.resize(n, -INFINITY);
     limited_position.resize(n);
