@@ -336,9 +336,6 @@ void Solver::step() {
 
   StepContext& ctx = *step_;
   ctx.dt = dt;
-  ctx.t_start = time_;
-  ctx.t_end = t_end;
-  ctx.threads = threads_;
   ctx.absorb_corrections = absorb_corrections_;
   absorb_corrections_ = false;
 

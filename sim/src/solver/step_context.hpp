@@ -1,8 +1,8 @@
 // What one step hands from stage to stage (Solver::step; the order and the
 // data flow are drawn in docs/design.md, "One step"). The inputs are set
-// before the first stage. Every other field is written by exactly one
-// stage and read only by the stages after it, which is why each says who
-// writes it and who reads it; the buffers stay allocated from step to step.
+// before the first stage. Every other field is written by the stages its
+// comment names and read only by the stages after them; the buffers stay
+// allocated from step to step.
 // Nothing here outlives the step: what a step leaves for the next (the
 // spring sums of the direction pass, the implicit solve's warm start) is
 // the solver's state.
@@ -21,10 +21,7 @@ namespace loosehair {
 
 struct StepContext {
   // ---- inputs ------------------------------------------------------------
-  float dt = 0.0f;         // the step (s)
-  double t_start = 0.0;    // the time at the step's start (s)
-  double t_end = 0.0;      // and at its end
-  int threads = 1;         // the team size of this step's passes
+  float dt = 0.0f;  // the step (s)
   /// The step after Solver::setKinematicState: the corrections put the
   /// particles where they belong without making their moves velocities.
   bool absorb_corrections = false;
