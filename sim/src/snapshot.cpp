@@ -7,6 +7,7 @@
 #include "air.hpp"
 #include "air_grid.hpp"
 #include "solver_scratch.hpp"
+#include "solver/step_context.hpp"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -384,7 +385,7 @@ struct SnapshotAccess {
     if (scene_grid) scene_grid->restore(std::move(grid));  // checked above: cannot throw
     // Queries between steps see the state (as after a step).
     s.findNeighbors();
-    s.computeDensity();
+    s.measureDensity(s.step_->pair_records);
     auto& scratch = *s.scratch_;
     scratch.sums_current = sums_current;
     if (sums_current) {

@@ -90,7 +90,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   // d_c rho / m^2, so d_c = rate * m^2 / rho removes `rate` of the relative
   // normal velocity per second).
   findNeighbors();
-  computeDensity();
+  measureDensity(step_->pair_records);
   std::vector<float> hair_density;
   double mass_sum = 0;
   std::size_t hair_count = 0;
@@ -134,8 +134,8 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   report_.stable_time_step = stableTimeStep();
   if (params_.shape_keeping > 0.0f) {
     // the pressure terms with the rest density just set (the first
-    // computeDensity ran before it was known)
-    computeDensity();
+    // density pass ran before it was known)
+    measureDensity(step_->pair_records);
     const glm::dmat3 rt = glm::transpose(trajectory_.kinematics(time_).pose.rotation);
     shape_ = std::make_unique<ShapeKeeping>(params_.shape_keeping, particles_.position, particles_.mass,
                                             internalForces(), glm::vec3(rt * glm::dvec3(params_.gravity)));
@@ -247,7 +247,7 @@ void Solver::setKinematicState(std::span<const glm::vec3> position,
   particles_ = std::move(next);
   // Queries between steps (internalForces, density) see the new state.
   findNeighbors();
-  computeDensity();
+  measureDensity(step_->pair_records);
   scratch_->sums_current = false;
   // A reset may leave particles inside the body or over-stretched; the
   // first step moves them back without turning the move into velocity.
@@ -341,13 +341,13 @@ void Solver::step() {
 
   findNeighbors();
   lap(st.neighbors);
-  computeDensity();
+  measureDensity(ctx.pair_records);
   lap(st.density);
   computeSpringFactors(s);
   accumulateSpringForces(s, ctx.force);
   lap(st.springs);
-  // the (x, m) records are computeDensity's
-  if (params_.hair_hair) accumulateHairHairForces(ctx.force, true);
+  // the (x, m) records are the density pass's
+  if (params_.hair_hair) addHairHairForces(ctx.pair_records, PositionRecords::Made, ctx.force);
   lap(st.hair_hair);
   if (air_) {
     // the hair-air drag (method.md §5; wind_air.hpp)
@@ -479,6 +479,23 @@ std::uint64_t Solver::stateHash() const {
   return h;
 }
 
+// ---- stage 1: neighbours (method.md §1 step 1) ------------------------------
+void Solver::findNeighbors() {
+  // lists of positions in the search order: density and hair-hair work in it
+  grid_->build(particles_.position, 2.0f * params_.h2, threads_, NeighborGrid::ListIndex::SearchOrder);
+}
+
+void Solver::measureDensity(PairRecords& records) {
+  computeDensity({params_.h2, params_.pressure_stiffness, rest_density_}, *grid_, particles_.position,
+                 particles_.mass, records, density_, pressure_, pressure_term_, threads_);
+}
+
+void Solver::addHairHairForces(PairRecords& records, PositionRecords xm, std::vector<glm::vec3>& force) const {
+  const HairHairInput in{particles_.position, particles_.velocity, particles_.direction, particles_.mass,
+                         pressure_term_};
+  accumulateHairHair({params_.h2, dc_, dfr_}, *grid_, in, records, xm, force, threads_);
+}
+
 Solver::Scratch Solver::springFactorsNow() const {
   Scratch s;
   resizeScratch(s, true);
@@ -525,7 +542,10 @@ std::vector<glm::vec3> Solver::internalForces() const {
   Scratch s = springFactorsNow();
   std::vector<glm::vec3> f(particles_.size());
   accumulateSpringForces(s, f);
-  if (params_.hair_hair) accumulateHairHairForces(f, false);
+  if (params_.hair_hair) {
+    PairRecords records;
+    addHairHairForces(records, PositionRecords::Make, f);
+  }
   return f;
 }
 

@@ -34,6 +34,8 @@ class ThreadChoice;
 struct ShapeKeeping;
 struct SlicedConnections;  // solver/connection_passes.hpp
 struct StepContext;        // solver/step_context.hpp
+struct PairRecords;        // solver/neighbor_records.hpp
+enum class PositionRecords;  // solver/hair_hair.hpp
 class ImplicitSprings;
 class HairChain;
 
@@ -275,12 +277,13 @@ class Solver {
   float entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
   /// Writes f, and each entry's alpha_ij k_ij into s (for the direction pass).
   void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const;
-  /// `xm_ready`: computeDensity has just made the partners' (x, m) records
-  /// (in a step, at the same positions).
-  void accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const;
   void computeRestFactors();           // side factors of the rest state (E A / sum l k W)
   void computeDerivedCoefficients();   // rho0, d_c, d_fr from the parameters
-  void computeDensity();
+  /// The density stage (solver/density.hpp) at the current positions:
+  /// writes density_, pressure_, pressure_term_ and the (x, m) records.
+  void measureDensity(PairRecords& records);
+  /// The hair-hair stage (solver/hair_hair.hpp): adds to `force`.
+  void addHairHairForces(PairRecords& records, PositionRecords xm, std::vector<glm::vec3>& force) const;
   void findNeighbors();
   void addExternalForces(std::vector<glm::vec3>& force);  // adds to force
 

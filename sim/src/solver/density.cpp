@@ -1,15 +1,10 @@
-// Neighbours and density (method.md §1 step 1, §2 eq. 1).
+// Density (method.md §2 eq. 1) and the pressure terms of eq. 16.
+#include "solver/density.hpp"
+
 #include "solver/solver_internal.hpp"
-#include "solver/neighbor_records.hpp"
+#include "solver/pair_forces.hpp"
 
 namespace loosehair {
-
-// ---- stage 1: neighbours ---------------------------------------------------
-void Solver::findNeighbors() {
-  // lists of positions in the search order: density and hair-hair work in it
-  grid_->build(particles_.position, 2.0f * params_.h2, threads_,
-               NeighborGrid::ListIndex::SearchOrder);
-}
 
 // ---- stage 2: density, eq. 1 -----------------------------------------------
 // A blocked loop (pair_columns.hpp).
@@ -19,30 +14,31 @@ LOOSEHAIR_PAIR_KERNEL
 void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float* __restrict r2,
                       const float* __restrict mj, float* __restrict rho) {
   for (std::size_t q = 0; q < pairs; ++q) {
-    rho[q] = mj[q] * cubicW(std::sqrt(r2[q]), inv_h, norm_w);  // m_j W(r, h2)
+    rho[q] = densityPairTerm(r2[q], mj[q], inv_h, norm_w);
   }
 }
 
 }  // namespace
 
-void Solver::computeDensity() {
-  const CubicKernel k2(params_.h2);
-  const std::size_t n = particles_.size();
-  const glm::vec3* x = particles_.position.data();
-  const float* m = particles_.mass.data();
+void computeDensity(const DensitySettings& settings, const NeighborGrid& grid,
+                    std::span<const glm::vec3> position, std::span<const float> mass, PairRecords& records,
+                    std::span<float> density, std::span<float> pressure, std::span<float> pressure_term,
+                    int threads) {
+  const CubicKernel k2(settings.h2);
+  const std::size_t n = position.size();
+  const glm::vec3* x = position.data();
+  const float* m = mass.data();
   const float w0 = k2.W(0.0f), inv_h = 1.0f / k2.h(), norm_w = w0 / 4.0f;
-  const float ka = params_.pressure_stiffness;
+  const float ka = settings.pressure_stiffness, rest_density = settings.rest_density;
   // Blocks of points in the search's order, whose lists lie one after the
   // other in memory (each point's sum is the same in any visiting order).
-  const std::uint32_t* ord = grid_->searchOrder().data();
-  const NeighborGrid& grid = *grid_;
-  std::vector<glm::vec4>& records = hairRecords().xm;  // (x, m), kept for the hair-hair pass
-  records.resize(n);
-  const glm::vec4* xm = records.data();
+  const std::uint32_t* ord = grid.searchOrder().data();
+  records.xm.resize(n);
+  const glm::vec4* xm = records.xm.data();
   enum { R2, MJ, RHO, kColumns };
-  parallel::run(threads_, [&] {
+  parallel::run(threads, [&] {
     const auto [k0, k1] = pairLoopPart(grid);
-    fillRecords(records, x, m, ord, k0, k1);
+    fillRecords(records.xm, x, m, ord, k0, k1);
     parallel::barrier();
     PairColumns& col = threadColumns();
     for (std::size_t b = k0; b < k1; b += kPairBlock) {
@@ -84,9 +80,9 @@ void Solver::computeDensity() {
         const std::uint32_t i = ord[p];
         float sum = m[i] * w0;
         for (std::size_t end = k + grid.list(p).size(); k < end; ++k) sum += rho[k];
-        density_[i] = sum;
-        pressure_[i] = ka * (sum - rest_density_);
-        pressure_term_[i] = pressure_[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
+        density[i] = sum;
+        pressure[i] = ka * (sum - rest_density);
+        pressure_term[i] = pressure[i] / (sum * sum);  // P_i / rho_i^2 of eq. 16
       }
     }
   });

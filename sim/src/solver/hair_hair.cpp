@@ -1,21 +1,19 @@
 // Hair-hair forces (method.md §4, eqs. 16-18): pressure, collision and
 // friction between current neighbours.
+#include "solver/hair_hair.hpp"
+
 #include "solver/solver_internal.hpp"
-#include "solver/neighbor_records.hpp"
+#include "solver/pair_forces.hpp"
 
 namespace loosehair {
 
 namespace {
 
-// The hair-hair force on i of each gathered pair (method.md §4, eqs. 16-18), for
-// accumulateHairHairForces. A function of its own with plain arguments so
-// that the loop vectorises (inside the parallel region's lambda it may not).
-struct HairHairTerms {
-  float inv_h, norm_w, norm_g;  // kernel W(r, h2): 1/h, 1/(4 pi h^3), 1/(4 pi h^4)
-  float dc, dfr;                // collision and friction coefficients
-};
+// Each gathered pair's force on i (hairHairPairForce, pair_forces.hpp), for
+// accumulateHairHair. A function of its own with plain arguments so that
+// the loop vectorises (inside the parallel region's lambda it may not).
 LOOSEHAIR_PAIR_KERNEL
-void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p, const float* __restrict dx,
+void hairHairPairTerms(std::size_t pairs, const HairHairPairTerms& p, const float* __restrict dx,
                        const float* __restrict dy, const float* __restrict dz,
                        const float* __restrict vx, const float* __restrict vy,
                        const float* __restrict vz, const float* __restrict tix,
@@ -24,44 +22,13 @@ void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p, const float* _
                        const float* __restrict tjz, const float* __restrict mm,
                        const float* __restrict pp, float* __restrict fx, float* __restrict fy,
                        float* __restrict fz) {
-  const float inv_h = p.inv_h, norm_w = p.norm_w, norm_g = p.norm_g, dc = p.dc, dfr = p.dfr;
+  const HairHairPairTerms terms = p;  // a local copy: no aliasing with the outputs
   for (std::size_t q = 0; q < pairs; ++q) {
-    const float r2 = dx[q] * dx[q] + dy[q] * dy[q] + dz[q] * dz[q];
-    const float r = std::sqrt(r2);
-    const float inv_r = r > 0.0f ? 1.0f / r : 0.0f;
-    const float w = cubicW(r, inv_h, norm_w);      // W(r, h2)
-    const float dw = cubicDWdr(r, inv_h, norm_g);  // dW/dr
-    // eq. 16: -m_i m_j (P_i/rho_i^2 + P_j/rho_j^2) grad_i W, grad_i W = -dW/dr x_ij / r
-    const float pc = mm[q] * pp[q] * dw * inv_r;
-    // eq. 17: collision direction t_i x t_j; for near-parallel hairs the
-    // part of x_ij normal to their mean direction (our symmetric choice,
-    // so that the pair force is exactly opposite on j).
-    const float cx = tiy[q] * tjz[q] - tiz[q] * tjy[q];
-    const float cy = tiz[q] * tjx[q] - tix[q] * tjz[q];
-    const float cz = tix[q] * tjy[q] - tiy[q] * tjx[q];
-    const float c2 = cx * cx + cy * cy + cz * cz;
-    const float sgn = tix[q] * tjx[q] + tiy[q] * tjy[q] + tiz[q] * tjz[q] >= 0.0f ? 1.0f : -1.0f;
-    const float mx = tix[q] + sgn * tjx[q], my = tiy[q] + sgn * tjy[q], mz = tiz[q] + sgn * tjz[q];
-    const float m2 = mx * mx + my * my + mz * mz;
-    const float along = (dx[q] * mx + dy[q] * my + dz[q] * mz) / (m2 > 0.0f ? m2 : 1.0f);
-    const float ax = dx[q] - along * mx, ay = dy[q] - along * my, az = dz[q] - along * mz;
-    const float a2 = ax * ax + ay * ay + az * az;
-    const bool parallel = c2 < 1e-6f;
-    // the fallback direction is usable if the hairs are not on one line
-    // (float masks, not bools: the loop then vectorises)
-    const float usable = m2 > 0.0f ? (a2 < 1e-6f * r2 ? 0.0f : 1.0f) : 0.0f;
-    const float valid = parallel ? usable : 1.0f;
-    const float d2 = parallel ? a2 : c2;
-    const float inv_d = valid / std::sqrt(valid > 0.0f ? d2 : 1.0f);
-    const float nx = (parallel ? ax : cx) * inv_d, ny = (parallel ? ay : cy) * inv_d,
-                nz = (parallel ? az : cz) * inv_d;
-    const float vn = vx[q] * nx + vy[q] * ny + vz[q] * nz;
-    // approaching pairs only (eqs. 17-18)
-    const float wc = (dx[q] * nx + dy[q] * ny + dz[q] * nz) * vn < 0.0f ? w : 0.0f;
-    const float cn = dc * wc * vn, ft = dfr * wc;
-    fx[q] = pc * dx[q] + cn * nx + ft * (vx[q] - vn * nx);
-    fy[q] = pc * dy[q] + cn * ny + ft * (vy[q] - vn * ny);
-    fz[q] = pc * dz[q] + cn * nz + ft * (vz[q] - vn * nz);
+    const PairForce f = hairHairPairForce(terms, dx[q], dy[q], dz[q], vx[q], vy[q], vz[q], tix[q], tiy[q], tiz[q],
+                                          tjx[q], tjy[q], tjz[q], mm[q], pp[q]);
+    fx[q] = f.x;
+    fy[q] = f.y;
+    fz[q] = f.z;
   }
 }
 
@@ -70,28 +37,27 @@ void hairHairPairTerms(std::size_t pairs, const HairHairTerms& p, const float* _
 // ---- stage 3c: hair-hair pressure, collision, friction (method.md §4) -----------
 // A blocked pair loop (pair_columns.hpp): every neighbour is within the
 // kernel's support; the terms are selected, not branched on.
-void Solver::accumulateHairHairForces(std::vector<glm::vec3>& force, bool xm_ready) const {
-  const CubicKernel k2(params_.h2);
-  const std::size_t n = particles_.size();
-  const glm::vec3* x = particles_.position.data();
-  const glm::vec3* v = particles_.velocity.data();
-  const glm::vec3* t = particles_.direction.data();
-  const float* m = particles_.mass.data();
-  const float* pterm = pressure_term_.data();
-  const HairHairTerms terms{1.0f / k2.h(), k2.W(0.0f) / 4.0f, -k2.dWdr(k2.h()) / 3.0f, dc_, dfr_};
-  const std::uint32_t* ord = grid_->searchOrder().data();  // as in computeDensity
-  const NeighborGrid& grid = *grid_;
+void accumulateHairHair(const HairHairSettings& settings, const NeighborGrid& grid, const HairHairInput& in,
+                        PairRecords& rec, PositionRecords xm_records, std::span<glm::vec3> force, int threads) {
+  const CubicKernel k2(settings.h2);
+  const std::size_t n = in.position.size();
+  const glm::vec3* x = in.position.data();
+  const glm::vec3* v = in.velocity.data();
+  const glm::vec3* t = in.direction.data();
+  const float* m = in.mass.data();
+  const float* pterm = in.pressure_term.data();
+  const HairHairPairTerms terms{1.0f / k2.h(), k2.W(0.0f) / 4.0f, -k2.dWdr(k2.h()) / 3.0f, settings.collision,
+                                settings.friction};
+  const std::uint32_t* ord = grid.searchOrder().data();  // as in computeDensity
   enum { DX, DY, DZ, VX, VY, VZ, TIX, TIY, TIZ, TJX, TJY, TJZ, MM, PP, FX, FY, FZ, kColumns };
-  // The partners' records (hairRecords()); (x, m) comes from computeDensity
-  // in a step, and is made here for a query between steps.
-  HairRecords& rec = hairRecords();
+  const bool make_xm = xm_records == PositionRecords::Make;
   rec.xm.resize(n);
   rec.vp.resize(n);
   rec.tt.resize(n);
   const glm::vec4 *xm = rec.xm.data(), *vp = rec.vp.data(), *tt = rec.tt.data();
-  parallel::run(threads_, [&] {
+  parallel::run(threads, [&] {
     const auto [k0, k1] = pairLoopPart(grid);
-    if (!xm_ready) fillRecords(rec.xm, x, m, ord, k0, k1);
+    if (make_xm) fillRecords(rec.xm, x, m, ord, k0, k1);
     fillRecords(rec.vp, v, pterm, ord, k0, k1);
     fillRecords(rec.tt, t, nullptr, ord, k0, k1);
     parallel::barrier();

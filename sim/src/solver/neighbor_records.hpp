@@ -1,9 +1,8 @@
 // The records the density and hair-hair passes gather from (density.cpp,
 // hair_hair.cpp). The density pass of a step fills the (x, m) records
-// that the hair-hair pass of the same step reuses (Solver::
-// accumulateHairHairForces with `xm_ready`), so the buffers are one per
-// thread for the whole library (an inline function's static), not one
-// per file.
+// that the hair-hair pass of the same step reuses: they are the step
+// context's (StepContext::pair_records), handed from one to the other in
+// their signatures.
 #pragma once
 
 #include "neighbor_grid.hpp"
@@ -33,16 +32,10 @@ namespace loosehair {
 // cell, so a particle's partners lie in a few short runs of records, near
 // its own, however the hair has moved since it was made. Four partners'
 // records are loaded whole and transposed into the columns (4 loads and a
-// few shuffles where a scalar gather makes 12 loads and 12 stores). The
-// calling thread's buffers, shared with its team (parallel.hpp), so that const
-// queries from several threads stay safe.
-struct HairRecords {
+// few shuffles where a scalar gather makes 12 loads and 12 stores).
+struct PairRecords {
   std::vector<glm::vec4> xm, vp, tt;
 };
-inline HairRecords& hairRecords() {
-  static thread_local HairRecords records;
-  return records;
-}
 
 // out[k] = (a[i], w[i]), or (a[i], 0) without w, i = ord[k], for k in
 // [k0, k1): the calling thread's part of the search order.

@@ -22,6 +22,8 @@
 #include "solver/strain_limit.hpp"
 #include "solver/tethers.hpp"
 #include "solver/directions.hpp"
+#include "solver/density.hpp"
+#include "solver/hair_hair.hpp"
 #include "shape_keeping.hpp"
 #include "tether.hpp"
 #include "thread_choice.hpp"

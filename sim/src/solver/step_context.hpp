@@ -9,6 +9,7 @@
 #pragma once
 
 #include "loosehair/solver.hpp"
+#include "solver/neighbor_records.hpp"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -25,6 +26,13 @@ struct StepContext {
   /// The step after Solver::setKinematicState: the corrections put the
   /// particles where they belong without making their moves velocities.
   bool absorb_corrections = false;
+
+  // ---- density -> hair-hair ----------------------------------------------
+  /// The partners' records in the search order: the density pass writes
+  /// the (x, m) records, the hair-hair pass reads them and writes the rest.
+  /// (The density itself and P / rho^2 are the solver's: the queries read
+  /// them between steps.)
+  PairRecords pair_records;
 
   // ---- the forces -> the implicit solve, integrate ------------------------
   /// Every force on each particle this step (N, head frame): written by the
