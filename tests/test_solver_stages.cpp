@@ -1,9 +1,20 @@
 // Stages of the step alone, on hand-made particles (no scene, no solver):
-// the strain limit (solver/strain_limit.hpp), the tethers
-// (solver/tethers.hpp) and the direction pass (solver/directions.hpp).
+// density, the springs, a hair-hair pair, the external forces, integrate
+// against a hand-made body, the strain limit, the tethers and the
+// direction pass (each in its file under sim/src/solver/).
 #include "connection_builder.hpp"
+#include "kernel.hpp"
+#include "neighbor_grid.hpp"
+#include "solver/body_query.hpp"
 #include "solver/connection_passes.hpp"
+#include "solver/density.hpp"
 #include "solver/directions.hpp"
+#include "solver/external_forces.hpp"
+#include "solver/integrate.hpp"
+#include "solver/pair_forces.hpp"
+#include "solver/spring_forces.hpp"
+#include "solver/spring_scratch.hpp"
+#include "solver/step_context.hpp"
 #include "solver/strain_limit.hpp"
 #include "solver/tethers.hpp"
 
@@ -177,4 +188,185 @@ TEST(DirectionStage, TurnsAStrayDirectionBackAlongTheHairAndMeasuresTheNextSprin
   std::vector<glm::vec3> bad_v = v;
   bad_v[4].y = NAN;
   EXPECT_EQ(updateDirections(0.012f, h.sliced, weight, h.root, h.x, bad_v, dir, sum_root, sum_tip, 1).broken, 1u);
+}
+
+// Density (solver/density.hpp): m W(0) for a lone particle, plus m_j W(r)
+// for each neighbour within 2 h2; the pressure terms from them.
+TEST(DensityStage, SumsTheKernelOverNeighboursAndGivesThePressureTerm) {
+  const float h2 = 0.01f, m = 2e-4f;
+  const std::vector<glm::vec3> x = {{0.0f, 0.0f, 0.0f}, {0.012f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f}};
+  const std::vector<float> mass(3, m);
+  NeighborGrid grid;
+  grid.build(x, 2.0f * h2, 2, NeighborGrid::ListIndex::SearchOrder);
+  PairRecords records;
+  std::vector<float> rho(3), p(3), term(3);
+  computeDensity({h2, 10.0f, 1.0f}, grid, x, mass, records, rho, p, term, 2);
+  const CubicKernel k(h2);
+  EXPECT_FLOAT_EQ(rho[0], m * k.W(0.0f) + m * k.W(0.012f));
+  EXPECT_FLOAT_EQ(rho[1], rho[0]);
+  EXPECT_FLOAT_EQ(rho[2], m * k.W(0.0f)) << "beyond the support: alone";
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_FLOAT_EQ(p[i], 10.0f * (rho[i] - 1.0f));
+    EXPECT_FLOAT_EQ(term[i], p[i] / (rho[i] * rho[i]));
+  }
+  ASSERT_EQ(records.xm.size(), 3u) << "the (x, m) records handed to the hair-hair pass";
+  for (std::size_t k2 = 0; k2 < 3; ++k2) {
+    const std::uint32_t i = grid.searchOrder()[k2];
+    EXPECT_EQ(records.xm[k2], glm::vec4(x[i], m));
+  }
+}
+
+// One hair-hair pair (solver/pair_forces.hpp): the force on j is exactly
+// the negative of the force on i, nothing acts beyond the support, and a
+// receding pair feels no collision or friction.
+TEST(HairHairPairStage, ActsOppositelyOnTheTwoAndOnlyOnApproach) {
+  const float h = 0.01f;
+  const CubicKernel k(h);
+  const HairHairPairTerms terms{1.0f / h, k.W(0.0f) / 4.0f, -k.dWdr(h) / 3.0f, 3.0f, 2.0f};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  auto unit = [&] { return glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.0f, 0.0f, 0.01f)); };
+  for (int trial = 0; trial < 200; ++trial) {
+    const glm::vec3 d = 0.012f * glm::vec3(u(rng), u(rng), u(rng)), v(u(rng), u(rng), u(rng));
+    glm::vec3 ti = unit(), tj = trial % 4 == 0 ? ti : unit();  // parallel hairs too
+    const float mm = 1e-8f, pp = trial % 2 ? 5.0f : 0.0f;
+    const PairForce a = hairHairPairForce(terms, d.x, d.y, d.z, v.x, v.y, v.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z, mm, pp);
+    const PairForce b =
+        hairHairPairForce(terms, -d.x, -d.y, -d.z, -v.x, -v.y, -v.z, tj.x, tj.y, tj.z, ti.x, ti.y, ti.z, mm, pp);
+    ASSERT_TRUE(std::isfinite(a.x + a.y + a.z)) << trial;
+    EXPECT_EQ(a.x, -b.x) << trial;
+    EXPECT_EQ(a.y, -b.y) << trial;
+    EXPECT_EQ(a.z, -b.z) << trial;
+  }
+  const glm::vec3 ti(1.0f, 0.0f, 0.0f), tj(0.0f, 0.0f, 1.0f);  // crossing: n = t_i x t_j = -y
+  auto force = [&](glm::vec3 d, glm::vec3 v, float pp) {
+    const PairForce f = hairHairPairForce(terms, d.x, d.y, d.z, v.x, v.y, v.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z,
+                                          1e-8f, pp);
+    return glm::vec3(f.x, f.y, f.z);
+  };
+  EXPECT_EQ(force({0.0f, 0.021f, 0.0f}, {0.0f, -1.0f, 0.0f}, 5.0f), glm::vec3(0.0f)) << "beyond 2 h";
+  EXPECT_EQ(force({0.0f, 0.01f, 0.0f}, {0.3f, 1.0f, 0.0f}, 0.0f), glm::vec3(0.0f)) << "receding";
+  const glm::vec3 f = force({0.0f, 0.01f, 0.0f}, {0.3f, -1.0f, 0.0f}, 0.0f);  // j comes down onto i
+  EXPECT_LT(f.y, 0.0f) << "the collision takes i along with j";
+  EXPECT_GT(f.x, 0.0f) << "friction drags i along j's slide";
+}
+
+namespace {
+
+// Two free particles l apart along -y joined by one connection.
+struct Pair {
+  std::vector<glm::vec3> x, t, v;
+  std::vector<float> s, mass, area, rest_root, rest_tip;
+  std::vector<std::uint8_t> root;
+  ConnectionSet c;
+  SlicedConnections sliced;
+  explicit Pair(float l) {
+    x = {{0.0f, 0.0f, 0.0f}, {0.0f, -l, 0.0f}};
+    t.assign(2, glm::vec3(0.0f, -1.0f, 0.0f));
+    v.assign(2, glm::vec3(0.0f));
+    s = {0.0f, l};
+    mass.assign(2, 1e-4f);
+    area.assign(2, 4e-6f);
+    rest_root.assign(2, 1e30f);  // no clamp
+    rest_tip.assign(2, 1e30f);
+    root.assign(2, 0);
+    ConnectionOptions o;
+    o.h1 = 1.2f * l;
+    c = buildConnections(x, t, s, root, o);
+    sliced = sliceForPasses(c);
+  }
+};
+
+}  // namespace
+
+// The springs (solver/spring_forces.hpp): none at rest; stretched, equal
+// and opposite, of E A times the strain (the tensile modulus kept whatever
+// the kernel's weight, method.md §3.2).
+TEST(SpringStage, PullsAStretchedPairBackWithTheTensileModulus) {
+  const float l = 0.01f;
+  Pair p(l);
+  ASSERT_EQ(p.c.pairCount(), 1u);
+  const SpringSettings settings{1.2f * l, 2e6, 4.0f, 0.0f};
+  auto forces = [&] {
+    SpringScratch s;
+    resizeSpringScratch(s, 2, p.c, p.sliced, false);
+    computeSpringFactors(settings, p.c, {p.x, p.v, p.root, p.area, p.rest_root, p.rest_tip}, s, 2);
+    std::vector<glm::vec3> f(2, glm::vec3(7.0f));  // replaced, not added to
+    accumulateSpringForces(settings, p.sliced, 2, s, f, 2);
+    return f;
+  };
+  std::vector<glm::vec3> f = forces();
+  EXPECT_EQ(f[0], glm::vec3(0.0f));
+  EXPECT_EQ(f[1], glm::vec3(0.0f));
+  for (float strain : {0.01f, 0.3f}) {  // a stretched pair: the kernel weight k_ij drops, E A stays
+    p.x[1].y = -l * (1.0f + strain);
+    f = forces();
+    EXPECT_NEAR(f[0].y, -2e6f * 4e-6f * strain, 1e-4f * 2e6f * 4e-6f * strain) << strain;
+    EXPECT_EQ(f[0].x, 0.0f);
+    EXPECT_EQ(f[1].y, -f[0].y) << "equal and opposite";
+  }
+}
+
+// External forces (solver/external_forces.hpp): gravity on a still head,
+// the centrifugal force in a turning head's frame; roots take none.
+TEST(ExternalForcesStage, AddsGravityAndTheHeadFramesInertia) {
+  const std::vector<glm::vec3> x = {{0.0f, 0.0f, 0.0f}, {0.1f, 0.0f, 0.0f}}, v(2, glm::vec3(0.0f));
+  const std::vector<float> m = {1.0f, 2.0f};
+  const std::vector<std::uint8_t> root = {1, 0};
+  std::vector<glm::vec3> f(2, glm::vec3(1.0f, 0.0f, 0.0f));
+  HeadKinematics still;
+  addExternalForces({{0.0f, -10.0f, 0.0f}, 0.0f}, still, {x, v, m, root}, nullptr, f, 2);
+  EXPECT_EQ(f[0], glm::vec3(1.0f, 0.0f, 0.0f)) << "a root";
+  EXPECT_EQ(f[1], glm::vec3(1.0f, -20.0f, 0.0f)) << "added to what was there";
+  HeadKinematics turning;
+  turning.angular_velocity = {0.0, 3.0, 0.0};
+  std::vector<glm::vec3> g(2, glm::vec3(0.0f));
+  addExternalForces({{0.0f, 0.0f, 0.0f}, 0.0f}, turning, {x, v, m, root}, nullptr, g, 1);
+  EXPECT_NEAR(g[1].x, 2.0f * 9.0f * 0.1f, 1e-5f) << "m w^2 r outward";
+  EXPECT_NEAR(g[1].y, 0.0f, 1e-6f);
+}
+
+namespace {
+
+// The ground y = 0, still: the body integrate asks.
+struct Ground final : BodyQuery {
+  void nearest(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal, glm::vec3* surface_velocity,
+               float, bool) const override {
+    for (std::size_t i = 0; i < n; ++i) {
+      phi[i] = x[i].y;
+      normal[i] = {0.0f, 1.0f, 0.0f};
+      surface_velocity[i] = glm::vec3(0.0f);
+    }
+  }
+  float roughError() const override { return 0.0f; }
+};
+
+}  // namespace
+
+// Integrate (solver/integrate.hpp): symplectic Euler in free space; on the
+// ground the approach is removed and the slide slowed by Coulomb friction;
+// a root does not move; what it hands on is in the context.
+TEST(IntegrateStage, StepsFreeParticlesAndStopsThemAtABody) {
+  std::vector<glm::vec3> x = {{0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0005f, 0.0f}};
+  std::vector<glm::vec3> v = {{5.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, {1.0f, -1.0f, 0.0f}};
+  const std::vector<float> m = {1.0f, 2.0f, 1.0f}, inv_m = {0.0f, 0.5f, 1.0f};
+  const std::vector<std::uint8_t> root = {1, 0, 0};
+  StepContext ctx;
+  ctx.resize(3);
+  ctx.dt = 0.01f;
+  ctx.force = {{0.0f, 0.0f, 0.0f}, {0.0f, -4.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
+  const std::size_t contacts = integrate({0.001f, 0.5f}, Ground(), {x, v, m, inv_m, root}, {}, ctx, 2);
+  EXPECT_EQ(x[0], glm::vec3(0.0f, 1.0f, 0.0f)) << "a root stays";
+  EXPECT_EQ(v[1], glm::vec3(0.0f, -0.02f, 1.0f)) << "v += dt f / m";
+  EXPECT_EQ(x[1], glm::vec3(0.0f, 1.0f, 0.0f) + 0.01f * v[1]) << "x += dt v (the new v)";
+  EXPECT_EQ(contacts, 1u);
+  EXPECT_EQ(v[2].y, 0.0f) << "inelastic: the approach removed";
+  EXPECT_FLOAT_EQ(v[2].x, 0.5f) << "Coulomb: the slide slowed by mu |v_n|";
+  EXPECT_EQ(ctx.integrated_position[1], x[1]);
+  EXPECT_EQ(ctx.strain_records[0][1], glm::vec4(x[1], 0.5f));
+  EXPECT_LE(ctx.body_clearance[1], x[1].y) << "a lower bound of the distance";
+  // with the implicit solve's velocity change instead of the forces
+  const std::vector<glm::vec3> dv = {{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 0.0f}};
+  integrate({0.001f, 0.5f}, Ground(), {x, v, m, inv_m, root}, dv, ctx, 1);
+  EXPECT_EQ(v[1], glm::vec3(0.0f, -0.02f, 0.0f));
 }

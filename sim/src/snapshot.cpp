@@ -6,7 +6,7 @@
 
 #include "air.hpp"
 #include "air_grid.hpp"
-#include "solver_scratch.hpp"
+#include "solver/spring_scratch.hpp"
 #include "solver/step_context.hpp"
 
 #include <glm/common.hpp>

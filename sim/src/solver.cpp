@@ -23,6 +23,10 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
 
 namespace {
 
+SpringSettings springSettingsOf(const SimParams& p) {
+  return {p.h1, p.youngs_modulus, p.stiffness_clamp, p.spring_damping};
+}
+
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -37,7 +41,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
       head_(std::move(head)),
       trajectory_(std::move(trajectory)),
       time_(start_time),
-      scratch_(std::make_unique<Scratch>()),
+      scratch_(std::make_unique<SpringScratch>()),
       sliced_(std::make_unique<SlicedConnections>()) {
   const auto problems = validate(params_);
   if (!problems.empty()) {
@@ -79,11 +83,9 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   density_.assign(n, 0.0f);
   pressure_.assign(n, 0.0f);
   pressure_term_.assign(n, 0.0f);
-  body_phi_.assign(n, 0.0f);
-  body_normal_.assign(n, glm::vec3(0.0f));
   step_ = std::make_unique<StepContext>();
   step_->resize(n);
-  resizeScratch(*scratch_, false);
+  resizeSpringScratch(*scratch_, n, connections_, *sliced_, false);
 
   // Initial density: rest density rho0 and the kernel-free collision and
   // friction coefficients (method.md §4: d_c W / m summed over neighbours is about
@@ -325,7 +327,7 @@ void Solver::step() {
   const auto step_start = Clock::now();
   const float dt = static_cast<float>(params_.time_step);
   const double t_end = time_ + params_.time_step;
-  Scratch& s = *scratch_;
+  SpringScratch& s = *scratch_;
   StageTimes st;
   auto t0 = Clock::now();
   auto lap = [&t0](double& stage) {
@@ -343,8 +345,8 @@ void Solver::step() {
   lap(st.neighbors);
   measureDensity(ctx.pair_records);
   lap(st.density);
-  computeSpringFactors(s);
-  accumulateSpringForces(s, ctx.force);
+  springFactors(s);
+  springForces(s, ctx.force);
   lap(st.springs);
   // the (x, m) records are the density pass's
   if (params_.hair_hair) addHairHairForces(ctx.pair_records, PositionRecords::Made, ctx.force);
@@ -355,17 +357,29 @@ void Solver::step() {
                    particles_.is_root, ctx.force, dt, threads_);
     lap(st.air);
   }
-  addExternalForces(ctx.force);
+  addExternalForces({params_.gravity, params_.air_drag}, trajectory_.kinematics(time_),
+                    {particles_.position, particles_.velocity, particles_.mass, particles_.is_root}, shape_.get(),
+                    ctx.force, threads_);
   lap(st.external);
   if (params_.implicit_springs) {
-    solveSpringsImplicitly(s, ctx.force, dt);
+    if (!implicit_) implicit_ = std::make_unique<ImplicitSprings>();
+    const ImplicitSpringReport rep = solveImplicitSpringStep(
+        {params_.spring_damping, params_.implicit_tolerance, params_.implicit_iterations}, *sliced_, s, ctx.force,
+        particles_.mass, particles_.is_root, dt, *implicit_, spring_dv_, threads_);
+    stats_.spring_iterations = rep.iterations;
+    stats_.spring_residual = rep.residual;
     lap(st.springs);
   }
 
 
   HeadKinematics head_start;
   placeBodies(time_, start_frames_, head_start);
-  ctx.contacts = integrate(ctx, start_frames_, head_start);
+  ctx.contacts = integrate({params_.contact_thickness, params_.body_friction},
+                           PlacedBodies(*this, start_frames_, head_start),
+                           {particles_.position, particles_.velocity, particles_.mass, inverse_mass_, particles_.is_root},
+                           params_.implicit_springs ? std::span<const glm::vec3>(spring_dv_)
+                                                    : std::span<const glm::vec3>(),
+                           ctx, threads_);
   lap(st.integrate);
 
   // Corrections: strain limit, the hair chain and the tethers, and no
@@ -496,14 +510,24 @@ void Solver::addHairHairForces(PairRecords& records, PositionRecords xm, std::ve
   accumulateHairHair({params_.h2, dc_, dfr_}, *grid_, in, records, xm, force, threads_);
 }
 
-Solver::Scratch Solver::springFactorsNow() const {
-  Scratch s;
-  resizeScratch(s, true);
-  computeSpringFactors(s);
+void Solver::springFactors(SpringScratch& s) const {
+  const SpringParticles p{particles_.position, particles_.velocity, particles_.is_root, cross_section_,
+                          rest_factor_root_, rest_factor_tip_};
+  computeSpringFactors(springSettingsOf(params_), connections_, p, s, threads_);
+}
+
+void Solver::springForces(SpringScratch& s, std::vector<glm::vec3>& force) const {
+  accumulateSpringForces(springSettingsOf(params_), *sliced_, particles_.size(), s, force, threads_);
+}
+
+SpringScratch Solver::springFactorsNow() const {
+  SpringScratch s;
+  resizeSpringScratch(s, particles_.size(), connections_, *sliced_, true);
+  springFactors(s);
   return s;
 }
 
-float Solver::entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const {
+float Solver::entryFactor(const SpringScratch& s, std::size_t i, std::uint32_t e) const {
   const bool tip = e >= connections_.tipBegin(i);
   const std::uint32_t j = connections_.partner[e];
   const float own = tip ? s.factor_tip[i] : s.factor_root[i];
@@ -512,7 +536,7 @@ float Solver::entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) cons
 }
 
 double Solver::stableTimeStep() const {
-  Scratch s = springFactorsNow();
+  SpringScratch s = springFactorsNow();
   double worst = 0;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (particles_.is_root[i]) continue;
@@ -525,7 +549,7 @@ double Solver::stableTimeStep() const {
 }
 
 std::vector<float> Solver::tensileModulus(Side side) const {
-  Scratch s = springFactorsNow();
+  SpringScratch s = springFactorsNow();
   std::vector<float> out(particles_.size(), 0.0f);
   const std::uint8_t want = side == Side::Tip ? 1 : 0;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
@@ -539,9 +563,9 @@ std::vector<float> Solver::tensileModulus(Side side) const {
 }
 
 std::vector<glm::vec3> Solver::internalForces() const {
-  Scratch s = springFactorsNow();
+  SpringScratch s = springFactorsNow();
   std::vector<glm::vec3> f(particles_.size());
-  accumulateSpringForces(s, f);
+  springForces(s, f);
   if (params_.hair_hair) {
     PairRecords records;
     addHairHairForces(records, PositionRecords::Make, f);

@@ -35,6 +35,7 @@ struct ShapeKeeping;
 struct SlicedConnections;  // solver/connection_passes.hpp
 struct StepContext;        // solver/step_context.hpp
 struct PairRecords;        // solver/neighbor_records.hpp
+struct SpringScratch;      // solver/spring_scratch.hpp
 enum class PositionRecords;  // solver/hair_hair.hpp
 class ImplicitSprings;
 class HairChain;
@@ -270,13 +271,11 @@ class Solver {
   std::vector<glm::vec3> internalForces() const;
 
  private:
-  struct Scratch;
-  void resizeScratch(Scratch& s, bool keep_k) const;  // keep_k: store k_ij (queries)
-  void computeSpringFactors(Scratch& s) const;
-  Scratch springFactorsNow() const;  // fresh buffers, for the const queries
-  float entryFactor(const Scratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
-  /// Writes f, and each entry's alpha_ij k_ij into s (for the direction pass).
-  void accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const;
+  /// The spring stages (solver/spring_forces.hpp) on the solver's state.
+  void springFactors(SpringScratch& s) const;
+  void springForces(SpringScratch& s, std::vector<glm::vec3>& force) const;
+  SpringScratch springFactorsNow() const;  // fresh buffers, for the const queries
+  float entryFactor(const SpringScratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
   void computeRestFactors();           // side factors of the rest state (E A / sum l k W)
   void computeDerivedCoefficients();   // rho0, d_c, d_fr from the parameters
   /// The density stage (solver/density.hpp) at the current positions:
@@ -285,7 +284,6 @@ class Solver {
   /// The hair-hair stage (solver/hair_hair.hpp): adds to `force`.
   void addHairHairForces(PairRecords& records, PositionRecords xm, std::vector<glm::vec3>& force) const;
   void findNeighbors();
-  void addExternalForces(std::vector<glm::vec3>& force);  // adds to force
 
   struct WorldBody {
     std::shared_ptr<const Body> body;
@@ -312,12 +310,7 @@ class Solver {
   void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
-  void solveSpringsImplicitly(const Scratch& s, const std::vector<glm::vec3>& force, float dt);
-  /// Reads the forces (or the implicit solve's velocity change) and the
-  /// bodies at the step's start; writes velocities and positions, and into
-  /// `ctx` the strain limit's first records, the integrated positions and
-  /// the body clearances. Returns the particles in contact.
-  std::size_t integrate(StepContext& ctx, const std::vector<BodyFrame>& frames, const HeadKinematics& head);
+  class PlacedBodies;  // the bodies as the stages ask them (solver_internal.hpp)
   /// The hair chain's moves, with the tethers (hair_chain.hpp); writes
   /// positions, and `moved` (which particles it moved).
   void holdHairChains(std::vector<std::uint8_t>& moved);
@@ -379,12 +372,10 @@ class Solver {
   std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
   std::vector<float> inverse_mass_;  // 0 for a root
   std::unique_ptr<StepContext> step_;  // what the stages hand on (solver/step_context.hpp)
-  std::vector<float> body_phi_;
-  std::vector<glm::vec3> body_normal_;
   // step()'s placements of the world bodies, reused from step to step: at
   // the start, at the end, and at the end without obstacles
   std::vector<BodyFrame> start_frames_, end_frames_, solid_frames_;
-  std::unique_ptr<Scratch> scratch_;
+  std::unique_ptr<SpringScratch> scratch_;
   std::unique_ptr<SlicedConnections> sliced_;  // the connections in the layout of the connection passes
   std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
   std::unique_ptr<ImplicitSprings> implicit_;  // params_.implicit_springs

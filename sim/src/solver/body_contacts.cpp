@@ -69,7 +69,8 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
       threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
         const std::size_t b = bb * kBodyBlock;
         const std::size_t len = std::min(n, b + kBodyBlock) - b;
-        glm::vec3 surface[kBodyBlock];
+        glm::vec3 surface[kBodyBlock], body_normal[kBodyBlock];
+        float body_phi[kBodyBlock];  // the block's answers
         bool pushed[kBodyBlock] = {};
         glm::vec3 push_normal[kBodyBlock];
         std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
@@ -84,7 +85,7 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
           if (root[i]) continue;  // never pushed
           const float lower = clearance(i);
           if (lower > kClearMargin) {
-            body_phi_[i] = lower;
+            body_phi[o] = lower;
             continue;
           }
           ask[asked++] = static_cast<std::uint16_t>(o);
@@ -92,7 +93,7 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
         for (int round = 0; round < total_rounds; ++round) {
           if (round == 0 && asked == len) {
             for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
-            queryBodies(frames, head, &x[b], len, &body_phi_[b], &body_normal_[b], surface, 0.0f, false,
+            queryBodies(frames, head, &x[b], len, body_phi, body_normal, surface, 0.0f, false,
                         index);
           } else {
             for (std::size_t k = 0; k < asked; ++k) {
@@ -102,23 +103,23 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
             queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
                         q_surface, 0.0f, false, index);
             for (std::size_t k = 0; k < asked; ++k) {
-              body_phi_[b + ask[k]] = q_phi[k];
-              body_normal_[b + ask[k]] = q_normal[k];
+              body_phi[ask[k]] = q_phi[k];
+              body_normal[ask[k]] = q_normal[k];
               surface[ask[k]] = q_surface[k];
             }
           }
           std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
           for (std::size_t k = 0; k < asked; ++k) {
             const std::size_t o = ask[k], i = b + o;
-            if (root[i] || !(body_phi_[i] < 0.0f)) continue;
+            if (root[i] || !(body_phi[o] < 0.0f)) continue;
             // onto the surface and kSkin beyond, so that rounding does not
             // leave it a hair's breadth inside (and asked again)
-            x[i] -= (body_phi_[i] - kSkin) * body_normal_[i];
+            x[i] -= (body_phi[o] - kSkin) * body_normal[o];
             // a tether through the body: slide round it (a later round
             // checks where that went; the last one only pushes out)
             if (slide && round + 1 < total_rounds)
-              x[i] += tether::slideAlongSurface(x[i], body_normal_[i], rp[i], reach_scale * sarc[i]);
-            if (!pushed[o]) push_normal[o] = body_normal_[i];
+              x[i] += tether::slideAlongSurface(x[i], body_normal[o], rp[i], reach_scale * sarc[i]);
+            if (!pushed[o]) push_normal[o] = body_normal[o];
             pushed[o] = true;
             ask[moved++] = static_cast<std::uint16_t>(o);
           }

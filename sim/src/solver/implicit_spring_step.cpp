@@ -1,32 +1,35 @@
 // The implicit spring solve of the step (implicit_springs.hpp): its input
 // from the spring pass and the forces, its velocity change the next start.
-#include "solver/solver_internal.hpp"
+#include "solver/implicit_spring_step.hpp"
+
+#include "solver/connection_passes.hpp"
+#include "solver/spring_scratch.hpp"
 
 namespace loosehair {
 
-// ---- implicit springs: the velocity change of the step (implicit_springs.hpp)
-void Solver::solveSpringsImplicitly(const Scratch& s, const std::vector<glm::vec3>& force, float dt) {
-  if (!implicit_) implicit_ = std::make_unique<ImplicitSprings>();
+ImplicitSpringReport solveImplicitSpringStep(const ImplicitStepSettings& settings, const SlicedConnections& sliced,
+                                             const SpringScratch& s, std::span<const glm::vec3> force,
+                                             std::span<const float> mass, std::span<const std::uint8_t> is_root,
+                                             float dt, ImplicitSprings& solver,
+                                             std::vector<glm::vec3>& velocity_change, int threads) {
   ImplicitSprings::Input in;
-  in.layout = &sliced_->layout;
+  in.layout = &sliced.layout;
   in.weight = s.weight.data();
   in.unit_x = s.unit_x.data();
   in.unit_y = s.unit_y.data();
   in.unit_z = s.unit_z.data();
   in.pull = s.pull.data();
   in.force = force.data();
-  in.mass = particles_.mass.data();
-  in.is_root = particles_.is_root.data();
-  in.particles = particles_.size();
+  in.mass = mass.data();
+  in.is_root = is_root.data();
+  in.particles = mass.size();
   in.dt = dt;
-  in.gamma = params_.spring_damping;
-  in.tolerance = params_.implicit_tolerance;
-  in.max_iterations = params_.implicit_iterations;
-  // warm start from the last step's answer (kept in snapshots)
-  if (spring_dv_.size() == particles_.size()) in.guess = spring_dv_.data();
-  const ImplicitSpringReport rep = implicit_->solve(in, threads_, spring_dv_);
-  stats_.spring_iterations = rep.iterations;
-  stats_.spring_residual = rep.residual;
+  in.gamma = settings.damping;
+  in.tolerance = settings.tolerance;
+  in.max_iterations = settings.max_iterations;
+  // warm start from the last step's answer
+  if (velocity_change.size() == mass.size()) in.guess = velocity_change.data();
+  return solver.solve(in, threads, velocity_change);
 }
 
 }  // namespace loosehair

@@ -16,7 +16,7 @@
 #include "neighbor_grid.hpp"
 #include "pair_columns.hpp"
 #include "parallel.hpp"
-#include "solver_scratch.hpp"
+#include "solver/spring_scratch.hpp"
 #include "solver/connection_passes.hpp"
 #include "solver/step_context.hpp"
 #include "solver/strain_limit.hpp"
@@ -24,6 +24,11 @@
 #include "solver/directions.hpp"
 #include "solver/density.hpp"
 #include "solver/hair_hair.hpp"
+#include "solver/spring_forces.hpp"
+#include "solver/external_forces.hpp"
+#include "solver/implicit_spring_step.hpp"
+#include "solver/integrate.hpp"
+#include "solver/body_query.hpp"
 #include "shape_keeping.hpp"
 #include "tether.hpp"
 #include "thread_choice.hpp"
@@ -66,6 +71,31 @@ struct Solver::BodyFrame {
   // for the surface velocity: world velocity vo + Ro (wo x q)
   glm::mat3 ro{1.0f}, rh_t{1.0f};
   glm::vec3 vo{0.0f}, wo{0.0f};
+};
+
+// The head and the world bodies placed at one time (`frames`, `head`), as
+// the stages ask them (body_query.hpp).
+class Solver::PlacedBodies final : public BodyQuery {
+ public:
+  PlacedBodies(const Solver& solver, const std::vector<BodyFrame>& frames, const HeadKinematics& head)
+      : solver_(solver), frames_(frames), head_(head) {}
+  void nearest(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal, glm::vec3* surface_velocity,
+               float limit, bool rough) const override {
+    solver_.queryBodies(frames_, head_, x, n, phi, normal, surface_velocity, limit, rough);
+  }
+  // a body without a bound of its rough answers' error leaves every
+  // particle to be asked
+  float roughError() const override {
+    auto error = [](const Body& body) { return body.roughError() < 0.0f ? INFINITY : body.roughError(); };
+    float worst = error(*solver_.head_);
+    for (const BodyFrame& f : frames_) worst = std::max(worst, error(*f.body));
+    return worst;
+  }
+
+ private:
+  const Solver& solver_;
+  const std::vector<BodyFrame>& frames_;
+  const HeadKinematics& head_;
 };
 
 }  // namespace loosehair

@@ -1,43 +1,50 @@
 // The loose springs (method.md §3.2): the side factors of eqs. 10-14 and the
 // damped spring forces.
+#include "solver/spring_forces.hpp"
+
 #include "solver/solver_internal.hpp"
 
 namespace loosehair {
 
 // ---- stage 3a: loose spring coefficients, eqs. 7, 10-14 ---------------------
-void Solver::resizeScratch(Scratch& s, bool keep_k) const {
-  const std::size_t n = particles_.size(), m = connections_.entryCount();
+void resizeSpringScratch(SpringScratch& s, std::size_t n, const ConnectionSet& connections,
+                         const SlicedConnections& sliced, bool keep_k) {
+  const std::size_t m = connections.entryCount();
   s.sum_root.assign(n, 0.0f);
   s.sum_tip.assign(n, 0.0f);
   s.factor_root.assign(n, 0.0f);
   s.factor_tip.assign(n, 0.0f);
-  s.weight.assign(sliced_->layout.entryCount(), 0.0f);  // in the slice layout
-  s.unit_x.assign(sliced_->layout.entryCount(), 0.0f);
-  s.unit_y.assign(sliced_->layout.entryCount(), 0.0f);
-  s.unit_z.assign(sliced_->layout.entryCount(), 0.0f);
+  s.weight.assign(sliced.layout.entryCount(), 0.0f);  // in the slice layout
+  s.unit_x.assign(sliced.layout.entryCount(), 0.0f);
+  s.unit_y.assign(sliced.layout.entryCount(), 0.0f);
+  s.unit_z.assign(sliced.layout.entryCount(), 0.0f);
   s.pull.assign(n, glm::vec3(0.0f));
   s.k.assign(keep_k ? m : 0, 0.0f);
   s.sums_current = false;
 }
 
-void Solver::computeSpringFactors(Scratch& s) const {
-  const CubicKernel k1(params_.h1);
-  const auto& x = particles_.position;
-  const auto& c = connections_;
-  const double young = params_.youngs_modulus;
-  const float clamp = params_.stiffness_clamp;
+void computeSpringFactors(const SpringSettings& settings, const ConnectionSet& connections,
+                          const SpringParticles& p, SpringScratch& s, int threads) {
+  const CubicKernel k1(settings.h1);
+  const auto& x = p.position;
+  const auto& c = connections;
+  const double young = settings.youngs_modulus;
+  const float clamp = settings.stiffness_clamp;
   const Index n = static_cast<Index>(x.size());
   std::size_t clamped = 0, active = 0;
   const bool measure = !s.sums_current;  // else the direction pass measured (and counted)
   const bool keep_k = !s.k.empty();
   const SpringKernel sk(k1);
-  const auto& v = particles_.velocity;
-  const auto& root = particles_.is_root;
+  const auto& v = p.velocity;
+  const auto& root = p.is_root;
+  const auto& cross_section = p.cross_section;
+  const auto& rest_factor_root = p.rest_factor_root;
+  const auto& rest_factor_tip = p.rest_factor_tip;
   s.spring_records.resize(2 * x.size());
   glm::vec4* rec = s.spring_records.data();
   std::atomic<std::size_t> clamped_sum{0};
   std::atomic<std::size_t> active_sum{0};
-  parallel::run(threads_, [&] {
+  parallel::run(threads, [&] {
     std::size_t clamped_part = 0;
     std::size_t active_part = 0;
     const auto [first, last] = parallel::share(static_cast<std::size_t>(n));
@@ -62,7 +69,7 @@ void Solver::computeSpringFactors(Scratch& s) const {
         s.sum_root[i] = sums[0];
         s.sum_tip[i] = sums[1];
       }
-      const double ea = young * cross_section_[i];
+      const double ea = young * cross_section[i];
       auto factor = [&](float sum, float rest) {
         if (!(sum > 0.0f)) return 0.0f;
         const float a = static_cast<float>(ea / sum), limit = clamp * rest;
@@ -72,8 +79,8 @@ void Solver::computeSpringFactors(Scratch& s) const {
         }
         return a;
       };
-      s.factor_root[i] = factor(s.sum_root[i], rest_factor_root_[i]);
-      s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip_[i]);
+      s.factor_root[i] = factor(s.sum_root[i], rest_factor_root[i]);
+      s.factor_tip[i] = factor(s.sum_tip[i], rest_factor_tip[i]);
       // the spring pass's records of i (accumulateSpringForces), a root's
       // factors replaced by the marker
       const bool r = root[i] != 0;
@@ -174,20 +181,19 @@ void springSlices(
 
 }  // namespace
 
-void Solver::accumulateSpringForces(Scratch& s, std::vector<glm::vec3>& force) const {
+void accumulateSpringForces(const SpringSettings& settings, const SlicedConnections& sl, std::size_t n,
+                            SpringScratch& s, std::span<glm::vec3> force, int threads) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
-  const SlicedConnections& sl = *sliced_;
   const ConnectionSlices& cs = sl.layout;
-  const CubicKernel k1(params_.h1);
+  const CubicKernel k1(settings.h1);
   const SpringKernel sk(k1);
-  const SpringTerms terms{sk.inv_h, sk.norm_w, params_.spring_damping};
+  const SpringTerms terms{sk.inv_h, sk.norm_w, settings.damping};
   // the first 8 columns of each: the two records' 4 + 4 floats (gatherRecordPairs)
   enum { XJ, YJ, ZJ, FRJ, VXJ, VYJ, VZJ, FTJ, kEntryColumns };
   enum { XI, YI, ZI, OWN_R, VXI, VYI, VZI, OWN_T, FX, FY, FZ, PX, PY, PZ, kLaneColumns };
-  const std::size_t n = particles_.size();
   assert(s.spring_records.size() == 2 * n);  // made by computeSpringFactors
   const float* records = &s.spring_records[0].x;
-  parallel::run(threads_, [&] {
+  parallel::run(threads, [&] {
     SliceColumns& col = threadSliceColumns();
     forOwnWorkItems(cs, [&](const SliceRun& run) {
       const std::size_t q0 = run.q0, s0 = run.s0;

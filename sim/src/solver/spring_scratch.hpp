@@ -11,7 +11,7 @@
 
 namespace loosehair {
 
-struct Solver::Scratch {
+struct SpringScratch {
   std::vector<float> sum_root;     // sum over Nr(i) of l_ij k_ij (eqs. 12-13)
   std::vector<float> sum_tip;      // sum over Nt(i)
   std::vector<float> factor_root;  // a_r,i, eq. 12
