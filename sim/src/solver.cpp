@@ -320,58 +320,33 @@ void Solver::settle(int steps) {
 }
 
 // ---- the step ---------------------------------------------------------------
+// Times the stages of one step: lap(field) adds the time since the last lap.
+class Solver::StageClock {
+ public:
+  void lap(double& stage) {
+    const auto t = Clock::now();
+    stage += seconds(t0_, t);
+    t0_ = t;
+  }
+
+ private:
+  Clock::time_point t0_ = Clock::now();
+};
+
 void Solver::step() {
   if (!fingerprint_taken_) (void)sceneFingerprint();
   threads_ = thread_choice_ ? thread_choice_->next() : max_threads_;
   last_step_threads_ = threads_;
   const auto step_start = Clock::now();
-  const float dt = static_cast<float>(params_.time_step);
   const double t_end = time_ + params_.time_step;
-  SpringScratch& s = *scratch_;
-  StageTimes st;
-  auto t0 = Clock::now();
-  auto lap = [&t0](double& stage) {
-    const auto t = Clock::now();
-    stage += seconds(t0, t);
-    t0 = t;
-  };
-
+  StageClock clock;
   StepContext& ctx = *step_;
-  ctx.dt = dt;
+  ctx.dt = static_cast<float>(params_.time_step);
   ctx.absorb_corrections = absorb_corrections_;
+  ctx.times = StageTimes{};
   absorb_corrections_ = false;
 
-  findNeighbors();
-  lap(st.neighbors);
-  measureDensity(ctx.pair_records);
-  lap(st.density);
-  springFactors(s);
-  springForces(s, ctx.force);
-  lap(st.springs);
-  // the (x, m) records are the density pass's
-  if (params_.hair_hair) addHairHairForces(ctx.pair_records, PositionRecords::Made, ctx.force);
-  lap(st.hair_hair);
-  if (air_) {
-    // the hair-air drag (method.md §5; wind_air.hpp)
-    air_->exchange(trajectory_.kinematics(time_), particles_.position, particles_.velocity, particles_.mass,
-                   particles_.is_root, ctx.force, dt, threads_);
-    lap(st.air);
-  }
-  addExternalForces({params_.gravity, params_.air_drag}, trajectory_.kinematics(time_),
-                    {particles_.position, particles_.velocity, particles_.mass, particles_.is_root}, shape_.get(),
-                    ctx.force, threads_);
-  lap(st.external);
-  if (params_.implicit_springs) {
-    if (!implicit_) implicit_ = std::make_unique<ImplicitSprings>();
-    const ImplicitSpringReport rep = solveImplicitSpringStep(
-        {params_.spring_damping, params_.implicit_tolerance, params_.implicit_iterations}, *sliced_, s, ctx.force,
-        particles_.mass, particles_.is_root, dt, *implicit_, spring_dv_, threads_);
-    stats_.spring_iterations = rep.iterations;
-    stats_.spring_residual = rep.residual;
-    lap(st.springs);
-  }
-
-
+  accumulateForces(ctx, clock);
   HeadKinematics head_start;
   placeBodies(time_, start_frames_, head_start);
   ctx.contacts = integrate({params_.contact_thickness, params_.body_friction},
@@ -380,58 +355,114 @@ void Solver::step() {
                            params_.implicit_springs ? std::span<const glm::vec3>(spring_dv_)
                                                     : std::span<const glm::vec3>(),
                            ctx, threads_);
-  lap(st.integrate);
+  clock.lap(ctx.times.integrate);
+  HeadKinematics head_end;
+  correctPositions(ctx, t_end, head_end, clock);
+  if (air_ && air_->due(ctx.dt)) {
+    moveAir(ctx.dt, t_end, head_start, head_end);
+    clock.lap(ctx.times.air);
+  }
+  finishDirections();
+  clock.lap(ctx.times.directions);
 
-  // Corrections: strain limit, the hair chain and the tethers, and no
-  // particle left inside a body.
+  time_ = t_end;
+  recordStepStats(ctx);
+  if (thread_choice_) thread_choice_->record(seconds(step_start, Clock::now()));
+  threads_ = max_threads_;
+}
+
+// Neighbours, density, the springs, hair-hair, the wind's air, the external
+// forces into ctx.force; with implicit springs, the velocity change.
+void Solver::accumulateForces(StepContext& ctx, StageClock& clock) {
+  SpringScratch& s = *scratch_;
+  StageTimes& st = ctx.times;
+  findNeighbors();
+  clock.lap(st.neighbors);
+  measureDensity(ctx.pair_records);
+  clock.lap(st.density);
+  springFactors(s);
+  springForces(s, ctx.force);
+  clock.lap(st.springs);
+  // the (x, m) records are the density pass's
+  if (params_.hair_hair) addHairHairForces(ctx.pair_records, PositionRecords::Made, ctx.force);
+  clock.lap(st.hair_hair);
+  if (air_) {
+    // the hair-air drag (method.md §5; wind_air.hpp)
+    air_->exchange(trajectory_.kinematics(time_), particles_.position, particles_.velocity, particles_.mass,
+                   particles_.is_root, ctx.force, ctx.dt, threads_);
+    clock.lap(st.air);
+  }
+  addExternalForces({params_.gravity, params_.air_drag}, trajectory_.kinematics(time_),
+                    {particles_.position, particles_.velocity, particles_.mass, particles_.is_root}, shape_.get(),
+                    ctx.force, threads_);
+  clock.lap(st.external);
+  if (params_.implicit_springs) {
+    if (!implicit_) implicit_ = std::make_unique<ImplicitSprings>();
+    const ImplicitSpringReport rep = solveImplicitSpringStep(
+        {params_.spring_damping, params_.implicit_tolerance, params_.implicit_iterations}, *sliced_, s, ctx.force,
+        particles_.mass, particles_.is_root, ctx.dt, *implicit_, spring_dv_, threads_);
+    stats_.spring_iterations = rep.iterations;
+    stats_.spring_residual = rep.residual;
+    clock.lap(st.springs);
+  }
+}
+
+// Corrections: the strain limit, the hair chain and the tethers, and no
+// particle left inside a body (the bodies where they are at t_end).
+void Solver::correctPositions(StepContext& ctx, double t_end, HeadKinematics& head_end, StageClock& clock) {
+  StageTimes& st = ctx.times;
   ctx.limited = 0;
   if (params_.strain_limit)
     ctx.limited = limitStrain({params_.h1, params_.max_strain, params_.strain_limit_iterations}, *sliced_,
                               particles_.is_root, particles_.position, ctx.strain_records,
                               ctx.limited_position, threads_);
-  lap(st.strain_limit);
+  clock.lap(st.strain_limit);
   if (params_.tether && params_.hair_chain) holdHairChains(ctx.chain_moved);
   else ctx.chain_moved.clear();
   if (params_.tether)
     applyTethers(params_.tether_slack, particles_.is_root, particles_.root_point, particles_.arc_length,
                  tie_point_, tie_reach_, particles_.position, threads_);
-  lap(st.tethers);
-  HeadKinematics head_end;
+  clock.lap(st.tethers);
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);
   placeBodies(t_end, solid_frames_, head_end, false);  // without obstacles: the last round
   projectOutOfBodies(ctx, start_frames_, frames, solid_frames_, head_end);
-  lap(st.body_contacts);
+  clock.lap(st.body_contacts);
+}
 
-  if (air_ && air_->due(dt)) {
-    // the air moves (the grid's at its own pace), the bodies where they
-    // are at the step's end
-    struct StepBodies final : WindAir::Bodies {
-      const Solver& solver;
-      const std::vector<BodyFrame>& frames;
-      StepBodies(const Solver& s, const std::vector<BodyFrame>& f) : solver(s), frames(f) {}
-      void local(const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal,
-                 glm::vec3* v) const override {
-        solver.queryBodies(frames, end, x, count, phi, normal, v, INFINITY, true);
-      }
-      void worldSample(const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) const override {
-        solver.worldBodySample(frames, end, w, count, phi, v, true);
-      }
-      void worldDistance(const glm::vec3* w, std::size_t count, float* phi) const override {
-        solver.worldBodyDistance(frames, end, w, count, phi);
-      }
-    } bodies(*this, frames);
-    bodies.start = head_start;
-    bodies.end = head_end;
-    bodies.moved = airBodiesMoved(frames, head_end);
-    air_->move(time_, t_end, dt, bodies, threads_);
-    if (const std::size_t bad = air_->nonFinite(); bad > 0)
-      throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) + " s: " +
-                            std::to_string(bad) + " numbers of the wind's air are not finite; lower wind.speed "
-                            "or reduce the time step");
-    lap(st.air);
-  }
+// The wind's air moves (the grid's at its own pace), the bodies where they
+// are at the step's end.
+void Solver::moveAir(float dt, double t_end, const HeadKinematics& head_start, const HeadKinematics& head_end) {
+  const std::vector<BodyFrame>& frames = end_frames_;
+  struct StepBodies final : WindAir::Bodies {
+    const Solver& solver;
+    const std::vector<BodyFrame>& frames;
+    StepBodies(const Solver& s, const std::vector<BodyFrame>& f) : solver(s), frames(f) {}
+    void local(const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal,
+               glm::vec3* v) const override {
+      solver.queryBodies(frames, end, x, count, phi, normal, v, INFINITY, true);
+    }
+    void worldSample(const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) const override {
+      solver.worldBodySample(frames, end, w, count, phi, v, true);
+    }
+    void worldDistance(const glm::vec3* w, std::size_t count, float* phi) const override {
+      solver.worldBodyDistance(frames, end, w, count, phi);
+    }
+  } bodies(*this, frames);
+  bodies.start = head_start;
+  bodies.end = head_end;
+  bodies.moved = airBodiesMoved(frames, head_end);
+  air_->move(time_, t_end, dt, bodies, threads_);
+  if (const std::size_t bad = air_->nonFinite(); bad > 0)
+    throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) + " s: " +
+                          std::to_string(bad) + " numbers of the wind's air are not finite; lower wind.speed "
+                          "or reduce the time step");
+}
 
+// The direction pass (its spring sums are the next step's), and no
+// non-finite state passed on.
+void Solver::finishDirections() {
+  SpringScratch& s = *scratch_;
   const DirectionPassResult directions =
       updateDirections(params_.h1, *sliced_, s.weight, particles_.is_root, particles_.position,
                        particles_.velocity, particles_.direction, s.sum_root, s.sum_tip, threads_);
@@ -452,11 +483,12 @@ void Solver::step() {
                           " particles have non-finite state (first: " + std::to_string(first) +
                           "); reduce the time step or the stiffness");
   }
-  lap(st.directions);
+}
 
-  time_ = t_end;
-  stats_.last = st;
-  stats_.sum += st;
+void Solver::recordStepStats(const StepContext& ctx) {
+  const SpringScratch& s = *scratch_;
+  stats_.last = ctx.times;
+  stats_.sum += ctx.times;
   ++stats_.steps;
   stats_.neighbor_pairs = grid_->pairCount();
   stats_.clamped_sides = s.clamped;
@@ -469,8 +501,6 @@ void Solver::step() {
     stats_.air_particles = stats_.hair_air_pairs = stats_.coupled_hair = 0;
     stats_.air_iterations = 0;
   }
-  if (thread_choice_) thread_choice_->record(seconds(step_start, Clock::now()));
-  threads_ = max_threads_;
 }
 
 // ---- queries -----------------------------------------------------------------

@@ -311,6 +311,13 @@ class Solver {
                          const glm::vec3* world, std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
   class PlacedBodies;  // the bodies as the stages ask them (solver_internal.hpp)
+  // step()'s phases, in order (solver.cpp)
+  class StageClock;
+  void accumulateForces(StepContext& ctx, StageClock& clock);
+  void correctPositions(StepContext& ctx, double t_end, HeadKinematics& head_end, StageClock& clock);
+  void moveAir(float dt, double t_end, const HeadKinematics& head_start, const HeadKinematics& head_end);
+  void finishDirections();
+  void recordStepStats(const StepContext& ctx);
   /// The hair chain's moves, with the tethers (hair_chain.hpp); writes
   /// positions, and `moved` (which particles it moved).
   void holdHairChains(std::vector<std::uint8_t>& moved);

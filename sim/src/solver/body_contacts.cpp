@@ -3,6 +3,73 @@
 
 namespace loosehair {
 
+namespace {
+
+// A particle's clearance now: integrate()'s bound, less how far it moved
+// since (the strain limit, the tethers) and how far any world body moved
+// in its frame (rigidly: a body's distance is 1-Lipschitz in the point).
+// Bodies that came or went since integrate(): no bound.
+template <class Frame>
+class ClearanceBound {
+ public:
+  ClearanceBound(const StepContext& ctx, const std::vector<Frame>& start_frames, const std::vector<Frame>& frames,
+                 const std::vector<glm::vec3>& x)
+      : start_(start_frames), frames_(frames), x_(x), integrated_(ctx.integrated_position.data()),
+        clear_(ctx.body_clearance.data()) {
+    same_bodies_ = start_frames.size() == frames.size() &&
+                   std::equal(frames.begin(), frames.end(), start_frames.begin(),
+                              [](const Frame& a, const Frame& c) { return a.body == c.body; });
+    for (std::size_t k = 0; same_bodies_ && k < frames.size(); ++k)
+      bodies_moved_ = bodies_moved_ || frames[k].m != start_frames[k].m || frames[k].d != start_frames[k].d;
+  }
+  float operator()(std::size_t i) const {
+    if (!same_bodies_) return -INFINITY;
+    const glm::vec3 xi = integrated_[i];
+    float body_move = 0.0f;  // the farthest a world body moved at xi
+    for (std::size_t k = 0; bodies_moved_ && k < frames_.size(); ++k)
+      body_move = std::max(body_move, glm::length((frames_[k].m * xi + frames_[k].d) -
+                                                  (start_[k].m * xi + start_[k].d)));
+    return clear_[i] - glm::length(x_[i] - xi) - body_move;
+  }
+
+ private:
+  const std::vector<Frame>& start_;
+  const std::vector<Frame>& frames_;
+  const std::vector<glm::vec3>& x_;
+  const glm::vec3* integrated_;
+  const float* clear_;
+  bool same_bodies_ = false, bodies_moved_ = false;
+};
+
+// The velocity of a particle after the corrections moved it from
+// `integrated` to `x`. The move over dt is a velocity (position-based
+// dynamics: hair dragged along keeps the drag's speed), unless the step
+// absorbs the corrections; where the hair chain moved the particle
+// (`chain_moved`) the move only stops a motion against it: counted whole,
+// a particle the chain drew back flew on past it, and fell again. A push
+// out of a body adds no speed away from its surface.
+glm::vec3 correctedVelocity(glm::vec3 vi, const glm::vec3& x, const glm::vec3& integrated, float dt, bool absorb,
+                            bool chain_moved, bool pushed, const glm::vec3& push_normal, const glm::vec3& surface) {
+  if (x != integrated && !absorb) {
+    const glm::vec3 d = x - integrated;
+    if (chain_moved) {
+      const float moved = glm::length(d);
+      const glm::vec3 dir = d / moved;
+      const float a = glm::dot(vi, dir);
+      vi += (std::min(a + moved / dt, std::max(a, 0.0f)) - a) * dir;
+    } else {
+      vi += d / dt;
+    }
+  }
+  if (pushed) {
+    const float vn = glm::dot(vi - surface, push_normal);
+    if (vn > 0.0f) vi -= vn * push_normal;  // the push-out is not a velocity
+  }
+  return vi;
+}
+
+}  // namespace
+
 // The tethers, then: project what is still inside the body to its surface
 // and take the new velocity from the corrected positions (no added normal
 // speed, so nothing is thrown off the body).
@@ -42,27 +109,7 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
   std::atomic<bool> any_trapped{false};
   static_assert(kBodyBlock <= 65536);
   prepareBodyHints(frames);
-  // A particle's clearance now: integrate()'s bound, less how far it moved
-  // since (the strain limit, the tethers) and how far any world body moved
-  // in its frame (rigidly: a body's distance is 1-Lipschitz in the point).
-  // Bodies that came or went since integrate(): no bound.
-  const bool same_bodies =
-      start_frames.size() == frames.size() &&
-      std::equal(frames.begin(), frames.end(), start_frames.begin(),
-                 [](const BodyFrame& a, const BodyFrame& c) { return a.body == c.body; });
-  bool bodies_moved = false;
-  for (std::size_t k = 0; same_bodies && k < frames.size(); ++k)
-    bodies_moved = bodies_moved || frames[k].m != start_frames[k].m || frames[k].d != start_frames[k].d;
-  const float* clear = ctx.body_clearance.data();
-  auto clearance = [&](std::size_t i) {
-    if (!same_bodies) return -INFINITY;
-    const glm::vec3 xi = integrated_position[i];
-    float body_move = 0.0f;  // the farthest a world body moved at xi
-    for (std::size_t k = 0; bodies_moved && k < frames.size(); ++k)
-      body_move = std::max(body_move, glm::length((frames[k].m * xi + frames[k].d) -
-                                                  (start_frames[k].m * xi + start_frames[k].d)));
-    return clear[i] - glm::length(x[i] - xi) - body_move;
-  };
+  const ClearanceBound<BodyFrame> clearance(ctx, start_frames, frames, x);
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
   parallel::forEachDynamic(
@@ -133,29 +180,9 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
         }
         for (std::size_t i = b; i < b + len; ++i) {
           if (root[i]) continue;
-          glm::vec3 vi = v[i];
-          if (x[i] != integrated_position[i] && !absorb) {
-            // The corrections' move over dt is a velocity (position-based
-            // dynamics: hair dragged along keeps the drag's speed), but
-            // where the hair chain moved the particle (chain_moved) the
-            // move only stops a motion against it: counted whole, a
-            // particle the chain drew back flew on past it, and fell again.
-            const glm::vec3 d = x[i] - integrated_position[i];
-            if (!chain_moved.empty() && chain_moved[i]) {
-              const float moved = glm::length(d);
-              const glm::vec3 dir = d / moved;
-              const float a = glm::dot(vi, dir);
-              vi += (std::min(a + moved / dt, std::max(a, 0.0f)) - a) * dir;
-            } else {
-              vi += d / dt;
-            }
-          }
-          if (pushed[i - b]) {
-            const glm::vec3 nrm = push_normal[i - b];
-            const float vn = glm::dot(vi - surface[i - b], nrm);
-            if (vn > 0.0f) vi -= vn * nrm;  // the push-out is not a velocity
-          }
-          v[i] = vi;
+          const std::size_t o = i - b;
+          v[i] = correctedVelocity(v[i], x[i], integrated_position[i], dt, absorb,
+                                   !chain_moved.empty() && chain_moved[i], pushed[o], push_normal[o], surface[o]);
           // pushed out beyond its tether's reach: caught where sliding
           // does not help (freeTrappedHair)
           if (slide) {
