@@ -1,4 +1,4 @@
-// The air grid's two costs (sim/src/air_grid.hpp) on a box the size of the
+// The air grid's two costs (sim/src/wind/air_grid.hpp) on a box the size of the
 // wind scene's (0.6 x 0.65 x 0.5 m, 3 cm cells: 7,480 cells) with 6,000
 // hair particles in a block inside it, with 1 and 2 threads:
 //
@@ -9,8 +9,8 @@
 //   not slowly stop the air and the figures stay comparable).
 // - Advance: one air step (viscosity, advection, boundaries, pressure
 //   projection) with a ball in the box, from the same state each run.
-#include "air_grid.hpp"
-#include "random.hpp"
+#include "wind/air_grid.hpp"
+#include "util/random.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -14,7 +14,7 @@
 // threads:0 is the solver's own choice (the default of scenes and of the
 // command line): all cores, or one while they are slower than one.
 #include "loosehair/loosehair.hpp"
-#include "parallel.hpp"
+#include "util/parallel.hpp"
 
 #include <benchmark/benchmark.h>
 

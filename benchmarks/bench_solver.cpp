@@ -12,8 +12,8 @@
 //
 //   --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 #include "loosehair/loosehair.hpp"
-#include "neighbor_grid.hpp"
-#include "parallel.hpp"
+#include "solver/neighbor_grid.hpp"
+#include "util/parallel.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -10,7 +10,7 @@
 #include "loosehair/style.hpp"
 #include "loosehair/style_editor.hpp"
 #include "loosehair/style_settle.hpp"
-#include "shape_keeping.hpp"
+#include "solver/shape_keeping.hpp"
 #include "style/style_seeding.hpp"
 
 #include <benchmark/benchmark.h>

@@ -3,8 +3,8 @@
 // it, a moving body carries the air beside it, the hair-air drag is equal and
 // opposite, dense hair slows the air behind it, and the results are the same
 // bits for any thread count.
-#include "air_grid.hpp"
-#include "random.hpp"
+#include "wind/air_grid.hpp"
+#include "util/random.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // method.md §3.1: alignment, thresholds, pruning and the connectivity check.
-#include "connection_builder.hpp"
-#include "connection_slices.hpp"
-#include "pair_columns.hpp"
-#include "random.hpp"
+#include "solver/connection_builder.hpp"
+#include "solver/connection_slices.hpp"
+#include "solver/pair_columns.hpp"
+#include "util/random.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // method.md §2 eq. 1: the SPH density on a regular lattice matches the lattice sum
 // and the continuum value m / a^3 away from the border.
-#include "kernel.hpp"
+#include "solver/kernel.hpp"
 #include "loosehair/loosehair.hpp"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
-// The hair chain (sim/src/hair_chain.hpp): every hair particle stays within
+// The hair chain (sim/src/solver/hair_chain.hpp): every hair particle stays within
 // reach of a root-side partner nearer a root, so that no particle or clump
 // comes loose from the hair.
 #include "test_support.hpp"
 
-#include "hair_chain.hpp"
+#include "solver/hair_chain.hpp"
 
 #include <gtest/gtest.h>
 

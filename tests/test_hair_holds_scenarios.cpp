@@ -15,7 +15,7 @@
 #include "test_support.hpp"
 
 #include "hair_holds_measures.hpp"
-#include "hair_chain.hpp"
+#include "solver/hair_chain.hpp"
 #include "loosehair/render_strands.hpp"
 
 #include <glm/geometric.hpp>

@@ -1,4 +1,4 @@
-// Implicit springs (issue "real time at scale", sim/src/implicit_springs.hpp):
+// Implicit springs (issue "real time at scale", sim/src/solver/implicit_springs.hpp):
 // stable far beyond the explicit step's limit, the same step as the
 // explicit one where both are accurate, a converged solve, and the same
 // bits on any thread count.

@@ -1,6 +1,6 @@
 // method.md §2: the cubic spline kernel integrates to 1, its gradient to 0, and
 // the analytic derivative matches finite differences.
-#include "kernel.hpp"
+#include "solver/kernel.hpp"
 
 #include <gtest/gtest.h>
 

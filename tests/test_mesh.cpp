@@ -1,7 +1,7 @@
 // Meshes (method.md §5, §6.1): every supported format loads the same surface,
 // axis and scale options place it, bad meshes are rejected with the named
 // problem, and signed-distance grids have the right sign and distance.
-#include "random.hpp"
+#include "util/random.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>

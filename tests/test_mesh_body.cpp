@@ -5,10 +5,10 @@
 // keeps hair outside the real triangles although its grid is coarse.
 #include "test_support.hpp"
 
-#include "exact_distance.hpp"
-#include "grid_value_bounds.hpp"
-#include "random.hpp"
-#include "triangle_cells.hpp"
+#include "mesh/exact_distance.hpp"
+#include "mesh/grid_value_bounds.hpp"
+#include "util/random.hpp"
+#include "mesh/triangle_cells.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // method.md §1 step 1: the hashed voxel grid finds exactly the brute-force
 // neighbours, in a stable order that does not depend on the thread count.
-#include "neighbor_grid.hpp"
-#include "random.hpp"
+#include "solver/neighbor_grid.hpp"
+#include "util/random.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 // settle on a still head no particle moves faster than 5 cm/s.
 #include "test_support.hpp"
 
-#include "hair_chain.hpp"
+#include "solver/hair_chain.hpp"
 #include "hair_holds_measures.hpp"
 #include "loosehair/render_strands.hpp"
 #include "scenario_watch.hpp"

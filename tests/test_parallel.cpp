@@ -1,11 +1,11 @@
-// The solver's threads (sim/src/parallel.hpp, thread_choice.hpp): teams run
+// The solver's threads (sim/src/util/parallel.hpp, thread_choice.hpp): teams run
 // every index once, barriers order the phases, nested runs and exceptions
 // are safe, concurrent callers get teams of their own; the automatic thread
 // count goes to one thread when one is faster and stays on all when they
 // are, with rare probes; and it never changes a result.
-#include "parallel.hpp"
+#include "util/parallel.hpp"
 #include "test_support.hpp"
-#include "thread_choice.hpp"
+#include "util/thread_choice.hpp"
 
 #include <gtest/gtest.h>
 

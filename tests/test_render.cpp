@@ -7,7 +7,7 @@
 #include "loosehair/render/renderer.hpp"
 #include "render_reference.hpp"
 #include "test_support.hpp"
-#include "random.hpp"
+#include "util/random.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>

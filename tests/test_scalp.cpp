@@ -5,7 +5,7 @@
 #include "init/length_map.hpp"
 #include "init/mesh_scalp.hpp"
 #include "init/poisson_pillar.hpp"
-#include "nearest_triangle.hpp"
+#include "mesh/nearest_triangle.hpp"
 #include "test_support.hpp"
 
 #include <glm/geometric.hpp>

@@ -2,9 +2,9 @@
 // density, the springs, a hair-hair pair, the external forces, integrate
 // against a hand-made body, the strain limit, the tethers and the
 // direction pass (each in its file under sim/src/solver/).
-#include "connection_builder.hpp"
-#include "kernel.hpp"
-#include "neighbor_grid.hpp"
+#include "solver/connection_builder.hpp"
+#include "solver/kernel.hpp"
+#include "solver/neighbor_grid.hpp"
 #include "solver/body_query.hpp"
 #include "solver/connection_passes.hpp"
 #include "solver/density.hpp"

@@ -1,8 +1,8 @@
 // method.md §3.2-3.3 and §4: loose springs with constant tensile modulus, pair
 // forces that conserve momentum, no force from rigid motion, and hair
 // directions that turn with the hair.
-#include "kernel.hpp"
-#include "random.hpp"
+#include "solver/kernel.hpp"
+#include "util/random.hpp"
 #include "test_support.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>

@@ -1,8 +1,8 @@
 // Wind as SPH air (method.md §5): the hair-air drag is equal and opposite, air
 // forces conserve momentum, still air stays still in its open box, and a
 // steady wind crosses the box at its speed.
-#include "air.hpp"
-#include "random.hpp"
+#include "wind/air.hpp"
+#include "util/random.hpp"
 #include "test_support.hpp"
 #include "loosehair/scene.hpp"
 
@@ -118,7 +118,7 @@ TEST(Wind, SteadyWindCrossesTheBoxAtItsSpeed) {
   EXPECT_NEAR(static_cast<double>(air.count()) / static_cast<double>(n0), 1.0, 0.08);
 }
 
-// The density projection (sim/src/air_projection.cpp): squeezed air
+// The density projection (sim/src/wind/air_projection.cpp): squeezed air
 // spreads back towards rest density within a step, and the velocity takes
 // the shift over the step; the shifts are pairs', equal and opposite, so the
 // air's momentum is kept.

@@ -1,4 +1,4 @@
-// The wind's air through the solver (sim/src/wind_air.hpp), either model:
+// The wind's air through the solver (sim/src/wind/wind_air.hpp), either model:
 // the solver's air queries agree with one another and with the wind, and
 // the air particles' move keeps them out of bodies that move.
 #include "test_support.hpp"

@@ -15,7 +15,7 @@
 //   build/fuzz/tests/loosehair_libfuzzer -max_total_time=600 -max_len=65536
 #include "fuzz_target.hpp"
 
-#include "random.hpp"
+#include "util/random.hpp"
 #include "loosehair/loosehair.hpp"
 #include "loosehair/strand_files.hpp"
 

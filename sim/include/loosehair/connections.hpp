@@ -5,7 +5,7 @@
 // holds its root-side partners first, then its tip-side ones, each part in
 // partner order, so loops over one side need no test per entry. (The
 // solver's passes run over a copy in a 16-lane layout that keeps each
-// list's order, sim/src/connection_slices.hpp.)
+// list's order, sim/src/solver/connection_slices.hpp.)
 #pragma once
 
 #include <cstddef>

@@ -84,7 +84,7 @@ struct SimParams {
   bool tether = true;
   /// With the tethers, the hair chain: every particle kept near a partner
   /// or other hair of its root region nearer the root, so that no clump
-  /// comes loose under fast motion (sim/src/hair_chain.hpp).
+  /// comes loose under fast motion (sim/src/solver/hair_chain.hpp).
   bool hair_chain = true;
   /// Allowed excess of |x_i - r_i| over s_i (dimensionless).
   float tether_slack = 0.01f;

@@ -215,7 +215,7 @@ class Solver {
   const SimParams& params() const { return params_; }
   const Particles& particles() const { return particles_; }
   const ConnectionSet& connections() const { return connections_; }
-  /// With the tethers and solver.hair_chain on, the hair chain (sim/src/hair_chain.hpp) keeps
+  /// With the tethers and solver.hair_chain on, the hair chain (sim/src/solver/hair_chain.hpp) keeps
   /// particle i within reach of a partner nearer the root, or of other hair
   /// nearer the root: its distance to the nearest such partner in units of
   /// that partner's reach; -1 for a root, a particle without such partners,

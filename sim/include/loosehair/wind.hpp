@@ -1,8 +1,8 @@
 // Wind (method.md §5): air in a box around the head that enters upwind with the
 // wind velocity and leaves downwind, kept incompressible, with viscosity and
 // drag forces exchanged with the hair, equal and opposite. Two models of the
-// air: a grid (the default; sim/src/air_grid.hpp, docs/design.md "Air on a
-// grid") and, as in the paper, SPH air particles (sim/src/air.hpp):
+// air: a grid (the default; sim/src/wind/air_grid.hpp, docs/design.md "Air on a
+// grid") and, as in the paper, SPH air particles (sim/src/wind/air.hpp):
 //
 //   f_hair_i += dw W(|x_ia|, h_air) (v_a - v_i),   f_air_a -= the same.
 #pragma once
@@ -45,7 +45,7 @@ struct WindParams {
   /// Density of air (kg/m^3): sets the mass of an air particle.
   float density = 1.2f;
   /// Jacobi rounds a step of the density projection that keeps the air
-  /// near rest density without a sound speed (sim/src/air_projection.cpp);
+  /// near rest density without a sound speed (sim/src/wind/air_projection.cpp);
   /// 0 = weakly compressible air with the sound speed below, whose stable
   /// step is about 6x shorter (25 substeps a frame on the wind scene
   /// against 4).

@@ -3,7 +3,7 @@
 // cap here; the harmonic map of a trimmed head mesh later.
 #pragma once
 
-#include "random.hpp"
+#include "util/random.hpp"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>

@@ -5,10 +5,10 @@
 // each gets the same bits.
 #pragma once
 
-#include "connection_slices.hpp"
-#include "kernel.hpp"
-#include "pair_columns.hpp"
-#include "parallel.hpp"
+#include "solver/connection_slices.hpp"
+#include "solver/kernel.hpp"
+#include "solver/pair_columns.hpp"
+#include "util/parallel.hpp"
 
 #include <algorithm>
 #include <cstddef>

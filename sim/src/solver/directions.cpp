@@ -6,7 +6,7 @@
 // that every particle's state is finite.
 #include "solver/directions.hpp"
 
-#include "connection_builder.hpp"
+#include "solver/connection_builder.hpp"
 #include "solver/connection_passes.hpp"
 
 #include <glm/geometric.hpp>

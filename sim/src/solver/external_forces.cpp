@@ -2,8 +2,8 @@
 // head's inertial forces and shape keeping.
 #include "solver/external_forces.hpp"
 
-#include "parallel.hpp"
-#include "shape_keeping.hpp"
+#include "util/parallel.hpp"
+#include "solver/shape_keeping.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>

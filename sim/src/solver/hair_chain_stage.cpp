@@ -3,7 +3,7 @@
 
 namespace loosehair {
 
-// The hair chain (sim/src/hair_chain.hpp) with the tethers: each particle
+// The hair chain (sim/src/solver/hair_chain.hpp) with the tethers: each particle
 // within reach of hair nearer its root and of its root (and tie), nearer
 // the root first. Its moves may stop a particle moving away from the hair,
 // never throw it back (`moved`, projectOutOfBodies).

@@ -3,7 +3,7 @@
 // forces, the velocity change that integrate applies.
 #pragma once
 
-#include "implicit_springs.hpp"
+#include "solver/implicit_springs.hpp"
 
 #include <glm/vec3.hpp>
 

@@ -5,9 +5,9 @@
 // their signatures.
 #pragma once
 
-#include "neighbor_grid.hpp"
-#include "pair_columns.hpp"
-#include "parallel.hpp"
+#include "solver/neighbor_grid.hpp"
+#include "solver/pair_columns.hpp"
+#include "util/parallel.hpp"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>

@@ -6,7 +6,7 @@
 // one hand-made pair (tests/test_solver_stages.cpp).
 #pragma once
 
-#include "kernel.hpp"
+#include "solver/kernel.hpp"
 
 #include <cmath>
 

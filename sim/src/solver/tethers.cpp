@@ -1,8 +1,8 @@
 // Tethers: tethers.hpp.
 #include "solver/tethers.hpp"
 
-#include "parallel.hpp"
-#include "tether.hpp"
+#include "util/parallel.hpp"
+#include "solver/tether.hpp"
 
 #include <cassert>
 

@@ -21,8 +21,8 @@
 // particles are rare (none in most steps), each costs a few point queries.
 #include "loosehair/solver.hpp"
 
-#include "hair_chain.hpp"
-#include "tether.hpp"
+#include "solver/hair_chain.hpp"
+#include "solver/tether.hpp"
 
 #include <algorithm>
 

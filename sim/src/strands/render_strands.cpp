@@ -6,8 +6,8 @@
 #include "loosehair/scene.hpp"
 #include "loosehair/solver.hpp"
 #include "loosehair/strand_field.hpp"
-#include "parallel.hpp"
-#include "random.hpp"
+#include "util/parallel.hpp"
+#include "util/random.hpp"
 
 #include <glm/geometric.hpp>
 

@@ -4,7 +4,7 @@
 #include "loosehair/strand_field.hpp"
 
 #include "loosehair/solver.hpp"
-#include "parallel.hpp"
+#include "util/parallel.hpp"
 #include "strands/particle_rotation.hpp"
 
 #include <glm/geometric.hpp>

@@ -33,9 +33,9 @@
 // stream of its own, so the edge thins out instead of ending in a row.
 #include "init/mesh_scalp.hpp"
 #include "loosehair/style.hpp"
-#include "parallel.hpp"
-#include "point_hash.hpp"
-#include "random.hpp"
+#include "util/parallel.hpp"
+#include "util/point_hash.hpp"
+#include "util/random.hpp"
 #include "style/hair_tie.hpp"
 #include "style/rotation_minimizing_frame.hpp"
 #include "style/wisp_region.hpp"

@@ -1,7 +1,7 @@
 #include "loosehair/scalp_coverage.hpp"
 
-#include "point_hash.hpp"
-#include "random.hpp"
+#include "util/point_hash.hpp"
+#include "util/random.hpp"
 
 #include <glm/geometric.hpp>
 

@@ -1,7 +1,7 @@
 // Style files (JSON, data/styles/README.md): reading with every field
 // checked and named in errors, and writing numbers that read back
 // bit-exactly (17 significant digits of the float's exact double value).
-#include "json_fields.hpp"
+#include "files/json_fields.hpp"
 #include "loosehair/file_io.hpp"
 #include "loosehair/style.hpp"
 

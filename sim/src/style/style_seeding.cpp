@@ -1,6 +1,6 @@
 #include "style/style_seeding.hpp"
 
-#include "random.hpp"
+#include "util/random.hpp"
 
 #include <glm/geometric.hpp>
 
