@@ -8,10 +8,9 @@
 namespace loosehair::render {
 
 namespace {
-GLuint texture(GLenum internal, GLenum format, GLenum type, int w, int h) {
-  GLuint t = 0;
-  glGenTextures(1, &t);
-  glBindTexture(GL_TEXTURE_2D, t);
+GlTexture texture(GLenum internal, GLenum format, GLenum type, int w, int h) {
+  GlTexture t = GlTexture::make();
+  glBindTexture(GL_TEXTURE_2D, t.get());
   glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal), w, h, 0, format, type, nullptr);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -34,18 +33,14 @@ void check(const char* what, int w, int h) {
 }
 }  // namespace
 
-OffscreenTarget::~OffscreenTarget() { release(); }
-
 void OffscreenTarget::release() {
-  glDeleteFramebuffers(1, &opaque_fbo_);
-  glDeleteFramebuffers(1, &oit_fbo_);
-  for (GLuint* t : {&color_, &depth_, &accum_, &reveal_}) glDeleteTextures(1, t);
-  opaque_fbo_ = oit_fbo_ = color_ = depth_ = accum_ = reveal_ = 0;
+  for (GlFramebuffer* f : {&opaque_fbo_, &oit_fbo_}) f->reset();
+  for (GlTexture* t : {&color_, &depth_, &accum_, &reveal_}) t->reset();
   width_ = height_ = 0;
 }
 
 void OffscreenTarget::resize(int width, int height, bool transparency) {
-  if (width == width_ && height == height_ && transparency == transparency_ && opaque_fbo_) return;
+  if (width == width_ && height == height_ && transparency == transparency_ && opaque_fbo_.get()) return;
   GLint max_size = 0, max_texture = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
@@ -66,19 +61,19 @@ void OffscreenTarget::resize(int width, int height, bool transparency) {
   transparency_ = transparency;
   color_ = texture(GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, width, height);
   depth_ = texture(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, width, height);
-  glGenFramebuffers(1, &opaque_fbo_);
-  glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
+  opaque_fbo_ = GlFramebuffer::make();
+  glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_.get());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_.get(), 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_.get(), 0);
   check("picture", width, height);
   if (transparency) {
     accum_ = texture(GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, width, height);
     reveal_ = texture(GL_R16F, GL_RED, GL_HALF_FLOAT, width, height);
-    glGenFramebuffers(1, &oit_fbo_);
-    glBindFramebuffer(GL_FRAMEBUFFER, oit_fbo_);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, accum_, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, reveal_, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
+    oit_fbo_ = GlFramebuffer::make();
+    glBindFramebuffer(GL_FRAMEBUFFER, oit_fbo_.get());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, accum_.get(), 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, reveal_.get(), 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_.get(), 0);
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, bufs);
     check("transparency", width, height);
@@ -87,12 +82,12 @@ void OffscreenTarget::resize(int width, int height, bool transparency) {
 }
 
 void OffscreenTarget::bindOpaque() const {
-  glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, opaque_fbo_.get());
   glViewport(0, 0, width_, height_);
 }
 
 void OffscreenTarget::bindTransparency() const {
-  glBindFramebuffer(GL_FRAMEBUFFER, oit_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, oit_fbo_.get());
   glViewport(0, 0, width_, height_);
 }
 

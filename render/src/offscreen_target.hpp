@@ -4,14 +4,14 @@
 // supersampling into the caller's framebuffer.
 #pragma once
 
-#include "loosehair/render/gl_functions.hpp"
+#include "gl_handles.hpp"
 
 namespace loosehair::render {
 
 class OffscreenTarget {
  public:
   OffscreenTarget() = default;
-  ~OffscreenTarget();
+  ~OffscreenTarget() = default;
   OffscreenTarget(const OffscreenTarget&) = delete;
   OffscreenTarget& operator=(const OffscreenTarget&) = delete;
 
@@ -24,16 +24,16 @@ class OffscreenTarget {
   void bindTransparency() const;
   int width() const { return width_; }
   int height() const { return height_; }
-  GLuint color() const { return color_; }
-  GLuint accum() const { return accum_; }
-  GLuint reveal() const { return reveal_; }
+  GLuint color() const { return color_.get(); }
+  GLuint accum() const { return accum_.get(); }
+  GLuint reveal() const { return reveal_.get(); }
 
  private:
   void release();
   int width_ = 0, height_ = 0;
   bool transparency_ = false;
-  GLuint opaque_fbo_ = 0, oit_fbo_ = 0;
-  GLuint color_ = 0, depth_ = 0, accum_ = 0, reveal_ = 0;
+  GlFramebuffer opaque_fbo_, oit_fbo_;
+  GlTexture color_, depth_, accum_, reveal_;
 };
 
 }  // namespace loosehair::render

@@ -3,6 +3,7 @@
 
 #include "loosehair/render/overlay.hpp"
 #include "loosehair/render/shaders.hpp"
+#include "gl_handles.hpp"
 #include "gl_program.hpp"
 
 #include <glm/geometric.hpp>
@@ -55,34 +56,30 @@ void OverlayLines::cross(glm::vec3 c, float r, glm::vec4 color) {
 }
 
 struct OverlayRenderer::Impl {
-  GLuint prog = 0, vao = 0, vbo_pos = 0, vbo_color = 0;
+  GlProgram prog;
+  GlVertexArray vao;
+  GlBuffer vbo_pos, vbo_color;
   GLint view_proj = -1;
 };
 
 OverlayRenderer::OverlayRenderer() : impl_(std::make_unique<Impl>()) {
   Impl& r = *impl_;
-  r.prog = program(shaders::overlay_vert, shaders::overlay_frag);
-  r.view_proj = glGetUniformLocation(r.prog, "u_view_proj");
-  glGenVertexArrays(1, &r.vao);
-  glGenBuffers(1, &r.vbo_pos);
-  glGenBuffers(1, &r.vbo_color);
-  glBindVertexArray(r.vao);
-  glBindBuffer(GL_ARRAY_BUFFER, r.vbo_pos);
+  r.prog.reset(program(shaders::overlay_vert, shaders::overlay_frag));
+  r.view_proj = glGetUniformLocation(r.prog.get(), "u_view_proj");
+  r.vao = GlVertexArray::make();
+  r.vbo_pos = GlBuffer::make();
+  r.vbo_color = GlBuffer::make();
+  glBindVertexArray(r.vao.get());
+  glBindBuffer(GL_ARRAY_BUFFER, r.vbo_pos.get());
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glBindBuffer(GL_ARRAY_BUFFER, r.vbo_color);
+  glBindBuffer(GL_ARRAY_BUFFER, r.vbo_color.get());
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
   glBindVertexArray(0);
 }
 
-OverlayRenderer::~OverlayRenderer() {
-  Impl& r = *impl_;
-  glDeleteBuffers(1, &r.vbo_pos);
-  glDeleteBuffers(1, &r.vbo_color);
-  glDeleteVertexArrays(1, &r.vao);
-  glDeleteProgram(r.prog);
-}
+OverlayRenderer::~OverlayRenderer() = default;
 
 void OverlayRenderer::draw(const OverlayLines& hidden, const OverlayLines& on_top, const Camera& camera, int width,
                            int height) {
@@ -91,9 +88,9 @@ void OverlayRenderer::draw(const OverlayLines& hidden, const OverlayLines& on_to
   const float aspect = static_cast<float>(width) / static_cast<float>(height > 0 ? height : 1);
   const glm::mat4 vp = camera.projection(aspect) * camera.view();
   glViewport(0, 0, width, height);
-  glUseProgram(r.prog);
+  glUseProgram(r.prog.get());
   glUniformMatrix4fv(r.view_proj, 1, GL_FALSE, glm::value_ptr(vp));
-  glBindVertexArray(r.vao);
+  glBindVertexArray(r.vao.get());
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDepthMask(GL_FALSE);
@@ -104,10 +101,10 @@ void OverlayRenderer::draw(const OverlayLines& hidden, const OverlayLines& on_to
     else
       glDisable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
-    glBindBuffer(GL_ARRAY_BUFFER, r.vbo_pos);
+    glBindBuffer(GL_ARRAY_BUFFER, r.vbo_pos.get());
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines->points.size() * sizeof(glm::vec3)),
                  lines->points.data(), GL_STREAM_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, r.vbo_color);
+    glBindBuffer(GL_ARRAY_BUFFER, r.vbo_color.get());
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines->colors.size() * sizeof(glm::vec4)),
                  lines->colors.data(), GL_STREAM_DRAW);
     glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(lines->points.size()));

@@ -7,8 +7,15 @@
 #include "loosehair/render/renderer.hpp"
 #include "loosehair/render/gl_loader.hpp"
 #include "loosehair/render/shaders.hpp"
+#include "billboard_pass.hpp"
+#include "body_pass.hpp"
+#include "debug_pass.hpp"
+#include "gl_handles.hpp"
 #include "gl_program.hpp"
+#include "light_frame.hpp"
 #include "offscreen_target.hpp"
+#include "render_passes.hpp"
+#include "shadow_maps.hpp"
 #include "strand_pass.hpp"
 
 #include <glm/geometric.hpp>
@@ -27,14 +34,7 @@
 namespace loosehair::render {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-constexpr int kSlices = 16;
-constexpr int kSliceLayers = 5;  // RGBA layers holding slices 3l .. 3l+3
-constexpr int kStrandWidth = 32, kStrandHeight = 128;  // the strand texture, texels
-constexpr int kStrandLevels = 5;  // its mip levels down to 1 texel across: log2(kStrandWidth)
-constexpr int kShadowSize = 256;  // opacity varies smoothly; 256^2 keeps the light pass cheap
+using Clock = PassClock;
 
 // ---- shaders ------------------------------------------------------------------
 // In render/shaders/, one file a stage, embedded at build time (shaders.hpp,
@@ -55,17 +55,9 @@ Palette palette(HairColor c) {
   return {{0.3f, 0.2f, 0.1f}, {0.4f, 0.4f, 0.4f}};
 }
 
-struct BodyMesh {
-  GLuint vao = 0, vbo = 0, ibo = 0;
-  GLsizei count = 0;
-};
-
 }  // namespace
 
 namespace {
-// The debug views' ramp: blue to cyan over the lower half, yellow to red
-// over the upper (render/shaders/debug.frag gets it as u_ramp)
-constexpr float kDebugRamp[4][3] = {{0.1f, 0.2f, 0.9f}, {0.1f, 0.9f, 0.9f}, {0.95f, 0.9f, 0.1f}, {0.9f, 0.1f, 0.1f}};
 glm::vec3 rampStop(int k) { return glm::vec3(kDebugRamp[k][0], kDebugRamp[k][1], kDebugRamp[k][2]); }
 }  // namespace
 
@@ -200,240 +192,119 @@ std::vector<std::uint8_t> makeHairTexture(int width, int height, std::uint64_t s
   return rgba;
 }
 
-// ---- the renderer ---------------------------------------------------------------
+// ---- the renderer: its passes in order -------------------------------------------
+// 1. the light's frame around the hair; 2. the opacity maps from the light
+// (the nearest hair, then the slices: light pass); 3. the camera: bodies,
+// then the hair as strands (weighted blended transparency, composited),
+// billboards or a debug view; 4. the picture into the caller's
+// framebuffer, filtered down when supersampled (resolve).
 struct Renderer::Impl {
-  GLuint hair_prog = 0, opacity_prog = 0, body_prog = 0, debug_prog = 0;
-  GLuint downsample_prog = 0, empty_vao = 0;
-  std::unique_ptr<StrandPass> strands;
+  BodyPass bodies;
+  BillboardPass billboards;
+  DebugPass debug;
+  ShadowMaps shadows;
+  StrandPass strands;
   OffscreenTarget target;  // the picture before it reaches the caller's framebuffer
-  GLuint hair_tex = 0;
-  // Billboards as 4 vertices each (not instances: llvmpipe runs the vertex
-  // stage once per instance, which cost more than the fragments at 20k
-  // particles), drawn as 2 triangles each from a shared index buffer.
-  GLuint quad_vao = 0, quad_vbo = 0, quad_ibo = 0;
-  std::size_t quad_capacity = 0;  // billboards the index buffer holds
-  GLuint debug_vao = 0, debug_vbo = 0;
-  GLuint shadow_fbo = 0;
-  GLuint slice_tex = 0;  // 2-D array, 5 layers of RGBA8: the 16 slices
-  // the depth (slices) of the hair nearest the light per texel: where the
-  // slices start (deep opacity maps, render/shaders/nearest_hair.glsl)
-  GLuint nearest_fbo = 0, nearest_tex = 0;
-  BodyMesh head, torso;
-  std::vector<float> depth, quads, lines;
-  std::vector<std::uint32_t> quad_indices;
-  std::vector<std::uint32_t> order, scratch;
+  GlProgram downsample_prog{program(shaders::fullscreen_vert, shaders::downsample_frag)};
+  GlVertexArray empty_vao = GlVertexArray::make();
 
-  ~Impl() {
-    glDeleteProgram(downsample_prog);
-    glDeleteVertexArrays(1, &empty_vao);
-    glDeleteProgram(hair_prog);
-    glDeleteProgram(opacity_prog);
-    glDeleteProgram(body_prog);
-    glDeleteProgram(debug_prog);
-    glDeleteTextures(1, &hair_tex);
-    glDeleteTextures(1, &slice_tex);
-    glDeleteFramebuffers(1, &shadow_fbo);
-    glDeleteTextures(1, &nearest_tex);
-    glDeleteFramebuffers(1, &nearest_fbo);
-    glDeleteVertexArrays(1, &quad_vao);
-    glDeleteBuffers(1, &quad_vbo);
-    glDeleteBuffers(1, &quad_ibo);
-    glDeleteVertexArrays(1, &debug_vao);
-    glDeleteBuffers(1, &debug_vbo);
-    for (BodyMesh* b : {&head, &torso}) {
-      glDeleteVertexArrays(1, &b->vao);
-      glDeleteBuffers(1, &b->vbo);
-      glDeleteBuffers(1, &b->ibo);
-    }
-  }
-
-  void uploadBillboards(const FrameInput& in, const glm::mat4& view, const std::vector<float>& quad_values,
+  void lightPass(const FrameInput& in, const RenderSettings& st, const LightFrame& lf, bool draw_strands,
+                 const BillboardLook& look, const glm::vec3& light, bool nearest_pass);
+  void strandCameraPass(const Camera& camera, const RenderSettings& st, const LightFrame& lf, const glm::mat4& vp,
+                        const glm::vec3& eye, const glm::vec3& light, const Palette& pal, int height,
                         FrameTimes& times);
-
-  void upload(BodyMesh& b, const TriangleMesh* mesh) {
-    if (!b.vao) {
-      glGenVertexArrays(1, &b.vao);
-      glGenBuffers(1, &b.vbo);
-      glGenBuffers(1, &b.ibo);
-    }
-    b.count = 0;
-    if (!mesh) return;
-    const auto normals = vertexNormals(*mesh);
-    std::vector<float> data;
-    data.reserve(mesh->vertices.size() * 6);
-    for (std::size_t v = 0; v < mesh->vertices.size(); ++v)
-      data.insert(data.end(), {mesh->vertices[v].x, mesh->vertices[v].y, mesh->vertices[v].z, normals[v].x,
-                               normals[v].y, normals[v].z});
-    glBindVertexArray(b.vao);
-    glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh->triangles.size() * 12),
-                 mesh->triangles.data(), GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 24, nullptr);
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 24, reinterpret_cast<void*>(12));
-    glBindVertexArray(0);
-    b.count = static_cast<GLsizei>(mesh->triangles.size() * 3);
-  }
+  void resolve(GLint target_fbo, int width, int height, int factor);
 };
 
 Renderer::Renderer() {
   if (!openGLLoaded()) throw RenderError("OpenGL is not loaded: call render::loadGL with the context's get-proc-address first");
-  impl_ = std::make_unique<Impl>();
   const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
   if (!version) throw RenderError("no current OpenGL context");
-  Impl& r = *impl_;
-  const std::string frag_head = "#version 330 core\n";
-  r.hair_prog = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
-                            shaders::kajiya_kay_glsl + shaders::hair_shade_glsl + shaders::billboard_vert,
-                        frag_head + shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::hair_frag);
-  r.opacity_prog = program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert,
-                           frag_head + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl + shaders::opacity_frag);
-  r.downsample_prog = program(shaders::fullscreen_vert, shaders::downsample_frag);
-  r.strands = std::make_unique<StrandPass>();
-  glGenVertexArrays(1, &r.empty_vao);
-  r.body_prog = program(shaders::body_vert,
-                        frag_head + shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::body_frag);
-  r.debug_prog = program(shaders::debug_vert, shaders::debug_frag);
-
-  // The hair-strand texture, mipmapped (method.md §7.1).
-  const int tw = kStrandWidth, th = kStrandHeight;
-  static_assert((1 << kStrandLevels) == kStrandWidth && kStrandHeight >= kStrandWidth);
-  const auto pixels = makeHairTexture(tw, th);
-  glGenTextures(1, &r.hair_tex);
-  glBindTexture(GL_TEXTURE_2D, r.hair_tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tw, th, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
-  glGenerateMipmap(GL_TEXTURE_2D);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-
-  // Billboard vertices: position, direction, value (the same for the 4
-  // corners; the vertex shader takes the corner from gl_VertexID).
-  glGenVertexArrays(1, &r.quad_vao);
-  glGenBuffers(1, &r.quad_vbo);
-  glGenBuffers(1, &r.quad_ibo);
-  glBindVertexArray(r.quad_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, r.quad_vbo);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r.quad_ibo);
-  for (GLuint a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 28, nullptr);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 28, reinterpret_cast<void*>(12));
-  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 28, reinterpret_cast<void*>(24));
-  glBindVertexArray(0);
-
-  glGenVertexArrays(1, &r.debug_vao);
-  glGenBuffers(1, &r.debug_vbo);
-  glBindVertexArray(r.debug_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, r.debug_vbo);
-  glEnableVertexAttribArray(0);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 16, nullptr);
-  glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 16, reinterpret_cast<void*>(12));
-  glBindVertexArray(0);
-
-  // 16 opacity slices in 5 RGBA targets, neighbouring layers sharing a slice (method.md §7.2).
-  GLint previous_fbo = 0;  // restored below: the caller's picture may be a framebuffer object
-  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
-  glGenFramebuffers(1, &r.shadow_fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
-  glGenTextures(1, &r.slice_tex);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
-  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, kShadowSize, kShadowSize, kSliceLayers, 0, GL_RGBA,
-               GL_UNSIGNED_BYTE, nullptr);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  GLint max_buffers = 0;
-  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &max_buffers);
-  if (max_buffers < kSliceLayers)
-    throw RenderError("the OpenGL implementation draws into " + std::to_string(max_buffers) +
-                      " targets at once; the opacity maps need " + std::to_string(kSliceLayers));
-  GLenum bufs[kSliceLayers];
-  for (int k = 0; k < kSliceLayers; ++k) {
-    bufs[k] = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(k);
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, bufs[k], r.slice_tex, 0, k);
-  }
-  glDrawBuffers(kSliceLayers, bufs);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw RenderError("the opacity-map framebuffer is incomplete");
-  glGenFramebuffers(1, &r.nearest_fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, r.nearest_fbo);
-  glGenTextures(1, &r.nearest_tex);
-  glBindTexture(GL_TEXTURE_2D, r.nearest_tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, kShadowSize, kShadowSize, 0, GL_RED, GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r.nearest_tex, 0);
-  {
-    const GLenum one = GL_COLOR_ATTACHMENT0;
-    glDrawBuffers(1, &one);
-  }
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw RenderError("the nearest-hair framebuffer is incomplete");
-  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+  impl_ = std::make_unique<Impl>();
 }
 
 Renderer::~Renderer() = default;
 
-void Renderer::setBodies(const TriangleMesh* head, const TriangleMesh* torso) {
-  impl_->upload(impl_->head, head);
-  impl_->upload(impl_->torso, torso);
+void Renderer::setBodies(const TriangleMesh* head, const TriangleMesh* torso) { impl_->bodies.setBodies(head, torso); }
+
+// Pass 1 (method.md §7.2): the hair into the opacity maps from the light,
+// starting at the hair nearest the light in each texel (deep opacity maps):
+// `nearest_pass` that depth, by a MIN blend, else the slices behind it.
+void Renderer::Impl::lightPass(const FrameInput& in, const RenderSettings& st, const LightFrame& lf,
+                               bool draw_strands, const BillboardLook& look, const glm::vec3& light,
+                               bool nearest_pass) {
+  // in the debug views the hair is drawn as points or lines: it casts no
+  // shadow (its shadow streaked the face while the hair was not there)
+  if (!st.shadows || st.debug != DebugView::None) return;
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  const float pixel_scale = static_cast<float>(kShadowSize) / (2.0f * lf.radius);
+  if (draw_strands)
+    strands.drawOpacity(lf.proj * lf.view, lf.coords(0.0f), -light, pixel_scale, st.strand_radius, st.strand_opacity,
+                        nearest_pass, shadows.nearest());
+  else if (!in.position.empty())
+    billboards.drawOpacity(look, lf.proj * lf.view, lf.coords(0.0f), light, pixel_scale, nearest_pass,
+                           shadows.nearest());
 }
 
-// The billboards in back-to-front order (method.md §7.1), by an O(N) sort, as 4
-// vertices each (the index buffer grows with the count).
-void Renderer::Impl::uploadBillboards(const FrameInput& in, const glm::mat4& view,
-                                      const std::vector<float>& quad_values, FrameTimes& times) {
-  Impl& r = *this;
-  const std::size_t n = in.position.size();
-  auto t0 = Clock::now();
-  r.depth.resize(n);
-  for (std::size_t i = 0; i < n; ++i) r.depth[i] = -(view * glm::vec4(in.position[i], 1.0f)).z;
-  sortBackToFront(r.depth, r.order, r.scratch);
-  times.sort = since(t0);
+// The strands from the camera: weighted blended transparency against the
+// bodies' depth, as many as the budget and the level of detail keep.
+void Renderer::Impl::strandCameraPass(const Camera& camera, const RenderSettings& st, const LightFrame& lf,
+                                      const glm::mat4& vp, const glm::vec3& eye, const glm::vec3& light,
+                                      const Palette& pal, int height, FrameTimes& times) {
+  StrandPass::Camera cam;
+  cam.view_proj = vp;
+  cam.eye = eye;
+  cam.pixel_scale = static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg)));
+  // the hair's eye distances: within the sphere around its box
+  const float box_radius = 0.5f * glm::length(lf.hi - lf.lo), to_centre = glm::length(lf.centre - eye);
+  cam.near_depth = std::max(0.0f, to_centre - box_radius);
+  cam.far_depth = to_centre + box_radius;
+  StrandShading sh;
+  sh.light = light;
+  sh.color = pal.color;
+  sh.spec = pal.spec;
+  sh.marschner = st.shading == HairShading::Marschner;
+  sh.variation = st.strand_variation;
+  // a multiple of the budget's stride: only those strands may have been
+  // carried (GpuStrandCarry::carry's stride)
+  const std::size_t budget_stride = strandBudgetStride(strands.strands(), st.strand_budget);
+  const std::size_t lod_stride =
+      st.strand_lod ? strandLevelOfDetail(strands.strands(), strands.meanLength(), st.strand_radius, box_radius,
+                                          to_centre, cam.pixel_scale)
+                    : 1;
+  const std::size_t stride = budget_stride * ((lod_stride + budget_stride - 1) / budget_stride);
+  times.strands_drawn = (strands.strands() + stride - 1) / stride;
+  times.strands_as_lines = strands.drawTransparent(target, cam, sh, st.strand_radius, st.strand_opacity,
+                                                   lf.coords(st.shadow_offset), st.kappa, st.shadows,
+                                                   shadows.slices(), shadows.nearest(), stride);
+}
 
-  t0 = Clock::now();
-  r.quads.resize(n * 4 * 7);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::uint32_t i = r.order[k];
-    const float v[7] = {in.position[i].x,  in.position[i].y,  in.position[i].z, in.direction[i].x,
-                        in.direction[i].y, in.direction[i].z,
-                        i < quad_values.size() ? quad_values[i] : 0.0f};
-    for (int corner = 0; corner < 4; ++corner) std::memcpy(&r.quads[(k * 4 + corner) * 7], v, sizeof v);
-  }
-  glBindVertexArray(r.quad_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, r.quad_vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quads.size() * sizeof(float)), r.quads.data(),
-               GL_STREAM_DRAW);
-  if (r.quad_capacity < n) {
-    r.quad_capacity = std::max<std::size_t>(n, 2 * r.quad_capacity);
-    r.quad_indices.resize(r.quad_capacity * 6);
-    for (std::size_t k = 0; k < r.quad_capacity; ++k) {
-      const auto b = static_cast<std::uint32_t>(4 * k);
-      const std::uint32_t tri[6] = {b, b + 1, b + 2, b + 2, b + 1, b + 3};  // the strip 0 1 2 3
-      std::memcpy(&r.quad_indices[6 * k], tri, sizeof tri);
-    }
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.quad_indices.size() * sizeof(std::uint32_t)),
-                 r.quad_indices.data(), GL_STATIC_DRAW);
-  }
+// Pass 4: the picture into the caller's framebuffer, filtered down by
+// `factor` (supersampling).
+void Renderer::Impl::resolve(GLint target_fbo, int width, int height, int factor) {
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
+  glViewport(0, 0, width, height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  const GLuint p = downsample_prog.get();
+  glUseProgram(p);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, target.color());
+  setI(p, "u_source", 0);
+  setI(p, "u_factor", factor);
+  glBindVertexArray(empty_vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
-  times.upload = since(t0);
-
+  glEnable(GL_DEPTH_TEST);
 }
 
 void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSettings& st, int width,
                       int height) {
   Impl& r = *impl_;
   times_ = {};
-  const std::size_t n = in.position.size();
-  if (in.direction.size() != n) throw RenderError("positions and directions differ in number");
+  if (in.direction.size() != in.position.size()) throw RenderError("positions and directions differ in number");
   GLint target_fbo = 0;
   glGetIntegerv(GL_FRAMEBUFFER_BINDING, &target_fbo);
   const int out_width = width, out_height = height;
@@ -450,141 +321,42 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   if (draw_strands) {
     auto t_up = Clock::now();
     if (gpu_strands)
-      r.strands->useBuffer(in.strand_buffer, in.strand_buffer_points, in.strand_points_each, in.strand_mean_length);
+      r.strands.useBuffer(in.strand_buffer, in.strand_buffer_points, in.strand_points_each, in.strand_mean_length);
     else
-      r.strands->upload(in.strand_points, in.strand_points_each);
+      r.strands.upload(in.strand_points, in.strand_points_each);
     times_.upload += since(t_up);
   }
   const float aspect = static_cast<float>(width) / static_cast<float>(std::max(1, height));
   const glm::mat4 view = camera.view(), proj = camera.projection(aspect), vp = proj * view;
   const glm::vec3 eye = camera.eye();
   const glm::vec3 light = glm::normalize(st.light_direction);
-  const float bw = st.billboard_width * in.spacing, bl = st.billboard_length * in.spacing;
+  const BillboardLook look{st.billboard_width * in.spacing, st.billboard_length * in.spacing,
+                           st.max_opacity_boost, st.hair_opacity};
 
-  // ---- the light's frame: orthographic along -light around the hair ----
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  // (strands on the GPU: their particles, as far out as a strand point
-  // may lie from its carriers)
+  // ---- 1. the light's frame: orthographic along -light around the hair
+  // (strands on the GPU: their particles, as far out as a strand point may
+  // lie from its carriers) ----
   const bool strands_on_cpu = draw_strands && !gpu_strands;
-  const std::vector<glm::vec3>& hair_points = strands_on_cpu ? in.strand_points : in.position;
   const float widen = draw_strands && gpu_strands ? 2.0f * in.spacing : 0.0f;
-  for (const auto& p : hair_points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  if (hair_points.empty()) lo = hi = camera.target;
-  lo -= glm::vec3(widen);
-  hi += glm::vec3(widen);
-  const glm::vec3 centre = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo) + bl;
-  const glm::vec3 up = std::abs(light.y) < 0.95f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-  const glm::mat4 light_view = glm::lookAt(centre + light * (radius + 1.0f), centre, up);
-  const glm::mat4 light_proj = glm::ortho(-radius, radius, -radius, radius, 0.01f, 2.0f * radius + 2.0f);
-  float zmin = INFINITY, zmax = -INFINITY;
-  for (const auto& p : hair_points) {
-    const float z = -(light_view * glm::vec4(p, 1.0f)).z;
-    zmin = std::min(zmin, z);
-    zmax = std::max(zmax, z);
-  }
-  if (hair_points.empty()) zmin = zmax = 1.0f;
-  const float pad = draw_strands ? 0.002f + widen : 0.5f * bl;
-  zmin -= pad;
-  zmax += pad;
-  // the depth unit: a 15th of the hair's extent along the light (the
-  // slices start at the hair nearest the light in each texel and deepen
-  // with the square root of the depth: render/shaders/nearest_hair.glsl)
-  const float dz = std::max(1e-4f, (zmax - zmin) / static_cast<float>(kSlices - 1));
+  const LightFrame lf = lightFrame(strands_on_cpu ? in.strand_points : in.position, light, camera.target, widen,
+                                   look.length, draw_strands ? 0.002f + widen : 0.5f * look.length);
+  const glm::mat4 lookup_coords = lf.coords(st.shadow_offset);
 
   // ---- billboards: back-to-front order (method.md §7.1) and upload ----
+  if (!draw_strands) r.billboards.upload(in, view, st.debug == DebugView::Density ? in.density : in.speed, times_);
+
+  // ---- 2. the opacity maps from the light ----
   auto t0 = Clock::now();
-  if (!draw_strands) r.uploadBillboards(in, view, st.debug == DebugView::Density ? in.density : in.speed, times_);
-
-  auto billboardUniforms = [&](GLuint p) {
-    setF(p, "u_width", bw);
-    setF(p, "u_length", bl);
-    setF(p, "u_max_boost", st.max_opacity_boost);
-    setF(p, "u_opacity", st.hair_opacity);
-    setF(p, "u_strand_width", static_cast<float>(kStrandWidth));
-    setF(p, "u_strand_max_level", static_cast<float>(kStrandLevels));
-  };
-  // the sorted billboards with program p (its other uniforms set)
-  auto drawBillboards = [&](GLuint p) {
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, r.hair_tex);
-    setI(p, "u_hair", 0);
-    glBindVertexArray(r.quad_vao);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * n), GL_UNSIGNED_INT, nullptr);
-  };
-  // world -> (s, t, depth in slices - offset) for the lookups, and without
-  // the offset for the light pass: one affine map (the light is orthographic)
-  auto lightCoords = [&](float offset) {
-    glm::mat4 a = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0.5f, 0.0f)) *
-                  glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, 0.5f, 1.0f)) * light_proj;
-    for (int c = 0; c < 4; ++c) a[c][2] = 0.0f;  // row 2: (-z_view - zmin) / dz - offset
-    a[2][2] = -1.0f / dz;
-    a[3][2] = -zmin / dz - offset;
-    return a * light_view;
-  };
-  const glm::mat4 lookup_coords = lightCoords(st.shadow_offset), slice_coords = lightCoords(0.0f);
-  auto shadowUniforms = [&](GLuint p) {
-    setMat(p, "u_light_coords", lookup_coords);
-    setF(p, "u_kappa", st.kappa);
-    setI(p, "u_shadows", st.shadows ? 1 : 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, r.slice_tex);
-    setI(p, "u_slices", 1);
-    glActiveTexture(GL_TEXTURE0 + StrandPass::kNearestUnit);
-    glBindTexture(GL_TEXTURE_2D, r.nearest_tex);
-    setI(p, "u_nearest", StrandPass::kNearestUnit);
-    glActiveTexture(GL_TEXTURE0);
-  };
-
-  // ---- pass 1: opacity slices from the light (method.md §7.2), starting at
-  // the hair nearest the light in each texel (deep opacity maps): first
-  // that depth, by a MIN blend, then the slices behind it ----
-  t0 = Clock::now();
-  // in the debug views the hair is drawn as points or lines: it casts no
-  // shadow (its shadow streaked the face while the hair was not there)
-  const bool hair_shadows = st.shadows && st.debug == DebugView::None;
-  auto lightPass = [&](bool nearest_pass) {
-    if (!hair_shadows) return;
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    if (draw_strands) {
-      r.strands->drawOpacity(light_proj * light_view, slice_coords, -light,
-                             static_cast<float>(kShadowSize) / (2.0f * radius), st.strand_radius, st.strand_opacity,
-                             nearest_pass, r.nearest_tex);
-    } else if (n > 0) {
-      glUseProgram(r.opacity_prog);
-      setI(r.opacity_prog, "u_nearest_pass", nearest_pass ? 1 : 0);
-      glActiveTexture(GL_TEXTURE0 + StrandPass::kNearestUnit);
-      glBindTexture(GL_TEXTURE_2D, nearest_pass ? 0 : r.nearest_tex);  // never the target it draws into
-      setI(r.opacity_prog, "u_nearest", StrandPass::kNearestUnit);
-      setMat(r.opacity_prog, "u_view_proj", light_proj * light_view);
-      setMat(r.opacity_prog, "u_light_coords", slice_coords);
-      setVec(r.opacity_prog, "u_proj_dir", -light);
-      setI(r.opacity_prog, "u_ortho", 1);
-      setF(r.opacity_prog, "u_pixel_scale", static_cast<float>(kShadowSize) / (2.0f * radius));
-      billboardUniforms(r.opacity_prog);
-      drawBillboards(r.opacity_prog);
-    }
-  };
-  glBindFramebuffer(GL_FRAMEBUFFER, r.nearest_fbo);
-  glViewport(0, 0, kShadowSize, kShadowSize);
-  glClearColor(1e6f, 1e6f, 1e6f, 1e6f);  // no hair: nothing nearer than far behind everything
-  glClear(GL_COLOR_BUFFER_BIT);
+  r.shadows.beginNearest();
   glBlendEquation(GL_MIN);
-  lightPass(true);
+  r.lightPass(in, st, lf, draw_strands, look, light, true);
   glBlendEquation(GL_FUNC_ADD);
-  glBindFramebuffer(GL_FRAMEBUFFER, r.shadow_fbo);
-  glClearColor(0, 0, 0, 0);
-  glClear(GL_COLOR_BUFFER_BIT);
-  lightPass(false);
+  r.shadows.beginSlices();
+  r.lightPass(in, st, lf, draw_strands, look, light, false);
   glFinish();
   times_.light_pass = since(t0);
 
-  // ---- pass 2: the camera ----
+  // ---- 3. the camera ----
   t0 = Clock::now();
   if (offscreen) {
     r.target.bindOpaque();
@@ -599,120 +371,21 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
-  // bodies
-  glUseProgram(r.body_prog);
-  setMat(r.body_prog, "u_view_proj", vp);
-  setVec(r.body_prog, "u_eye", eye);
-  setVec(r.body_prog, "u_light", light);
-  setVec(r.body_prog, "u_skin", glm::vec3(0.86f, 0.68f, 0.58f));
-  shadowUniforms(r.body_prog);
-  for (const auto& [mesh, model] : {std::pair{&r.head, in.head_pose}, std::pair{&r.torso, glm::mat4(1.0f)}}) {
-    if (mesh->count == 0) continue;
-    setMat(r.body_prog, "u_model", model);
-    glBindVertexArray(mesh->vao);
-    glDrawElements(GL_TRIANGLES, mesh->count, GL_UNSIGNED_INT, nullptr);
-  }
+  r.bodies.draw(vp, eye, light, in.head_pose, r.shadows, lookup_coords, st.kappa, st.shadows);
   Palette pal = palette(st.color);
   if (st.custom_color) pal = {*st.custom_color, 0.5f * *st.custom_color + glm::vec3(0.25f)};
   if (draw_strands) {
-    // strands: weighted blended transparency against the bodies' depth,
-    // then composited over them
-    StrandPass::Camera cam;
-    cam.view_proj = vp;
-    cam.eye = eye;
-    cam.pixel_scale = static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg)));
-    // the hair's eye distances: within the sphere around its box
-    const float box_radius = 0.5f * glm::length(hi - lo), to_centre = glm::length(centre - eye);
-    cam.near_depth = std::max(0.0f, to_centre - box_radius);
-    cam.far_depth = to_centre + box_radius;
-    StrandShading sh;
-    sh.light = light;
-    sh.color = pal.color;
-    sh.spec = pal.spec;
-    sh.marschner = st.shading == HairShading::Marschner;
-    sh.variation = st.strand_variation;
-    // a multiple of the budget's stride: only those strands may have been
-    // carried (GpuStrandCarry::carry's stride)
-    const std::size_t budget_stride = strandBudgetStride(r.strands->strands(), st.strand_budget);
-    const std::size_t lod_stride =
-        st.strand_lod ? strandLevelOfDetail(r.strands->strands(), r.strands->meanLength(), st.strand_radius,
-                                            box_radius, to_centre, cam.pixel_scale)
-                      : 1;
-    const std::size_t stride = budget_stride * ((lod_stride + budget_stride - 1) / budget_stride);
-    times_.strands_drawn = (r.strands->strands() + stride - 1) / stride;
-    times_.strands_as_lines =
-        r.strands->drawTransparent(r.target, cam, sh, st.strand_radius, st.strand_opacity, lookup_coords, st.kappa,
-                                   st.shadows, r.slice_tex, r.nearest_tex, stride);
+    r.strandCameraPass(camera, st, lf, vp, eye, light, pal, height, times_);
     glFinish();
     times_.camera_pass = since(t0);
     t0 = Clock::now();
-    r.strands->composite(r.target, r.empty_vao);
+    r.strands.composite(r.target, r.empty_vao.get());
   } else if (st.debug == DebugView::None) {
-    // hair: blended back to front, tested against the bodies' depth
-    glEnable(GL_BLEND);
-    // "over" for colour; the framebuffer's alpha stays opaque
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    glDepthMask(GL_FALSE);
-    glUseProgram(r.hair_prog);
-    setMat(r.hair_prog, "u_view_proj", vp);
-    setVec(r.hair_prog, "u_eye", eye);
-    setI(r.hair_prog, "u_ortho", 0);
-    setF(r.hair_prog, "u_pixel_scale",
-         static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg))));
-    billboardUniforms(r.hair_prog);
-    setVec(r.hair_prog, "u_light", light);
-    setVec(r.hair_prog, "u_color", pal.color);
-    setVec(r.hair_prog, "u_spec_color", pal.spec);
-    setF(r.hair_prog, "u_kd", 1.0f);
-    setF(r.hair_prog, "u_ks", 0.6f);
-    setF(r.hair_prog, "u_shine", 40.0f);
-    setF(r.hair_prog, "u_reflect", 1.0f);
-    setF(r.hair_prog, "u_transmit", 0.45f);
-    setF(r.hair_prog, "u_ambient", 0.22f);
-    shadowUniforms(r.hair_prog);
-    drawBillboards(r.hair_prog);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
+    const float pixel_scale = static_cast<float>(height) / (2.0f * std::tan(0.5f * glm::radians(camera.fov_deg)));
+    r.billboards.drawShaded(look, {vp, eye, light, pal.color, pal.spec, pixel_scale}, r.shadows, lookup_coords,
+                            st.kappa, st.shadows);
   } else {
-    // debug views
-    glUseProgram(r.debug_prog);
-    setMat(r.debug_prog, "u_view_proj", vp);
-    r.lines.clear();
-    GLenum mode = GL_POINTS;
-    if (st.debug == DebugView::Density || st.debug == DebugView::Speed) {
-      const auto& values = st.debug == DebugView::Density ? in.density : in.speed;
-      for (std::size_t i = 0; i < n; ++i) {
-        const float v = i < values.size() ? values[i] : 0.0f;
-        r.lines.insert(r.lines.end(), {in.position[i].x, in.position[i].y, in.position[i].z, v});
-      }
-      const DebugLegend legend = debugLegend(in, st);
-      glUniform2f(loc(r.debug_prog, "u_range"), legend.low, legend.high);
-      glUniform3fv(loc(r.debug_prog, "u_ramp"), 4, &kDebugRamp[0][0]);
-      setI(r.debug_prog, "u_use_flat", 0);
-      setF(r.debug_prog, "u_point_size", 3.0f);
-      glEnable(GL_PROGRAM_POINT_SIZE);
-    } else if (st.debug == DebugView::Connections) {
-      for (std::size_t k = 0; k + 1 < in.connections.size(); k += 2) {
-        const glm::vec3 a = in.position[in.connections[k]], b = in.position[in.connections[k + 1]];
-        r.lines.insert(r.lines.end(), {a.x, a.y, a.z, 0.0f, b.x, b.y, b.z, 0.0f});
-      }
-      setI(r.debug_prog, "u_use_flat", 1);
-      setVec(r.debug_prog, "u_flat", glm::vec3(0.15f, 0.35f, 0.8f));
-      mode = GL_LINES;
-    } else {
-      for (std::size_t i = 0; i < n; ++i) {
-        const glm::vec3 a = in.position[i], b = a + 1.5f * in.spacing * in.direction[i];
-        r.lines.insert(r.lines.end(), {a.x, a.y, a.z, 0.0f, b.x, b.y, b.z, 0.0f});
-      }
-      setI(r.debug_prog, "u_use_flat", 1);
-      setVec(r.debug_prog, "u_flat", glm::vec3(0.7f, 0.2f, 0.1f));
-      mode = GL_LINES;
-    }
-    glBindVertexArray(r.debug_vao);
-    glBindBuffer(GL_ARRAY_BUFFER, r.debug_vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(r.lines.size() * sizeof(float)), r.lines.data(),
-                 GL_STREAM_DRAW);
-    glDrawArrays(mode, 0, static_cast<GLsizei>(r.lines.size() / 4));
+    r.debug.draw(in, st, vp);
   }
   glBindVertexArray(0);
   glFinish();
@@ -720,22 +393,10 @@ void Renderer::render(const FrameInput& in, const Camera& camera, const RenderSe
     times_.resolve = since(t0);
   else
     times_.camera_pass = since(t0);
+  // ---- 4. resolve ----
   if (offscreen) {
-    // the picture into the caller's framebuffer, filtered down when supersampled
     t0 = Clock::now();
-    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target_fbo));
-    glViewport(0, 0, out_width, out_height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glUseProgram(r.downsample_prog);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, r.target.color());
-    setI(r.downsample_prog, "u_source", 0);
-    setI(r.downsample_prog, "u_factor", ss);
-    glBindVertexArray(r.empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
-    glEnable(GL_DEPTH_TEST);
+    r.resolve(target_fbo, out_width, out_height, ss);
     glFinish();
     times_.resolve += since(t0);
   }

@@ -1,6 +1,7 @@
 // Carrying the strands on the GPU (loosehair/render/strand_carry_gpu.hpp).
 #include "loosehair/render/strand_carry_gpu.hpp"
 
+#include "gl_handles.hpp"
 #include "gl_program.hpp"
 #include "strand_pass.hpp"
 #include "loosehair/render/renderer.hpp"
@@ -57,8 +58,8 @@ bool gpuStrandCarrySupported(std::string* why) {
 
 struct GpuStrandCarry::Impl {
   const StrandField* field = nullptr;
-  GLuint program = 0;
-  GLuint buffers[kBuffers] = {};
+  GlProgram program;
+  GlBuffer buffers[kBuffers];
   std::size_t strands = 0, points = 0;
   int per_strand = 0;
   float mean_length = 0.0f;
@@ -110,9 +111,9 @@ GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOpt
   Impl& r = *impl_;
   r.field = &field;
   r.volume_options = volumes;
-  r.program = computeProgram("#version 430 core\n#define MAX_BODIES " + std::to_string(kMaxBodies) + "\n" +
-                             shaders::strand_carry_comp);
-  glGenBuffers(kBuffers, r.buffers);
+  r.program.reset(computeProgram("#version 430 core\n#define MAX_BODIES " + std::to_string(kMaxBodies) + "\n" +
+                                 shaders::strand_carry_comp));
+  for (GlBuffer& b : r.buffers) b = GlBuffer::make();
   const StrandSet& rest = field.rest();
   r.strands = rest.size();
   r.points = rest.points.size();
@@ -130,24 +131,20 @@ GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOpt
     total += seg[q];
   }
   r.mean_length = r.strands > 0 ? static_cast<float>(total / static_cast<double>(r.strands)) : 0.0f;
-  storage(r.buffers[kBindIndex], field.bindIndices(), GL_STATIC_DRAW);
-  storage(r.buffers[kBindWeight], field.bindWeights(), GL_STATIC_DRAW);
-  storage<glm::vec4>(r.buffers[kRestPoints], rest4, GL_STATIC_DRAW);
-  storage<glm::vec4>(r.buffers[kDetail], detail4, GL_STATIC_DRAW);
-  storage<std::uint32_t>(r.buffers[kStrandFirst], rest.first, GL_STATIC_DRAW);
-  storage<glm::vec4>(r.buffers[kOutPoints], std::vector<glm::vec4>(r.points, glm::vec4(0.0f)), GL_DYNAMIC_COPY);
-  storage<float>(r.buffers[kVolumes], r.values, GL_STATIC_DRAW);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r.buffers[kScratch]);
+  storage(r.buffers[kBindIndex].get(), field.bindIndices(), GL_STATIC_DRAW);
+  storage(r.buffers[kBindWeight].get(), field.bindWeights(), GL_STATIC_DRAW);
+  storage<glm::vec4>(r.buffers[kRestPoints].get(), rest4, GL_STATIC_DRAW);
+  storage<glm::vec4>(r.buffers[kDetail].get(), detail4, GL_STATIC_DRAW);
+  storage<std::uint32_t>(r.buffers[kStrandFirst].get(), rest.first, GL_STATIC_DRAW);
+  storage<glm::vec4>(r.buffers[kOutPoints].get(), std::vector<glm::vec4>(r.points, glm::vec4(0.0f)), GL_DYNAMIC_COPY);
+  storage<float>(r.buffers[kVolumes].get(), r.values, GL_STATIC_DRAW);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r.buffers[kScratch].get());
   glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, 2 * r.points) * sizeof(glm::vec4)),
                nullptr, GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
-GpuStrandCarry::~GpuStrandCarry() {
-  Impl& r = *impl_;
-  glDeleteBuffers(kBuffers, r.buffers);
-  glDeleteProgram(r.program);
-}
+GpuStrandCarry::~GpuStrandCarry() = default;
 
 void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
                            const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world,
@@ -160,15 +157,15 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
   std::vector<const Impl::Volume*> volume(bodies.size());
   bool added = false;
   for (std::size_t b = 0; b < bodies.size(); ++b) volume[b] = &r.volumeOf(bodies[b].body, threads, added);
-  if (added) storage<float>(r.buffers[kVolumes], r.values, GL_STATIC_DRAW);
+  if (added) storage<float>(r.buffers[kVolumes].get(), r.values, GL_STATIC_DRAW);
   r.field->particleMotions(positions, directions, r.rot, r.shift, threads);
   r.motion.resize(3 * r.rot.size());
   for (std::size_t i = 0; i < r.rot.size(); ++i)
     for (int c = 0; c < 3; ++c) r.motion[3 * i + static_cast<std::size_t>(c)] = glm::vec4(r.rot[i][c], r.shift[i][c]);
-  storage<glm::vec4>(r.buffers[kMotions], r.motion, GL_STREAM_DRAW);
+  storage<glm::vec4>(r.buffers[kMotions].get(), r.motion, GL_STREAM_DRAW);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 
-  const GLuint p = r.program;
+  const GLuint p = r.program.get();
   glUseProgram(p);
   glUniform1ui(loc(p, "u_strands"), static_cast<GLuint>(r.strands));
   glUniform1ui(loc(p, "u_stride"), static_cast<GLuint>(std::min<std::size_t>(stride, r.strands + 1)));
@@ -197,7 +194,7 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
     const glm::mat3 g = glm::transpose(bodies[b].m) * (1.0f / v.voxel);
     glUniformMatrix3fv(uniform("u_gradient_to_head"), 1, GL_FALSE, glm::value_ptr(g));
   }
-  for (GLuint i = 0; i < kBuffers; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, r.buffers[i]);
+  for (GLuint i = 0; i < kBuffers; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, r.buffers[i].get());
   const std::size_t carried = (r.strands + stride - 1) / stride;
   const GLuint groups = static_cast<GLuint>((carried + kLocalSize - 1) / kLocalSize);
   if (groups > 0) glDispatchCompute(groups, 1, 1);
@@ -206,7 +203,7 @@ void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const
   glUseProgram(0);
 }
 
-unsigned GpuStrandCarry::buffer() const { return impl_->buffers[kOutPoints]; }
+unsigned GpuStrandCarry::buffer() const { return impl_->buffers[kOutPoints].get(); }
 std::size_t GpuStrandCarry::points() const { return impl_->points; }
 int GpuStrandCarry::pointsPerStrand() const { return impl_->per_strand; }
 float GpuStrandCarry::meanLength() const { return impl_->mean_length; }
@@ -215,7 +212,7 @@ void GpuStrandCarry::wait() const { glFinish(); }
 
 void GpuStrandCarry::readBack(std::vector<glm::vec3>& out) const {
   std::vector<glm::vec4> v(impl_->points);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, impl_->buffers[kOutPoints]);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, impl_->buffers[kOutPoints].get());
   if (!v.empty())
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(v.size() * sizeof(glm::vec4)), v.data());
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);

@@ -20,21 +20,21 @@ constexpr std::size_t kLightStrands = 4000;
 
 StrandPass::StrandPass() {
   const std::string head = "#version 330 core\nuniform vec3 u_eye;\n";
-  camera_prog_ = program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
+  camera_prog_.reset(program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
                              shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl +
                              shaders::strand_shade_glsl +
                              shaders::strand_vert,
-                         std::string("#version 330 core\n") + shaders::strand_frag);
-  composite_prog_ = program(shaders::fullscreen_vert, shaders::oit_composite_frag);
-  opacity_prog_ = program(head + shaders::strand_vert,
+                         std::string("#version 330 core\n") + shaders::strand_frag));
+  composite_prog_.reset(program(shaders::fullscreen_vert, shaders::oit_composite_frag));
+  opacity_prog_.reset(program(head + shaders::strand_vert,
                           std::string("#version 330 core\n") + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl +
-                              shaders::strand_opacity_frag);
-  glGenVertexArrays(1, &vao_);  // no attributes: the vertex shader pulls the points
-  glGenBuffers(1, &buffer_);
-  glGenTextures(1, &buffer_tex_);
-  glGenTextures(3, lut_);
-  for (GLuint t : lut_) {
-    glBindTexture(GL_TEXTURE_2D, t);
+                              shaders::strand_opacity_frag));
+  vao_ = GlVertexArray::make();  // no attributes: the vertex shader pulls the points
+  buffer_ = GlBuffer::make();
+  buffer_tex_ = GlTexture::make();
+  for (GlTexture& t : lut_) {
+    t = GlTexture::make();
+    glBindTexture(GL_TEXTURE_2D, t.get());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -42,15 +42,7 @@ StrandPass::StrandPass() {
   }
 }
 
-StrandPass::~StrandPass() {
-  glDeleteProgram(camera_prog_);
-  glDeleteProgram(opacity_prog_);
-  glDeleteProgram(composite_prog_);
-  glDeleteVertexArrays(1, &vao_);
-  glDeleteBuffers(1, &buffer_);
-  glDeleteTextures(1, &buffer_tex_);
-  glDeleteTextures(3, lut_);
-}
+StrandPass::~StrandPass() = default;
 
 void StrandPass::checkPointCount(std::size_t points) {
   GLint max_texels = 0;
@@ -85,7 +77,7 @@ void StrandPass::setStrips(std::size_t points, int per_strand) {
 
 void StrandPass::useBuffer(GLuint buffer, std::size_t points, int per_strand, float mean_length) {
   checkStrands(points, per_strand);
-  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_.get());
   glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer);
   glBindTexture(GL_TEXTURE_BUFFER, 0);
   mean_length_ = mean_length;
@@ -101,11 +93,11 @@ void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
     staging_[4 * q + 2] = points[q].z;
     staging_[4 * q + 3] = 0.0f;
   }
-  glBindBuffer(GL_TEXTURE_BUFFER, buffer_);
+  glBindBuffer(GL_TEXTURE_BUFFER, buffer_.get());
   glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(staging_.size() * sizeof(float)), staging_.data(),
                GL_STREAM_DRAW);
-  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
-  glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer_);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_.get());
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer_.get());
   glBindBuffer(GL_TEXTURE_BUFFER, 0);
   const std::size_t strands = points.size() / static_cast<std::size_t>(per_strand);
   double length = 0;
@@ -119,7 +111,7 @@ void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_
                              float pixel_scale, float radius, float opacity, bool nearest_pass,
                              GLuint nearest_tex) {
   if (segments_ == 0) return;
-  const GLuint p = opacity_prog_;
+  const GLuint p = opacity_prog_.get();
   glUseProgram(p);
   setI(p, "u_nearest_pass", nearest_pass ? 1 : 0);
   glActiveTexture(GL_TEXTURE0 + kNearestUnit);
@@ -134,7 +126,7 @@ void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_
   setF(p, "u_opacity", opacity);
   setI(p, "u_points_per_strand", per_strand_);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_.get());
   setI(p, "u_points", 0);
   // Opacity varies smoothly: every stride-th strand, each stride times as
   // opaque, gives the same maps for far fewer fragments.
@@ -152,7 +144,7 @@ void StrandPass::drawEvery(GLuint p, std::size_t stride, bool lines) {
   const std::vector<GLint>& first = lines ? line_first_ : strip_first_;
   const std::vector<GLsizei>& count = lines ? line_count_ : strip_count_;
   const GLenum mode = lines ? GL_LINE_STRIP : GL_TRIANGLE_STRIP;
-  glBindVertexArray(vao_);
+  glBindVertexArray(vao_.get());
   if (stride <= 1) {
     glMultiDrawArrays(mode, first.data(), count.data(), static_cast<GLsizei>(first.size()));
   } else {
@@ -175,7 +167,7 @@ void StrandPass::updateTables(const StrandShading& sh) {
   const MarschnerTables t = makeMarschnerTables(par);
   const std::vector<float>* data[3] = {&t.m, &t.n1, &t.n2};
   for (int k = 0; k < 3; ++k) {
-    glBindTexture(GL_TEXTURE_2D, lut_[k]);
+    glBindTexture(GL_TEXTURE_2D, lut_[k].get());
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, t.size, t.size, 0, GL_RGBA, GL_FLOAT, data[k]->data());
   }
 }
@@ -192,7 +184,7 @@ bool StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   glBlendFunc(GL_ONE, GL_ONE);
   glDepthMask(GL_FALSE);
   if (sh.marschner) updateTables(sh);
-  const GLuint p = camera_prog_;
+  const GLuint p = camera_prog_.get();
   glUseProgram(p);
   setMat(p, "u_view_proj", cam.view_proj);
   setVec(p, "u_eye", cam.eye);
@@ -219,14 +211,14 @@ bool StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   setI(p, "u_marschner", sh.marschner ? 1 : 0);
   setF(p, "u_marschner_gain", 10.0f);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_);
+  glBindTexture(GL_TEXTURE_BUFFER, buffer_tex_.get());
   setI(p, "u_points", 0);
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D_ARRAY, slice_tex);
   setI(p, "u_slices", 1);
   for (int k = 0; k < 3; ++k) {
     glActiveTexture(GL_TEXTURE2 + static_cast<GLenum>(k));
-    glBindTexture(GL_TEXTURE_2D, lut_[k]);
+    glBindTexture(GL_TEXTURE_2D, lut_[k].get());
   }
   setI(p, "u_lut_m", 2);
   setI(p, "u_lut_n1", 3);
@@ -247,13 +239,13 @@ void StrandPass::composite(const OffscreenTarget& target, GLuint empty_vao) {
   glDepthMask(GL_TRUE);
   glEnable(GL_BLEND);
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-  glUseProgram(composite_prog_);
+  glUseProgram(composite_prog_.get());
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, target.accum());
-  setI(composite_prog_, "u_accum", 0);
+  setI(composite_prog_.get(), "u_accum", 0);
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, target.reveal());
-  setI(composite_prog_, "u_reveal", 1);
+  setI(composite_prog_.get(), "u_reveal", 1);
   glActiveTexture(GL_TEXTURE0);
   glBindVertexArray(empty_vao);
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -4,6 +4,8 @@
 // shaded by Kajiya-Kay or by Marschner's lobes from lookup tables.
 #pragma once
 
+#include "gl_handles.hpp"
+
 #include "loosehair/render/gl_functions.hpp"
 
 #include "marschner_lut.hpp"
@@ -85,9 +87,11 @@ class StrandPass {
   std::vector<GLsizei> line_count_;
   std::vector<GLint> subset_first_;    // drawEvery's strips
   std::vector<GLsizei> subset_count_;
-  GLuint camera_prog_ = 0, opacity_prog_ = 0, composite_prog_ = 0;
-  GLuint vao_ = 0, buffer_ = 0, buffer_tex_ = 0;
-  GLuint lut_[3] = {0, 0, 0};
+  GlProgram camera_prog_, opacity_prog_, composite_prog_;
+  GlVertexArray vao_;
+  GlBuffer buffer_;
+  GlTexture buffer_tex_;
+  GlTexture lut_[3];
   glm::vec3 lut_color_{-1.0f};
   std::size_t segments_ = 0;
   float mean_length_ = 0.0f;
