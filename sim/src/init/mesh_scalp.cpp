@@ -240,24 +240,19 @@ ScalpCurves automaticScalpCurves(const TriangleMesh& head, const Body& sdf) {
   return c;
 }
 
-MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCurves& curves,
-                     const std::string& source) {
-  auto fail = [&](const std::string& problem) { throw MeshError(source + ": scalp: " + problem); };
-  for (int k = 0; k < 4; ++k)
-    if (curves.control[static_cast<std::size_t>(k)].size() < 2)
-      fail(std::string(kCurveName[k]) + " curve needs at least two control points");
+namespace {
 
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  for (const auto& v : head_in.vertices) {
-    lo = glm::min(lo, v);
-    hi = glm::max(hi, v);
+// The scalp's errors name the file and say what is wrong with the curves.
+struct ScalpFail {
+  const std::string& source;
+  [[noreturn]] void operator()(const std::string& problem) const {
+    throw MeshError(source + ": scalp: " + problem);
   }
-  const float size = glm::length(hi - lo);
-  const TriangleMesh head = refined(head_in, size / 150.0);
-  const std::vector<glm::vec3> vnormal = vertexNormals(head);
-  const double edge = meanEdgeLength(head);
+};
 
-  // Corners: where consecutive curves meet.
+// Corners: where consecutive curves meet (each curve's end and the next
+// one's start, which must be close).
+std::array<glm::vec3, 4> curveCorners(const ScalpCurves& curves, float size, const ScalpFail& fail) {
   std::array<glm::vec3, 4> corner;
   for (int k = 0; k < 4; ++k) {
     const glm::vec3 end = curves.control[static_cast<std::size_t>(k)].back();
@@ -268,9 +263,19 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     corner[static_cast<std::size_t>((k + 1) % 4)] = 0.5f * (end + start);
   }
 
-  // Dense samples of the closed curve on the surface, with the corners marked.
+  return corner;
+}
+
+// Dense samples of the closed curve on the surface, with the corners marked.
+struct CurveSamples {
   std::vector<glm::vec3> samples;
   std::array<std::size_t, 4> corner_sample{};
+};
+CurveSamples curveSamples(const ScalpCurves& curves, const std::array<glm::vec3, 4>& corner, const Body& sdf,
+                          double edge) {
+  CurveSamples out;
+  std::vector<glm::vec3>& samples = out.samples;
+  std::array<std::size_t, 4>& corner_sample = out.corner_sample;
   for (int k = 0; k < 4; ++k) {
     std::vector<glm::vec3> ctrl = curves.control[static_cast<std::size_t>(k)];
     ctrl.front() = corner[static_cast<std::size_t>(k)];
@@ -283,11 +288,13 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     corner_sample[static_cast<std::size_t>(k)] = samples.size();
     for (std::size_t i = 0; i + 1 < pts.size(); ++i) samples.push_back(projectToSurface(sdf, pts[i]));
   }
-  polyline_ = samples;
+  return out;
+}
 
-  // Nearest mesh vertex of each sample (brute force: few samples), on the
-  // part with the most triangles: the scalp is one connected piece of the
-  // head, and helper parts (eyes, a hat) may lie nearer.
+// Nearest mesh vertex of each sample (brute force: few samples), on the
+// part with the most triangles: the scalp is one connected piece of the
+// head, and helper parts (eyes, a hat) may lie nearer.
+std::vector<std::uint32_t> nearestVertices(const TriangleMesh& head, const std::vector<glm::vec3>& samples) {
   std::vector<std::uint8_t> on_head(head.vertices.size(), 0);
   {
     const MeshParts parts = meshParts(head);
@@ -310,15 +317,19 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     }
   }
 
-  // The closed loop of mesh edges through them.
+  return near;
+}
+
+// The closed loop of mesh edges through the samples' vertices, pinches (a
+// vertex visited twice closes a small side loop) removed.
+std::vector<std::uint32_t> trimmingLoop(const TriangleMesh& head, const std::vector<std::uint32_t>& near,
+                                        const ScalpFail& fail) {
   const Graph graph(head);
   std::vector<float> dist(head.vertices.size(), std::numeric_limits<float>::infinity());
   std::vector<std::uint32_t> prev(head.vertices.size(), 0);
   std::vector<std::uint32_t> loop;
-  std::array<std::uint32_t, 4> corner_vertex{};
-  for (int k = 0; k < 4; ++k) corner_vertex[static_cast<std::size_t>(k)] = near[corner_sample[static_cast<std::size_t>(k)]];
-  for (std::size_t s = 0; s < samples.size(); ++s) {
-    const std::uint32_t a = near[s], b = near[(s + 1) % samples.size()];
+  for (std::size_t s = 0; s < near.size(); ++s) {
+    const std::uint32_t a = near[s], b = near[(s + 1) % near.size()];
     auto piece = graph.path(a, b, dist, prev);
     if (piece.empty())
       fail("the hairline crosses a gap in the head's surface (the mesh is not connected along it)");
@@ -341,8 +352,14 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     }
     loop = std::move(clean);
   }
-  if (loop.size() < 8) fail("the curves enclose too small a region (" + std::to_string(loop.size()) + " boundary vertices)");
-  // Corners on the loop (the nearest loop vertex if a pinch removed one).
+  return loop;
+}
+
+// The corners on the loop (the nearest loop vertex where a pinch removed
+// one), the loop turned to start at the first; checks that the curves run
+// front, right, back, left. Writes the corners' vertices.
+std::array<std::size_t, 4> cornersOnLoop(const TriangleMesh& head, std::vector<std::uint32_t>& loop,
+                                         std::array<std::uint32_t, 4>& corner_vertex, const ScalpFail& fail) {
   std::array<std::size_t, 4> corner_at{};
   for (int k = 0; k < 4; ++k) {
     float best = INFINITY;
@@ -361,8 +378,14 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     fail("the four curves must run front, right, back, left around the scalp");
   for (int k = 0; k < 4; ++k) corner_vertex[static_cast<std::size_t>(k)] = loop[corner_at[static_cast<std::size_t>(k)]];
 
-  // Flood the faces on the left of the loop (the scalp, seen from outside).
-  std::unordered_map<std::uint64_t, std::uint32_t> face_of;
+  return corner_at;
+}
+
+// The faces on the left of the loop (the scalp, seen from outside), by a
+// flood that does not cross the loop; `face_of` maps each directed edge to
+// its face.
+std::vector<char> floodScalp(const TriangleMesh& head, const std::vector<std::uint32_t>& loop,
+                             std::unordered_map<std::uint64_t, std::uint32_t>& face_of, const ScalpFail& fail) {
   face_of.reserve(3 * head.triangles.size());
   for (std::uint32_t f = 0; f < head.triangles.size(); ++f)
     for (int k = 0; k < 3; ++k) face_of.emplace(edgeKey(head.triangles[f][k], head.triangles[f][(k + 1) % 3]), f);
@@ -391,8 +414,14 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
       fail("the curves do not separate the scalp from the rest of the head (is the loop closed?)");
   }
 
-  // Trim ears: a region triangle with two edges on the loop (three
-  // consecutive loop vertices) would map to a line on the square's side.
+  return in;
+}
+
+// Trims ears: a region triangle with two edges on the loop (three
+// consecutive loop vertices) would map to a line on the square's side.
+void trimEars(const TriangleMesh& head, const std::unordered_map<std::uint64_t, std::uint32_t>& face_of,
+              const std::array<std::uint32_t, 4>& corner_vertex, std::vector<std::uint32_t>& loop,
+              std::vector<char>& in) {
   for (bool changed = true; changed && loop.size() > 8;) {
     changed = false;
     for (std::size_t i = 0; i < loop.size() && loop.size() > 8; ++i) {
@@ -411,12 +440,52 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
       changed = true;
     }
   }
+}
+
+}  // namespace
+
+MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCurves& curves,
+                     const std::string& source) {
+  const ScalpFail fail{source};
+  for (int k = 0; k < 4; ++k)
+    if (curves.control[static_cast<std::size_t>(k)].size() < 2)
+      fail(std::string(kCurveName[k]) + " curve needs at least two control points");
+
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& v : head_in.vertices) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const float size = glm::length(hi - lo);
+  const TriangleMesh head = refined(head_in, size / 150.0);
+  const std::vector<glm::vec3> vnormal = vertexNormals(head);
+  const double edge = meanEdgeLength(head);
+
+  const CurveSamples curve = curveSamples(curves, curveCorners(curves, size, fail), sdf, edge);
+  polyline_ = curve.samples;
+  const std::vector<std::uint32_t> near = nearestVertices(head, curve.samples);
+  std::vector<std::uint32_t> loop = trimmingLoop(head, near, fail);
+  if (loop.size() < 8) fail("the curves enclose too small a region (" + std::to_string(loop.size()) + " boundary vertices)");
+  std::array<std::uint32_t, 4> corner_vertex{};
+  for (int k = 0; k < 4; ++k) corner_vertex[static_cast<std::size_t>(k)] = near[curve.corner_sample[static_cast<std::size_t>(k)]];
+  std::array<std::size_t, 4> corner_at = cornersOnLoop(head, loop, corner_vertex, fail);
+  std::unordered_map<std::uint64_t, std::uint32_t> face_of;
+  std::vector<char> in = floodScalp(head, loop, face_of, fail);
+  trimEars(head, face_of, corner_vertex, loop, in);
   // Corners on the loop again after the trimming.
   for (int k = 0; k < 4; ++k)
     corner_at[static_cast<std::size_t>(k)] = static_cast<std::size_t>(
         std::find(loop.begin(), loop.end(), corner_vertex[static_cast<std::size_t>(k)]) - loop.begin());
+  takeSubmesh(head, vnormal, in, loop);
+  std::vector<char> fixed = mapBoundary(loop, corner_at);
+  mapInterior(fixed, fail);
+  buildSampling();
+}
 
-  // The scalp submesh.
+// The scalp submesh: the flooded faces of `head`, their vertices renumbered;
+// the loop as the boundary.
+void MeshScalp::takeSubmesh(const TriangleMesh& head, const std::vector<glm::vec3>& vnormal,
+                            const std::vector<char>& in, const std::vector<std::uint32_t>& loop) {
   std::vector<std::uint32_t> local(head.vertices.size(), UINT32_MAX);
   for (std::uint32_t f = 0; f < head.triangles.size(); ++f) {
     if (!in[f]) continue;
@@ -432,10 +501,15 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     }
     tri_.push_back(t);
   }
-  const std::size_t nv = pos_.size();
   for (std::uint32_t v : loop) boundary_.push_back(local[v]);
 
-  // Boundary on the square's sides by arc length between the corners.
+}
+
+// The boundary on the square's sides by arc length between the corners;
+// returns which vertices the map fixes.
+std::vector<char> MeshScalp::mapBoundary(const std::vector<std::uint32_t>& loop,
+                                         const std::array<std::size_t, 4>& corner_at) {
+  const std::size_t nv = pos_.size();
   uv_.assign(nv, glm::vec2(0.0f));
   std::vector<char> fixed(nv, 0);
   const glm::vec2 square[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -454,7 +528,15 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
     }
   }
 
-  // Harmonic map: sum_j w_ij (x_i - x_j) = 0 at interior vertices.
+  return fixed;
+}
+
+// The harmonic map (method.md §6.1): sum_j w_ij (x_i - x_j) = 0 at the
+// interior vertices, cotangent weights, or Floater's mean-value weights
+// where those fold a triangle over.
+template <class Fail>
+void MeshScalp::mapInterior(const std::vector<char>& fixed, const Fail& fail) {
+  const std::size_t nv = pos_.size();
   std::vector<std::uint32_t> row(nv, UINT32_MAX);
   std::uint32_t interior = 0;
   for (std::size_t v = 0; v < nv; ++v)
@@ -533,7 +615,11 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
   if (report_.flipped > 0)
     fail(std::to_string(report_.flipped) + " triangles fold over in the (u, v) map; check the curves");
 
-  // Area table for uniform sampling and buckets for f^-1.
+}
+
+// The area table for uniform sampling and the (u, v) buckets for f^-1.
+void MeshScalp::buildSampling() {
+  const std::size_t nv = pos_.size();
   area_cdf_.resize(tri_.size());
   double total = 0;
   for (std::size_t t = 0; t < tri_.size(); ++t) {

@@ -64,6 +64,12 @@ class MeshScalp final : public ScalpSurface {
   const std::vector<glm::vec3>& curvePolyline() const { return polyline_; }
 
  private:
+  void takeSubmesh(const TriangleMesh& head, const std::vector<glm::vec3>& vnormal, const std::vector<char>& in,
+                   const std::vector<std::uint32_t>& loop);
+  std::vector<char> mapBoundary(const std::vector<std::uint32_t>& loop, const std::array<std::size_t, 4>& corner_at);
+  template <class Fail>
+  void mapInterior(const std::vector<char>& fixed, const Fail& fail);
+  void buildSampling();
   /// Triangle containing uv (or the nearest one) and its barycentrics.
   std::uint32_t locate(glm::vec2 uv, glm::vec3& bary) const;
 
