@@ -101,6 +101,7 @@ class StrandField {
   const StrandFieldOptions& options() const { return options_; }
 
  private:
+  class Deformer;  // one deform call's work (strand_field.cpp)
   StrandSet rest_;
   StrandFieldOptions options_;
   int k_ = 4;

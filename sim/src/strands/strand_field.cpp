@@ -316,6 +316,277 @@ void StrandField::particleMotions(std::span<const glm::vec3> x, std::span<const 
   });
 }
 
+// One deform call's work (StrandField::deform): the strands carried by the
+// particles, then pushed out of the bodies and held near their rest
+// lengths, a block of strands at a time.
+class StrandField::Deformer {
+ public:
+  Deformer(const StrandField& f, std::span<const glm::vec3> x_in, const BodyContacts* bodies_in,
+           const std::vector<float>& phi, std::vector<glm::vec3>& out_in)
+      : rest_(f.rest_), bind_index_(f.bind_index_), bind_weight_(f.bind_weight_), detail_(f.detail_),
+        rest_length_(f.rest_length_), k(static_cast<std::size_t>(f.k_)), tol(f.options_.length_tolerance),
+        clearance(f.options_.clearance), x(x_in), bodies(bodies_in), particle_phi(phi), out(out_in) {}
+
+  /// Strands [s0, s1): carried, then (with bodies) pushed out and held.
+  void deformBlock(std::size_t s0, std::size_t s1, const std::vector<glm::mat3>& rot,
+                   const std::vector<glm::vec3>& shift);
+
+ private:
+  // The points of strands [s0, s1) that may be nearer than `threshold` to a
+  // body, strand roots excepted (they stay where their particles put them,
+  // on the scalp): the distance is 1-Lipschitz, so phi(p) >= phi_k -
+  // |p - x_k| for each carrier k, with phi_k a lower bound of its
+  // particle's distance; the others need no query. (Pushing out by the
+  // grid's error in the rough rounds, so that no exact query would be
+  // needed, halved the time but bent strands where the grid's normals turn:
+  // the 99th percentile of the bend went from 41 to 69 degrees on hang.json.)
+  // (appended to `which`, in order)
+  void selectNearStrand(std::size_t s, float threshold, std::vector<std::uint32_t>& which) const;
+  void selectNear(std::size_t s0, std::size_t s1, float threshold, std::vector<std::uint32_t>& which) const;
+  // A point deep in a thin part (an ear), pushed to the part's far side:
+  // the segment from the point before it (`outside`, pushed already) enters
+  // the body at c (bisection on the exact distance), and the point goes to
+  // the clearance over the tangent plane there, so the strand lies along
+  // the side it came from; where that is not outside either, to c itself.
+  // `pushed` (the push to the nearest side) stands where the point before
+  // is not outside (a root a rounding inside the scalp).
+  glm::vec3 nearSidePush(const glm::vec3& outside, const glm::vec3& inside, const glm::vec3& pushed) const;
+  // Queries the points `which` (`rough`: by the fast approximation) and
+  // pushes those nearer than `trigger` out to the clearance; `which` keeps
+  // the points it moved.
+  void pushOut(bool rough, float trigger, std::vector<std::uint32_t>& which, std::vector<glm::vec3>& pts,
+               std::vector<float>& phi, std::vector<glm::vec3>& nrm);
+  // rebuilds strand s from its root with every segment as it is now but
+  // held within the tolerance of its rest length: a stretched segment is
+  // shortened along itself, a squeezed one lengthened and turned towards
+  // the carried rest direction of the segment (`carried`, indexed from the
+  // block's first point `b0`) the more it is squeezed, so a strand squeezed
+  // by the particles lies out instead of folding. The segments are taken
+  // as they are, not towards the old places of the points after them, so a
+  // correction moves the rest of the strand with it (no zigzag).
+  void limitLengths(std::size_t s, std::size_t b0, const std::vector<glm::vec3>& carried);
+  // true if it moved any point
+  bool trimTip(std::size_t s);
+  /// Strands [s0, s1) carried by the particles, then smoothed along the
+  /// strand with the rest strand's detail put back in the carried frame:
+  /// p = S(p) + M d; `carried`: each rest segment's direction, turned.
+  void carry(std::size_t s0, std::size_t s1, const std::vector<glm::mat3>& rot, const std::vector<glm::vec3>& shift,
+             std::vector<glm::vec3>& carried);
+
+  const StrandSet& rest_;
+  const std::vector<std::uint32_t>& bind_index_;
+  const std::vector<float>& bind_weight_;
+  const std::vector<glm::vec3>& detail_;
+  const std::vector<float>& rest_length_;
+  const std::size_t k;
+  const float tol, clearance;
+  std::span<const glm::vec3> x;
+  const BodyContacts* bodies;
+  const std::vector<float>& particle_phi;
+  std::vector<glm::vec3>& out;
+};
+
+void StrandField::Deformer::selectNearStrand(std::size_t s, float threshold, std::vector<std::uint32_t>& which) const {
+  for (std::uint32_t q = rest_.first[s] + 1; q < rest_.first[s + 1]; ++q) {
+    float bound = -INFINITY;
+    for (std::size_t i = 0; i < k; ++i) {
+      const std::uint32_t j = bind_index_[q * k + i];
+      bound = std::max(bound, particle_phi[j] - glm::length(out[q] - x[j]));
+    }
+    if (bound < threshold) which.push_back(q);
+  }
+}
+
+void StrandField::Deformer::selectNear(std::size_t s0, std::size_t s1, float threshold, std::vector<std::uint32_t>& which) const {
+  which.clear();
+  for (std::size_t s = s0; s < s1; ++s) selectNearStrand(s, threshold, which);
+}
+
+glm::vec3 StrandField::Deformer::nearSidePush(const glm::vec3& outside, const glm::vec3& inside, const glm::vec3& pushed) const {
+  glm::vec3 lo = outside, hi = inside, at = outside;
+  float f = 0.0f;
+  glm::vec3 n(0.0f);
+  auto ask = [&](const glm::vec3& point) {
+    at = point;
+    (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, false, std::span<float>(&f, 1),
+              std::span<glm::vec3>(&n, 1));
+  };
+  ask(lo);
+  if (!(f >= 0.0f)) return pushed;
+  glm::vec3 n_lo = n;
+  for (int it = 0; it < kEntryBisections; ++it) {
+    ask(0.5f * (lo + hi));
+    if (f >= 0.0f) {
+      lo = at;
+      n_lo = n;
+    } else {
+      hi = at;
+    }
+  }
+  const float height = glm::dot(inside - lo, n_lo);
+  const glm::vec3 over = inside + (clearance - height) * n_lo;
+  ask(over);
+  return f >= 0.0f ? over : lo + clearance * n_lo;
+}
+
+void StrandField::Deformer::pushOut(bool rough, float trigger, std::vector<std::uint32_t>& which,
+                                    std::vector<glm::vec3>& pts, std::vector<float>& phi,
+                                    std::vector<glm::vec3>& nrm) {
+  if (which.empty()) return;
+  pts.resize(which.size());
+  for (std::size_t m = 0; m < which.size(); ++m) pts[m] = out[which[m]];
+  phi.resize(which.size());
+  nrm.resize(which.size());
+  (*bodies)(pts, std::max(trigger, 1e-6f), rough, phi, nrm);
+  std::size_t kept = 0;
+  for (std::size_t m = 0; m < which.size(); ++m) {
+    if (!(phi[m] < trigger)) continue;
+    const std::uint32_t q = which[m];
+    glm::vec3 pushed = out[q] + (clearance - phi[m]) * nrm[m];
+    // A point deep in a thin part (an ear) is nearest to its far side:
+    // pushed there, its segment would reach through the part, so it goes
+    // over the side the strand came from instead.
+    if (glm::length(pushed - out[q - 1]) > kThroughStretch * rest_length_[q - 1])
+      pushed = nearSidePush(out[q - 1], out[q], pushed);
+    out[q] = pushed;
+    which[kept++] = q;
+  }
+  which.resize(kept);
+}
+
+void StrandField::Deformer::limitLengths(std::size_t s, std::size_t b0, const std::vector<glm::vec3>& carried) {
+  const std::uint32_t b = rest_.first[s], e = rest_.first[s + 1];
+  glm::vec3 prev_old = out[b];
+  for (std::uint32_t q = b + 1; q < e; ++q) {
+    const glm::vec3 cur_old = out[q];
+    glm::vec3 d = cur_old - prev_old;
+    prev_old = cur_old;
+    const float len = glm::length(d), l0 = rest_length_[q - 1];
+    const float hi = l0 * (1.0f + tol), lo = l0 * (1.0f - tol);
+    if (len > hi) {
+      d *= hi / len;
+    } else if (len < lo) {
+      // continuous: no turn at the limit itself
+      glm::vec3 dir = d + (lo - len) * carried[q - 1 - b0];
+      const float dl = glm::length(dir);
+      d = (dl > 1e-7f * l0 ? dir / dl : carried[q - 1 - b0]) * lo;
+    }
+    out[q] = out[q - 1] + d;
+  }
+}
+
+bool StrandField::Deformer::trimTip(std::size_t s) {
+  const std::uint32_t b = rest_.first[s], e = rest_.first[s + 1];
+  double len = 0, rest = 0;
+  for (std::uint32_t q = b + 1; q < e; ++q) {
+    len += glm::length(out[q] - out[q - 1]);
+    rest += rest_length_[q - 1];
+  }
+  if (len < rest * (1.0 - tol)) {
+    // squeezed (points pushed together onto a body): the tip goes on
+    // along its last segment by what is missing
+    const glm::vec3 d = out[e - 1] - out[e - 2];
+    const float l = glm::length(d);
+    if (!(l > 0.0f)) return false;
+    out[e - 1] += d * static_cast<float>((rest * (1.0 - tol) - len) / static_cast<double>(l));
+    return true;
+  }
+  double excess = len - rest * (1.0 + tol);
+  if (!(excess > 0.0)) return false;
+  bool moved = false;
+  // shorten the segments from the tip back, each by at most half of it,
+  // carrying every move on to the points after it
+  for (std::uint32_t q = e - 1; q > b && excess > 0.0; --q) {
+    const glm::vec3 d = out[q] - out[q - 1];
+    const float l = glm::length(d);
+    const float cut = static_cast<float>(std::min(excess, 0.5 * static_cast<double>(l)));
+    if (!(l > 0.0f) || cut <= 0.0f) continue;
+    const glm::vec3 move = -d * (cut / l);
+    for (std::uint32_t r = q; r < e; ++r) out[r] += move;
+    excess -= cut;
+    moved = true;
+  }
+  return moved;
+}
+
+void StrandField::Deformer::carry(std::size_t s0, std::size_t s1, const std::vector<glm::mat3>& rot,
+                                  const std::vector<glm::vec3>& shift, std::vector<glm::vec3>& carried) {
+  const std::size_t b = rest_.first[s0];
+  std::vector<glm::vec3> raw;
+  std::vector<glm::mat3> frame;
+  for (std::size_t s = s0; s < s1; ++s) {
+    const std::size_t sb = rest_.first[s], n = rest_.first[s + 1] - sb;
+    raw.resize(n);
+    frame.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t q = sb + j;
+      const std::uint32_t* idx = &bind_index_[q * k];
+      const float* w = &bind_weight_[q * k];
+      glm::vec3 c(0.0f);
+      glm::mat3 m(0.0f);
+      for (std::size_t i = 0; i < k; ++i) {
+        c += w[i] * shift[idx[i]];
+        m += w[i] * rot[idx[i]];
+      }
+      raw[j] = m * rest_.points[q] + c;
+      frame[j] = m;
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      out[sb + j] = smoothAt(j, n, [&](std::size_t i) { return raw[i]; }) + frame[j] * detail_[sb + j];
+      // the rest segment's direction, turned as the particles turn
+      if (j + 1 < n) {
+        const glm::vec3 seg = frame[j] * (rest_.points[sb + j + 1] - rest_.points[sb + j]);
+        const float sl = glm::length(seg);
+        carried[sb + j - b] = sl > 0.0f ? seg / sl : glm::vec3(0.0f, -1.0f, 0.0f);
+      }
+    }
+  }
+}
+
+void StrandField::Deformer::deformBlock(std::size_t s0, std::size_t s1, const std::vector<glm::mat3>& rot,
+                                        const std::vector<glm::vec3>& shift) {
+  const std::size_t b = rest_.first[s0], e = rest_.first[s1];
+  std::vector<glm::vec3> carried(e - b);
+  carry(s0, s1, rot, shift, carried);
+  std::vector<float> phi;
+  std::vector<glm::vec3> nrm, pts;
+  std::vector<std::uint32_t> which;
+  if (!bodies) {
+    for (std::size_t s = s0; s < s1; ++s) limitLengths(s, b, carried);
+    return;
+  }
+  // the push out of the bodies (by their fast approximation) and the
+  // length limit, in turn; then exact pushes, so no point is left inside
+  for (int round = 0; round < kRoughRounds; ++round) {
+    selectNear(s0, s1, clearance, which);
+    pushOut(true, clearance, which, pts, phi, nrm);
+    for (std::size_t s = s0; s < s1; ++s) limitLengths(s, b, carried);
+  }
+  // last, exact pushes until no point is left inside: the points pushed
+  // are queried again (one pushed out of a body into another, in a
+  // crease, needs more than one)
+  selectNear(s0, s1, 1e-6f, which);
+  for (int round = 0; round < kFinalPushes && !which.empty(); ++round) pushOut(false, 0.0f, which, pts, phi, nrm);
+  // Pushes around a convex body lengthen a strand, pushes together onto
+  // it shorten one; beyond the tolerance this is mended at the tip end:
+  // points move along their segments (a chord of a segment's length dips
+  // less than the clearance into a head), and the points are checked once
+  // more.
+  // Only the points of strands trimmed and those the last push moved (and
+  // did not check again) can be inside now: the others were found outside
+  // and have not moved, so asking again would change nothing.
+  std::vector<std::uint32_t> trimmed, merged;
+  for (int round = 0; round < kTrimRounds; ++round) {
+    trimmed.clear();
+    for (std::size_t s = s0; s < s1; ++s)
+      if (trimTip(s)) selectNearStrand(s, 1e-6f, trimmed);
+    merged.clear();
+    std::set_union(which.begin(), which.end(), trimmed.begin(), trimmed.end(), std::back_inserter(merged));
+    which.swap(merged);
+    for (int p = 0; p < kFinalPushes && !which.empty(); ++p) pushOut(false, 0.0f, which, pts, phi, nrm);
+  }
+}
+
 void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
                          const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads) const {
   if (x.size() != particles_ || t.size() != particles_)
@@ -339,230 +610,13 @@ void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3
                 std::span<glm::vec3>(pn.data() + b, n));
     });
   }
-  const std::size_t np = rest_.points.size();
-  const std::size_t k = static_cast<std::size_t>(k_);
-  out.resize(np);
-  const float tol = options_.length_tolerance, clearance = options_.clearance;
-  // The points of strands [s0, s1) that may be nearer than `threshold` to a
-  // body, strand roots excepted (they stay where their particles put them,
-  // on the scalp): the distance is 1-Lipschitz, so phi(p) >= phi_k -
-  // |p - x_k| for each carrier k, with phi_k a lower bound of its
-  // particle's distance; the others need no query. (Pushing out by the
-  // grid's error in the rough rounds, so that no exact query would be
-  // needed, halved the time but bent strands where the grid's normals turn:
-  // the 99th percentile of the bend went from 41 to 69 degrees on hang.json.)
-  // (appended to `which`, in order)
-  auto selectNearStrand = [&](std::size_t s, float threshold, std::vector<std::uint32_t>& which) {
-    for (std::uint32_t q = rest_.first[s] + 1; q < rest_.first[s + 1]; ++q) {
-      float bound = -INFINITY;
-      for (std::size_t i = 0; i < k; ++i) {
-        const std::uint32_t j = bind_index_[q * k + i];
-        bound = std::max(bound, particle_phi[j] - glm::length(out[q] - x[j]));
-      }
-      if (bound < threshold) which.push_back(q);
-    }
-  };
-  auto selectNear = [&](std::size_t s0, std::size_t s1, float threshold, std::vector<std::uint32_t>& which) {
-    which.clear();
-    for (std::size_t s = s0; s < s1; ++s) selectNearStrand(s, threshold, which);
-  };
-  // A point deep in a thin part (an ear), pushed to the part's far side:
-  // the segment from the point before it (`outside`, pushed already) enters
-  // the body at c (bisection on the exact distance), and the point goes to
-  // the clearance over the tangent plane there, so the strand lies along
-  // the side it came from; where that is not outside either, to c itself.
-  // `pushed` (the push to the nearest side) stands where the point before
-  // is not outside (a root a rounding inside the scalp).
-  auto nearSidePush = [&](const glm::vec3& outside, const glm::vec3& inside, const glm::vec3& pushed) {
-    glm::vec3 lo = outside, hi = inside, at = outside;
-    float f = 0.0f;
-    glm::vec3 n(0.0f);
-    auto ask = [&](const glm::vec3& point) {
-      at = point;
-      (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, false, std::span<float>(&f, 1),
-                std::span<glm::vec3>(&n, 1));
-    };
-    ask(lo);
-    if (!(f >= 0.0f)) return pushed;
-    glm::vec3 n_lo = n;
-    for (int it = 0; it < kEntryBisections; ++it) {
-      ask(0.5f * (lo + hi));
-      if (f >= 0.0f) {
-        lo = at;
-        n_lo = n;
-      } else {
-        hi = at;
-      }
-    }
-    const float height = glm::dot(inside - lo, n_lo);
-    const glm::vec3 over = inside + (clearance - height) * n_lo;
-    ask(over);
-    return f >= 0.0f ? over : lo + clearance * n_lo;
-  };
-  // Queries the points `which` (`rough`: by the fast approximation) and
-  // pushes those nearer than `trigger` out to the clearance; `which` keeps
-  // the points it moved.
-  auto pushOut = [&](bool rough, float trigger, std::vector<std::uint32_t>& which, std::vector<glm::vec3>& pts,
-                     std::vector<float>& phi, std::vector<glm::vec3>& nrm) {
-    if (which.empty()) return;
-    pts.resize(which.size());
-    for (std::size_t m = 0; m < which.size(); ++m) pts[m] = out[which[m]];
-    phi.resize(which.size());
-    nrm.resize(which.size());
-    (*bodies)(pts, std::max(trigger, 1e-6f), rough, phi, nrm);
-    std::size_t kept = 0;
-    for (std::size_t m = 0; m < which.size(); ++m) {
-      if (!(phi[m] < trigger)) continue;
-      const std::uint32_t q = which[m];
-      glm::vec3 pushed = out[q] + (clearance - phi[m]) * nrm[m];
-      // A point deep in a thin part (an ear) is nearest to its far side:
-      // pushed there, its segment would reach through the part, so it goes
-      // over the side the strand came from instead.
-      if (glm::length(pushed - out[q - 1]) > kThroughStretch * rest_length_[q - 1])
-        pushed = nearSidePush(out[q - 1], out[q], pushed);
-      out[q] = pushed;
-      which[kept++] = q;
-    }
-    which.resize(kept);
-  };
-
-  // rebuilds strand s from its root with every segment as it is now but
-  // held within the tolerance of its rest length: a stretched segment is
-  // shortened along itself, a squeezed one lengthened and turned towards
-  // the carried rest direction of the segment (`carried`, indexed from the
-  // block's first point `b0`) the more it is squeezed, so a strand squeezed
-  // by the particles lies out instead of folding. The segments are taken
-  // as they are, not towards the old places of the points after them, so a
-  // correction moves the rest of the strand with it (no zigzag).
-  auto limitLengths = [&](std::size_t s, std::size_t b0, const std::vector<glm::vec3>& carried) {
-    const std::uint32_t b = rest_.first[s], e = rest_.first[s + 1];
-    glm::vec3 prev_old = out[b];
-    for (std::uint32_t q = b + 1; q < e; ++q) {
-      const glm::vec3 cur_old = out[q];
-      glm::vec3 d = cur_old - prev_old;
-      prev_old = cur_old;
-      const float len = glm::length(d), l0 = rest_length_[q - 1];
-      const float hi = l0 * (1.0f + tol), lo = l0 * (1.0f - tol);
-      if (len > hi) {
-        d *= hi / len;
-      } else if (len < lo) {
-        // continuous: no turn at the limit itself
-        glm::vec3 dir = d + (lo - len) * carried[q - 1 - b0];
-        const float dl = glm::length(dir);
-        d = (dl > 1e-7f * l0 ? dir / dl : carried[q - 1 - b0]) * lo;
-      }
-      out[q] = out[q - 1] + d;
-    }
-  };
-
-  // true if it moved any point
-  auto trimTip = [&](std::size_t s) {
-    const std::uint32_t b = rest_.first[s], e = rest_.first[s + 1];
-    double len = 0, rest = 0;
-    for (std::uint32_t q = b + 1; q < e; ++q) {
-      len += glm::length(out[q] - out[q - 1]);
-      rest += rest_length_[q - 1];
-    }
-    if (len < rest * (1.0 - tol)) {
-      // squeezed (points pushed together onto a body): the tip goes on
-      // along its last segment by what is missing
-      const glm::vec3 d = out[e - 1] - out[e - 2];
-      const float l = glm::length(d);
-      if (!(l > 0.0f)) return false;
-      out[e - 1] += d * static_cast<float>((rest * (1.0 - tol) - len) / static_cast<double>(l));
-      return true;
-    }
-    double excess = len - rest * (1.0 + tol);
-    if (!(excess > 0.0)) return false;
-    bool moved = false;
-    // shorten the segments from the tip back, each by at most half of it,
-    // carrying every move on to the points after it
-    for (std::uint32_t q = e - 1; q > b && excess > 0.0; --q) {
-      const glm::vec3 d = out[q] - out[q - 1];
-      const float l = glm::length(d);
-      const float cut = static_cast<float>(std::min(excess, 0.5 * static_cast<double>(l)));
-      if (!(l > 0.0f) || cut <= 0.0f) continue;
-      const glm::vec3 move = -d * (cut / l);
-      for (std::uint32_t r = q; r < e; ++r) out[r] += move;
-      excess -= cut;
-      moved = true;
-    }
-    return moved;
-  };
-
+  out.resize(rest_.points.size());
+  Deformer deformer(*this, x, bodies, particle_phi, out);
   constexpr std::size_t kStrandBlock = 256;
   const std::size_t blocks = (rest_.size() + kStrandBlock - 1) / kStrandBlock;
   parallel::forEachDynamic(threads, blocks, [&](std::size_t blk) {
     const std::size_t s0 = blk * kStrandBlock, s1 = std::min(rest_.size(), s0 + kStrandBlock);
-    const std::size_t b = rest_.first[s0], e = rest_.first[s1];
-    // carried by the particles, then smoothed along the strand with the
-    // rest strand's detail put back in the carried frame: p = S(p) + M d
-    std::vector<glm::vec3> raw, carried(e - b);
-    std::vector<glm::mat3> frame;
-    for (std::size_t s = s0; s < s1; ++s) {
-      const std::size_t sb = rest_.first[s], n = rest_.first[s + 1] - sb;
-      raw.resize(n);
-      frame.resize(n);
-      for (std::size_t j = 0; j < n; ++j) {
-        const std::size_t q = sb + j;
-        const std::uint32_t* idx = &bind_index_[q * k];
-        const float* w = &bind_weight_[q * k];
-        glm::vec3 c(0.0f);
-        glm::mat3 m(0.0f);
-        for (std::size_t i = 0; i < k; ++i) {
-          c += w[i] * shift[idx[i]];
-          m += w[i] * rot[idx[i]];
-        }
-        raw[j] = m * rest_.points[q] + c;
-        frame[j] = m;
-      }
-      for (std::size_t j = 0; j < n; ++j) {
-        out[sb + j] = smoothAt(j, n, [&](std::size_t i) { return raw[i]; }) + frame[j] * detail_[sb + j];
-        // the rest segment's direction, turned as the particles turn
-        if (j + 1 < n) {
-          const glm::vec3 seg = frame[j] * (rest_.points[sb + j + 1] - rest_.points[sb + j]);
-          const float sl = glm::length(seg);
-          carried[sb + j - b] = sl > 0.0f ? seg / sl : glm::vec3(0.0f, -1.0f, 0.0f);
-        }
-      }
-    }
-    std::vector<float> phi;
-    std::vector<glm::vec3> nrm, pts;
-    std::vector<std::uint32_t> which;
-    if (!bodies) {
-      for (std::size_t s = s0; s < s1; ++s) limitLengths(s, b, carried);
-      return;
-    }
-    // the push out of the bodies (by their fast approximation) and the
-    // length limit, in turn; then exact pushes, so no point is left inside
-    for (int round = 0; round < kRoughRounds; ++round) {
-      selectNear(s0, s1, clearance, which);
-      pushOut(true, clearance, which, pts, phi, nrm);
-      for (std::size_t s = s0; s < s1; ++s) limitLengths(s, b, carried);
-    }
-    // last, exact pushes until no point is left inside: the points pushed
-    // are queried again (one pushed out of a body into another, in a
-    // crease, needs more than one)
-    selectNear(s0, s1, 1e-6f, which);
-    for (int round = 0; round < kFinalPushes && !which.empty(); ++round) pushOut(false, 0.0f, which, pts, phi, nrm);
-    // Pushes around a convex body lengthen a strand, pushes together onto
-    // it shorten one; beyond the tolerance this is mended at the tip end:
-    // points move along their segments (a chord of a segment's length dips
-    // less than the clearance into a head), and the points are checked once
-    // more.
-    // Only the points of strands trimmed and those the last push moved (and
-    // did not check again) can be inside now: the others were found outside
-    // and have not moved, so asking again would change nothing.
-    std::vector<std::uint32_t> trimmed, merged;
-    for (int round = 0; round < kTrimRounds; ++round) {
-      trimmed.clear();
-      for (std::size_t s = s0; s < s1; ++s)
-        if (trimTip(s)) selectNearStrand(s, 1e-6f, trimmed);
-      merged.clear();
-      std::set_union(which.begin(), which.end(), trimmed.begin(), trimmed.end(), std::back_inserter(merged));
-      which.swap(merged);
-      for (int p = 0; p < kFinalPushes && !which.empty(); ++p) pushOut(false, 0.0f, which, pts, phi, nrm);
-    }
+    deformer.deformBlock(s0, s1, rot, shift);
   });
 }
 
