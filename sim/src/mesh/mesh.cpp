@@ -487,10 +487,10 @@ void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
   mesh.triangles = std::move(kept);  // unreferenced vertices: checkMesh drops them
 }
 
-MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
-  MeshReport r;
-  if (mesh.triangles.empty() || mesh.vertices.empty())
-    throw MeshError(source + ": the mesh has no triangles");
+namespace {
+
+// Every vertex finite, every corner a vertex.
+void checkFiniteAndIndexed(const TriangleMesh& mesh, const std::string& source) {
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
     const glm::vec3 p = mesh.vertices[v];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
@@ -502,19 +502,11 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
         throw MeshError(source + ": triangle " + std::to_string(t) + " refers to vertex " +
                         std::to_string(mesh.triangles[t][k]) + " of " +
                         std::to_string(mesh.vertices.size()));
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      lo = glm::min(lo, mesh.vertices[t[k]]);
-      hi = glm::max(hi, mesh.vertices[t[k]]);
-    }
-  const glm::vec3 ext = hi - lo;
-  const float diag = glm::length(ext);
-  if (!(diag > 0.0f) || std::min({ext.x, ext.y, ext.z}) <= 1e-6f * diag)
-    throw MeshError(source + ": the mesh is flat or a point (bounding box " + vecText(lo) + " to " +
-                    vecText(hi) + "); a body must enclose a volume");
+}
 
-  // Degenerate triangles: repeated corners or (numerically) no area.
+// Degenerate triangles (repeated corners or, numerically, no area) are
+// dropped; more than a tenth of them is refused.
+void dropDegenerateTriangles(TriangleMesh& mesh, float diag, MeshReport& r, const std::string& source) {
   const double min_area = 1e-14 * static_cast<double>(diag) * diag;
   std::vector<glm::u32vec3> good;
   good.reserve(mesh.triangles.size());
@@ -531,22 +523,37 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
                     " triangles are degenerate (no area or repeated corners)");
   mesh.triangles = std::move(good);
 
-  // Drop unreferenced vertices.
-  {
-    std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
-    std::vector<glm::vec3> kept;
-    for (auto& t : mesh.triangles)
-      for (int k = 0; k < 3; ++k) {
-        auto& v = t[k];
-        if (remap[v] == UINT32_MAX) {
-          remap[v] = static_cast<std::uint32_t>(kept.size());
-          kept.push_back(mesh.vertices[v]);
-        }
-        v = remap[v];
-      }
-    mesh.vertices = std::move(kept);
-  }
+}
 
+// Drops unreferenced vertices.
+void dropUnusedVertices(TriangleMesh& mesh) {
+  std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+  std::vector<glm::vec3> kept;
+  for (auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      auto& v = t[k];
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<std::uint32_t>(kept.size());
+        kept.push_back(mesh.vertices[v]);
+      }
+      v = remap[v];
+    }
+  mesh.vertices = std::move(kept);
+}
+
+// The edges' census: boundary, non-manifold and misoriented edges counted
+// in `r` (too many of the latter two refused); the holes' rims as a map
+// from -> to, and a vertex on two rims (`pinched`) if there is one.
+struct EdgeCensus {
+  std::size_t unique_edges = 0;
+  std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
+  std::uint32_t pinched = UINT32_MAX;                     // a vertex on two rims
+};
+EdgeCensus countEdges(const TriangleMesh& mesh, MeshReport& r, const std::string& source) {
+  EdgeCensus census;
+  std::size_t& unique_edges = census.unique_edges;
+  std::unordered_map<std::uint32_t, std::uint32_t>& next = census.next;
+  std::uint32_t& pinched = census.pinched;
   // Edges: (low, high) with +1 for low->high in a triangle, -1 otherwise.
   struct HalfEdge {
     std::uint64_t key;
@@ -562,9 +569,6 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
     }
   std::sort(edges.begin(), edges.end(),
             [](const HalfEdge& x, const HalfEdge& y) { return x.key < y.key || (x.key == y.key && x.dir < y.dir); });
-  std::size_t unique_edges = 0;
-  std::unordered_map<std::uint32_t, std::uint32_t> next;  // hole edges, from -> to
-  std::uint32_t pinched = UINT32_MAX;                     // a vertex on two rims
   for (std::size_t a = 0; a < edges.size();) {
     std::size_t b = a;
     int sum = 0;
@@ -589,11 +593,42 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
     throw MeshError(source + ": the triangles are not consistently oriented: " +
                     std::to_string(r.misoriented_edges) + " of " + std::to_string(unique_edges) +
                     " edges are traversed the same way by both their triangles");
-  // Holes: trace each boundary loop first, then decide. A few openings
-  // that each close with a flat fan (a head cut off at the neck, a bust cut
-  // flat under the chest or at the arms) are closed, whatever their size; so
-  // are many small gaps (a scan's) while they hold at most 2% of the edges.
-  // Anything more is a surface that does not say where its inside is.
+  return census;
+}
+
+// The holes' rims as closed loops of vertices, in a fixed order.
+std::vector<std::vector<std::uint32_t>> holeLoops(const std::unordered_map<std::uint32_t, std::uint32_t>& next,
+                                                  const std::string& source) {
+  std::vector<std::vector<std::uint32_t>> loops;
+  std::vector<std::uint32_t> starts;
+  for (const auto& [from, to] : next) starts.push_back(from);
+  std::sort(starts.begin(), starts.end());  // deterministic order of the loops
+  std::unordered_set<std::uint32_t> done;
+  for (std::uint32_t start : starts) {
+    if (done.count(start)) continue;
+    std::vector<std::uint32_t> loop;
+    std::uint32_t v = start;
+    do {
+      loop.push_back(v);
+      done.insert(v);
+      auto it = next.find(v);
+      if (it == next.end() || loop.size() > next.size())
+        throw MeshError(source + ": a hole's boundary does not close on itself");
+      v = it->second;
+    } while (v != start);
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+// Holes: traced, then a few openings that
+// each close with a flat fan (a head cut off at the neck, a bust cut flat
+// under the chest or at the arms) are closed, whatever their size; so are
+// many small gaps (a scan's) while they hold at most 2% of the edges.
+// Anything more is a surface that does not say where its inside is.
+void closeHoles(TriangleMesh& mesh, const EdgeCensus& census, MeshReport& r, const std::string& source) {
+  const std::size_t unique_edges = census.unique_edges;
+  const std::uint32_t pinched = census.pinched;
   const bool small_gaps = r.boundary_edges * 50 <= unique_edges;
   auto refuse = [&](const std::string& holes) {
     char share[96];
@@ -612,27 +647,7 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
                     "teeth modelled as open shells against the face); remove those parts or close "
                     "them in a modeller");
   }
-  std::vector<std::vector<std::uint32_t>> loops;
-  {
-    std::vector<std::uint32_t> starts;
-    for (const auto& [from, to] : next) starts.push_back(from);
-    std::sort(starts.begin(), starts.end());  // deterministic order of the loops
-    std::unordered_set<std::uint32_t> done;
-    for (std::uint32_t start : starts) {
-      if (done.count(start)) continue;
-      std::vector<std::uint32_t> loop;
-      std::uint32_t v = start;
-      do {
-        loop.push_back(v);
-        done.insert(v);
-        auto it = next.find(v);
-        if (it == next.end() || loop.size() > next.size())
-          throw MeshError(source + ": a hole's boundary does not close on itself");
-        v = it->second;
-      } while (v != start);
-      loops.push_back(std::move(loop));
-    }
-  }
+  const std::vector<std::vector<std::uint32_t>> loops = holeLoops(census.next, source);
   // A loop's fan is flat enough when no triangle of it folds back against
   // the loop's area vector (seen along it, the rim goes once around the centroid).
   std::vector<glm::dvec3> centres;
@@ -670,10 +685,12 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
       mesh.triangles.emplace_back(loop[k], loop[(k + 1) % loop.size()], centre);
     ++r.holes_filled;
   }
+}
 
-  r.components = meshParts(mesh).count();
-
-  // Enclosed volume; a mesh turned inside out is turned back.
+// The enclosed volume about the box's centre; a mesh turned inside out is
+// turned back; almost none is refused.
+double orientedVolume(TriangleMesh& mesh, glm::vec3 lo, glm::vec3 hi, MeshReport& r, const std::string& source) {
+  const glm::vec3 ext = hi - lo;
   double vol = 0;
   const glm::dvec3 c0 = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
   for (const auto& t : mesh.triangles) {
@@ -690,7 +707,34 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
   if (!(vol > 1e-4 * box))
     throw MeshError(source + ": the mesh encloses almost no volume (" + std::to_string(vol) +
                     " m^3 in a bounding box of " + std::to_string(box) + " m^3)");
-  r.volume = vol;
+  return vol;
+}
+
+}  // namespace
+
+MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
+  MeshReport r;
+  if (mesh.triangles.empty() || mesh.vertices.empty())
+    throw MeshError(source + ": the mesh has no triangles");
+  checkFiniteAndIndexed(mesh, source);
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      lo = glm::min(lo, mesh.vertices[t[k]]);
+      hi = glm::max(hi, mesh.vertices[t[k]]);
+    }
+  const glm::vec3 ext = hi - lo;
+  const float diag = glm::length(ext);
+  if (!(diag > 0.0f) || std::min({ext.x, ext.y, ext.z}) <= 1e-6f * diag)
+    throw MeshError(source + ": the mesh is flat or a point (bounding box " + vecText(lo) + " to " +
+                    vecText(hi) + "); a body must enclose a volume");
+
+  dropDegenerateTriangles(mesh, diag, r, source);
+  dropUnusedVertices(mesh);
+  const EdgeCensus census = countEdges(mesh, r, source);
+  closeHoles(mesh, census, r, source);
+  r.components = meshParts(mesh).count();
+  r.volume = orientedVolume(mesh, lo, hi, r, source);
   r.vertices = mesh.vertices.size();
   r.triangles = mesh.triangles.size();
   r.lower = lo;
