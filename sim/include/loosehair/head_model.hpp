@@ -73,6 +73,8 @@ class HeadModel {
 
  private:
   HeadModel();
+  void buildMeshHead(const HeadDesc& desc, const std::string& source, const MeshLimits& limits, BuildReport& rep);
+  void buildScalpTables();
   HeadDesc desc_;
   std::shared_ptr<const Body> head_, torso_;
   std::unique_ptr<ScalpSurface> scalp_;

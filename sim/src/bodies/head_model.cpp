@@ -129,200 +129,222 @@ std::vector<TriangleMesh> collisionPieces(const TriangleMesh& mesh) {
   return pieces;
 }
 
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+
+std::string metres(double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.3g m", v);
+  return std::string(buf);
+}
+
+// A head or torso mesh as the scene names it (`field`), refused where the
+// collision structures would take too much memory (about 360 bytes a
+// triangle: 5 million took 1.8 GB and half a minute; refused from the
+// file's header where it has one, before the mesh is read).
+TriangleMesh loadBodyMesh(const MeshSpec& spec, const std::string& field, const std::string& source,
+                          const MeshLimits& limits, BuildReport& rep) {
+  TriangleMesh mesh;
+  const auto t0 = Clock::now();
+  MeshReport mesh_report;
+  MeshLoadOptions load = spec.load;
+  load.max_faces = limits.max_triangles;
+  try {
+    mesh = loadMesh(spec.path, load, &mesh_report);
+  } catch (const MeshTooLargeError& e) {
+    throw SceneError(source + ": " + field + ".mesh: " + e.what() +
+                     " (about 360 bytes of memory a triangle): decimate it (or --allow-expensive)");
+  } catch (const MeshError& e) {
+    throw SceneError(source + ": " + field + ".mesh: " + e.what());
+  }
+  rep.seconds_meshes += since(t0);
+  if (mesh_report.parts_dropped > 0)
+    rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
+                           " open part(s) besides the largest (" +
+                           std::to_string(mesh_report.triangles_dropped) +
+                           " triangles: eyes, teeth or helper geometry enclose no volume); the hair "
+                           "collides with the rest");
+  return mesh;
+}
+
+// The mesh's size and placement checked (no size, far from the origin, a
+// head far from human size, a distance grid too large); warnings into
+// `rep`. Returns the mesh's bounding box extent.
+glm::vec3 checkBodyMesh(const TriangleMesh& mesh, const MeshSpec& spec, const std::string& field,
+                        const std::string& source, const MeshLimits& limits, BuildReport& rep) {
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const glm::vec3& v : mesh.vertices) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const glm::vec3 extent = hi - lo;
+  const float size = std::max({extent.x, extent.y, extent.z});
+  // A head or body of no size (a tiny scale) has no surface to hang hair on
+  if (!(size >= 1e-3f))
+    throw SceneError(source + ": " + field + ".scale: the mesh is " + metres(size) +
+                     " across after scaling (scale " + num(spec.load.scale) +
+                     "); a " + field + " is tenths of a metre: set " + field +
+                     ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
+  // Positions are single precision: far from the origin they are coarse
+  // against the mesh (at its bounding box's farthest corner)
+  const float reach = glm::length(glm::max(glm::abs(lo), glm::abs(hi)));
+  const float spacing = reach * std::numeric_limits<float>::epsilon();
+  if (spacing > kWarnPositionSpacing * size) {
+    const glm::vec3 mid = 0.5f * (lo + hi);
+    const std::string text =
+        std::filesystem::path(spec.path).filename().string() + ": the mesh lies " + metres(reach) +
+        " from the origin, where positions are " + metres(spacing) + " apart (" + num(spacing / size) +
+        " of its " + metres(size) + " size): move it near the origin with " + field + ".offset [" +
+        num(-mid.x) + ", " + num(-mid.y) + ", " + num(-mid.z) + "]";
+    if (spacing > kMaxPositionSpacing * size) throw SceneError(source + ": " + field + ".mesh: " + text);
+    rep.warnings.push_back(field + ".mesh: " + text);
+  }
+  if (field == "head")
+    for (std::string& w : headOrientationWarnings(mesh, field)) rep.warnings.push_back(std::move(w));
+  // a whole body in metres (1.2-2.3 m tall, and taller than wide or deep)
+  // is a head with a body below it, not a head in the wrong unit
+  const bool whole_body = extent.y >= 1.2f && extent.y <= 2.3f && extent.y >= std::max(extent.x, extent.z);
+  // The head's own width: across the top 30% of the mesh's height, where a
+  // bust's or a body's head is (a bust with arms is 0.8 m across, its head
+  // 0.2 m); for a head alone, the width of its crown
+  glm::vec2 top_lo(INFINITY), top_hi(-INFINITY);
+  for (const glm::vec3& v : mesh.vertices)
+    if (v.y >= hi.y - 0.3f * extent.y) {
+      top_lo = glm::min(top_lo, glm::vec2(v.x, v.z));
+      top_hi = glm::max(top_hi, glm::vec2(v.x, v.z));
+    }
+  const float head_width = std::max(top_hi.x - top_lo.x, top_hi.y - top_lo.y);
+  if (field == "head" && (head_width < 0.08f || (head_width > 0.6f && !whole_body)))
+    rep.warnings.push_back(field + ": the mesh's head is " + metres(head_width) + " across (the whole mesh " +
+                           metres(size) + "), far from a human head (about 0.2 m); if its unit is not the metre, set " +
+                           field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
+  if (spec.sdf_voxel > 0.0f) {
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
+    if (cells > limits.max_sdf_cells)
+      throw SceneError(source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
+                       " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
+                       " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
+                       " GB), above the limit of " +
+                       std::to_string(static_cast<long long>(limits.max_sdf_cells / 1e6)) +
+                       " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
+  }
+  return extent;
+}
+
+// The collision body of a mesh: its signed-distance grid (baked, or from
+// the cache) under the exact triangles; separate parts that may overlap (a
+// neck pushed into a bust) each a body of their own, the union of them the
+// body (body.hpp's UnionBody); small parts stay with the largest.
+std::shared_ptr<const Body> bakeBody(const TriangleMesh& mesh, const MeshSpec& spec, const std::string& field,
+                                     const std::string& source, float size, BuildReport& rep) {
+  const std::string cache = GridSdfBody::defaultCacheDir();
+  const auto t0 = Clock::now();
+  SdfBakeOptions opt;
+  opt.voxel_size = spec.sdf_voxel;
+  // 4 cm around a head, less around a tiny one (a mesh in the wrong unit):
+  // its automatic voxels are tiny too, and a 4 cm margin of them made a
+  // 2 cm head bake for a minute
+  opt.margin = std::min(opt.margin, 0.25f * size);
+  opt.cache_dir = cache;
+  bool all_cached = true;
+  auto bodyOf = [&](const TriangleMesh& piece) {
+    bool cached = false;
+    std::shared_ptr<GridSdfBody> grid;
+    try {
+      grid = GridSdfBody::bake(piece, opt, &cached);
+    } catch (const MeshError& e) {
+      throw SceneError(source + ": " + field + ".sdf_voxel: " + e.what());
+    } catch (const std::bad_alloc&) {
+      throw SceneError(source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
+    } catch (const std::exception& e) {
+      throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) +
+                       ")");
+    }
+    all_cached = all_cached && cached;
+    return std::make_shared<MeshBody>(piece, grid);
+  };
+  const std::vector<TriangleMesh> pieces = collisionPieces(mesh);
+  std::shared_ptr<const Body> result;
+  if (pieces.size() == 1) {
+    result = bodyOf(mesh);
+  } else {
+    auto joined = std::make_shared<UnionBody>();
+    for (const TriangleMesh& piece : pieces) joined->add(bodyOf(piece));
+    result = joined;
+  }
+  rep.sdf_from_cache = all_cached;
+  rep.seconds_sdf += since(t0);
+  return result;
+}
+
+// A head or torso from its mesh: loaded, checked, its body baked.
+std::shared_ptr<const Body> meshBody(const MeshSpec& spec, const std::string& field, const std::string& source,
+                                     const MeshLimits& limits, BuildReport& rep, TriangleMesh& mesh) {
+  mesh = loadBodyMesh(spec, field, source, limits, rep);
+  const glm::vec3 extent = checkBodyMesh(mesh, spec, field, source, limits, rep);
+  return bakeBody(mesh, spec, field, source, std::max({extent.x, extent.y, extent.z}), rep);
+}
+
+// A sphere head of no size is refused, one far from human size warned of.
+void checkSphereHead(const HeadDesc& desc, const std::string& source, BuildReport& rep) {
+  if (desc.head_radius < 5e-4)
+    throw SceneError(source + ": head.radius: " + num(desc.head_radius) +
+                     " m has no surface to hang hair on; a human head is about 0.1 m");
+  if (desc.head_radius < 0.04 || desc.head_radius > 0.3)
+    rep.warnings.push_back("head.radius: " + num(desc.head_radius) +
+                           " m is far from a human head (about 0.1 m)");
+}
+
 }  // namespace
+
 
 HeadModel::HeadModel() = default;
 HeadModel::HeadModel(HeadModel&&) noexcept = default;
 HeadModel& HeadModel::operator=(HeadModel&&) noexcept = default;
 HeadModel::~HeadModel() = default;
 
-HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, const MeshLimits& limits,
-                           BuildReport* report) {
-  using Clock = std::chrono::steady_clock;
-  auto since = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
-  BuildReport local;
-  BuildReport& rep = report ? *report : local;
-  HeadModel m;
-  m.desc_ = desc;
-  const std::string cache = GridSdfBody::defaultCacheDir();
-  auto meshBody = [&](const MeshSpec& spec, const std::string& field, TriangleMesh& mesh) {
-    auto t0 = Clock::now();
-    MeshReport mesh_report;
-    // what the collision structures built on it take (about 360 bytes a
-    // triangle: 5 million took 1.8 GB and half a minute); refused from the
-    // file's header where it has one, before the mesh is read
-    MeshLoadOptions load = spec.load;
-    load.max_faces = limits.max_triangles;
-    try {
-      mesh = loadMesh(spec.path, load, &mesh_report);
-    } catch (const MeshTooLargeError& e) {
-      throw SceneError(source + ": " + field + ".mesh: " + e.what() +
-                       " (about 360 bytes of memory a triangle): decimate it (or --allow-expensive)");
-    } catch (const MeshError& e) {
-      throw SceneError(source + ": " + field + ".mesh: " + e.what());
-    }
-    rep.seconds_meshes += since(t0);
-    if (mesh_report.parts_dropped > 0)
-      rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
-                             " open part(s) besides the largest (" +
-                             std::to_string(mesh_report.triangles_dropped) +
-                             " triangles: eyes, teeth or helper geometry enclose no volume); the hair "
-                             "collides with the rest");
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const glm::vec3& v : mesh.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-    const glm::vec3 extent = hi - lo;
-    const float size = std::max({extent.x, extent.y, extent.z});
-    auto metres = [](double v) {
-      char buf[48];
-      std::snprintf(buf, sizeof buf, "%.3g m", v);
-      return std::string(buf);
-    };
-    // A head or body of no size (a tiny scale) has no surface to hang hair on
-    if (!(size >= 1e-3f))
-      throw SceneError(source + ": " + field + ".scale: the mesh is " + metres(size) +
-                       " across after scaling (scale " + num(spec.load.scale) +
-                       "); a " + field + " is tenths of a metre: set " + field +
-                       ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
-    // Positions are single precision: far from the origin they are coarse
-    // against the mesh (at its bounding box's farthest corner)
-    const float reach = glm::length(glm::max(glm::abs(lo), glm::abs(hi)));
-    const float spacing = reach * std::numeric_limits<float>::epsilon();
-    if (spacing > kWarnPositionSpacing * size) {
-      const glm::vec3 mid = 0.5f * (lo + hi);
-      const std::string text =
-          std::filesystem::path(spec.path).filename().string() + ": the mesh lies " + metres(reach) +
-          " from the origin, where positions are " + metres(spacing) + " apart (" + num(spacing / size) +
-          " of its " + metres(size) + " size): move it near the origin with " + field + ".offset [" +
-          num(-mid.x) + ", " + num(-mid.y) + ", " + num(-mid.z) + "]";
-      if (spacing > kMaxPositionSpacing * size) throw SceneError(source + ": " + field + ".mesh: " + text);
-      rep.warnings.push_back(field + ".mesh: " + text);
-    }
-    if (field == "head")
-      for (std::string& w : headOrientationWarnings(mesh, field)) rep.warnings.push_back(std::move(w));
-    // a whole body in metres (1.2-2.3 m tall, and taller than wide or deep)
-    // is a head with a body below it, not a head in the wrong unit
-    const bool whole_body = extent.y >= 1.2f && extent.y <= 2.3f && extent.y >= std::max(extent.x, extent.z);
-    // The head's own width: across the top 30% of the mesh's height, where a
-    // bust's or a body's head is (a bust with arms is 0.8 m across, its head
-    // 0.2 m); for a head alone, the width of its crown
-    glm::vec2 top_lo(INFINITY), top_hi(-INFINITY);
-    for (const glm::vec3& v : mesh.vertices)
-      if (v.y >= hi.y - 0.3f * extent.y) {
-        top_lo = glm::min(top_lo, glm::vec2(v.x, v.z));
-        top_hi = glm::max(top_hi, glm::vec2(v.x, v.z));
-      }
-    const float head_width = std::max(top_hi.x - top_lo.x, top_hi.y - top_lo.y);
-    if (field == "head" && (head_width < 0.08f || (head_width > 0.6f && !whole_body)))
-      rep.warnings.push_back(field + ": the mesh's head is " + metres(head_width) + " across (the whole mesh " +
-                             metres(size) + "), far from a human head (about 0.2 m); if its unit is not the metre, set " +
-                             field + ".scale (0.01 for centimetres, 0.001 for millimetres, 0.0254 for inches)");
-    if (spec.sdf_voxel > 0.0f) {
-      double cells = 1;
-      for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
-      if (cells > limits.max_sdf_cells)
-        throw SceneError(source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
-                         " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
-                         " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
-                         " GB), above the limit of " +
-                         std::to_string(static_cast<long long>(limits.max_sdf_cells / 1e6)) +
-                         " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
-    }
-    t0 = Clock::now();
-    SdfBakeOptions opt;
-    opt.voxel_size = spec.sdf_voxel;
-    // 4 cm around a head, less around a tiny one (a mesh in the wrong unit):
-    // its automatic voxels are tiny too, and a 4 cm margin of them made a
-    // 2 cm head bake for a minute
-    opt.margin = std::min(opt.margin, 0.25f * size);
-    opt.cache_dir = cache;
-    bool all_cached = true;
-    auto bodyOf = [&](const TriangleMesh& piece) {
-      bool cached = false;
-      std::shared_ptr<GridSdfBody> grid;
-      try {
-        grid = GridSdfBody::bake(piece, opt, &cached);
-      } catch (const MeshError& e) {
-        throw SceneError(source + ": " + field + ".sdf_voxel: " + e.what());
-      } catch (const std::bad_alloc&) {
-        throw SceneError(source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
-      } catch (const std::exception& e) {
-        throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) +
-                         ")");
-      }
-      all_cached = all_cached && cached;
-      return std::make_shared<MeshBody>(piece, grid);
-    };
-    // Separate parts that may overlap (a neck pushed into a bust): each
-    // large one a body of its own, the union of them the body
-    // (body.hpp's UnionBody); small parts stay with the largest.
-    const std::vector<TriangleMesh> pieces = collisionPieces(mesh);
-    std::shared_ptr<const Body> result;
-    if (pieces.size() == 1) {
-      result = bodyOf(mesh);
-    } else {
-      auto joined = std::make_shared<UnionBody>();
-      for (const TriangleMesh& piece : pieces) joined->add(bodyOf(piece));
-      result = joined;
-    }
-    rep.sdf_from_cache = all_cached;
-    rep.seconds_sdf += since(t0);
-    return result;
-  };
-  if (desc.head_kind == HeadKind::Sphere) {
-    if (desc.head_radius < 5e-4)
-      throw SceneError(source + ": head.radius: " + num(desc.head_radius) +
-                       " m has no surface to hang hair on; a human head is about 0.1 m");
-    if (desc.head_radius < 0.04 || desc.head_radius > 0.3)
-      rep.warnings.push_back("head.radius: " + num(desc.head_radius) +
-                             " m is far from a human head (about 0.1 m)");
-    m.scalp_ = std::make_unique<SphereCapScalp>(desc.head_center, desc.head_radius,
-                                                   glm::radians(desc.cap_angle_deg));
-    m.head_ = std::make_shared<SphereBody>(desc.head_center, desc.head_radius);
-    m.head_mesh_ = sphereMesh(desc.head_center, desc.head_radius);
+// The head from its mesh: the body, the scalp (the scene's four curves or
+// the automatic ones) mapped to the square.
+void HeadModel::buildMeshHead(const HeadDesc& desc, const std::string& source, const MeshLimits& limits,
+                              BuildReport& rep) {
+  TriangleMesh mesh;
+  auto body = meshBody(desc.head_mesh, "head", source, limits, rep, mesh);
+  rep.head_vertices = mesh.vertices.size();
+  rep.head_triangles = mesh.triangles.size();
+  const auto t0 = Clock::now();
+  ScalpCurves curves;
+  if (desc.scalp_kind == ScalpKind::Curves) {
+    for (std::size_t k = 0; k < 4; ++k) curves.control[k] = desc.scalp_curves[k];
   } else {
-    TriangleMesh mesh;
-    auto body = meshBody(desc.head_mesh, "head", mesh);
-    rep.head_vertices = mesh.vertices.size();
-    rep.head_triangles = mesh.triangles.size();
-    const auto t0 = Clock::now();
-    ScalpCurves curves;
-    if (desc.scalp_kind == ScalpKind::Curves) {
-      for (std::size_t k = 0; k < 4; ++k) curves.control[k] = desc.scalp_curves[k];
-    } else {
-      curves = automaticScalpCurves(mesh, *body);
-    }
-    try {
-      auto ms = std::make_unique<MeshScalp>(mesh, *body, curves, desc.head_mesh.path);
-      rep.scalp_triangles = ms->report().triangles;
-      rep.scalp_area = ms->report().area;
-      rep.scalp_mean_value = ms->report().mean_value_weights;
-      m.scalp_ = std::move(ms);
-    } catch (const MeshError& e) {
-      // what the mesh looked like may explain it
-      std::string notes;
-      for (const std::string& w : rep.warnings) notes += "\n  (" + w + ")";
-      if (const std::size_t h = handles(mesh); h > 0)
-        notes += "\n  (head.mesh: the mesh has " + std::to_string(h) + (h == 1 ? " handle" : " handles") +
-                 ", a hole right through it as in a ring: the scalp is mapped to a square, which needs a "
-                 "head shaped like a ball)";
-      throw SceneError(source + ": scalp: " + e.what() + notes);
-    }
-    rep.seconds_scalp = since(t0);
-    m.head_ = body;
-    m.head_mesh_ = std::move(mesh);
+    curves = automaticScalpCurves(mesh, *body);
   }
-  if (desc.has_torso) {
-    TriangleMesh mesh;
-    m.torso_ = meshBody(desc.torso_mesh, "torso", mesh);
-    rep.torso_triangles = mesh.triangles.size();
+  try {
+    auto ms = std::make_unique<MeshScalp>(mesh, *body, curves, desc.head_mesh.path);
+    rep.scalp_triangles = ms->report().triangles;
+    rep.scalp_area = ms->report().area;
+    rep.scalp_mean_value = ms->report().mean_value_weights;
+    scalp_ = std::move(ms);
+  } catch (const MeshError& e) {
+    // what the mesh looked like may explain it
+    std::string notes;
+    for (const std::string& w : rep.warnings) notes += "\n  (" + w + ")";
+    if (const std::size_t h = handles(mesh); h > 0)
+      notes += "\n  (head.mesh: the mesh has " + std::to_string(h) + (h == 1 ? " handle" : " handles") +
+               ", a hole right through it as in a ring: the scalp is mapped to a square, which needs a "
+               "head shaped like a ball)";
+    throw SceneError(source + ": scalp: " + e.what() + notes);
   }
+  rep.seconds_scalp = since(t0);
+  head_ = body;
+  head_mesh_ = std::move(mesh);
+}
 
-  // The scalp as triangles (picking, regions, nearest points).
-  ScalpTriangles& t = m.tris_;
-  if (const auto* ms = dynamic_cast<const MeshScalp*>(m.scalp_.get())) {
+// The scalp as triangles (picking, regions, nearest points), their (u, v)
+// buckets, and the head's mirror plane.
+void HeadModel::buildScalpTables() {
+  ScalpTriangles& t = tris_;
+  if (const auto* ms = dynamic_cast<const MeshScalp*>(scalp_.get())) {
     t.positions = ms->positions();
     t.uvs = ms->uvs();
     t.triangles = ms->triangles();
@@ -332,7 +354,7 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
       for (int j = 0; j <= g; ++j) {
         const glm::vec2 uv(static_cast<float>(j) / g, static_cast<float>(i) / g);
         t.uvs.push_back(uv);
-        t.positions.push_back(m.scalp_->point(uv));
+        t.positions.push_back(scalp_->point(uv));
       }
     for (int i = 0; i < g; ++i)
       for (int j = 0; j < g; ++j) {
@@ -345,10 +367,10 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
   for (const auto& tr : t.triangles)
     t.areas.push_back(0.5 * glm::length(glm::cross(glm::dvec3(t.positions[tr.y] - t.positions[tr.x]),
                                                    glm::dvec3(t.positions[tr.z] - t.positions[tr.x]))));
-  m.nearest_ = std::make_unique<NearestTriangle>(t.positions, t.triangles);
+  nearest_ = std::make_unique<NearestTriangle>(t.positions, t.triangles);
   // uv buckets for scalpTriangleAt
-  m.buckets_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(t.triangles.size()) / 2.0)));
-  const int nb = m.buckets_;
+  buckets_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(t.triangles.size()) / 2.0)));
+  const int nb = buckets_;
   std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(nb * nb));
   for (std::uint32_t k = 0; k < t.triangles.size(); ++k) {
     const auto tr = t.triangles[k];
@@ -359,17 +381,40 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) lists[static_cast<std::size_t>(y * nb + x)].push_back(k);
   }
-  m.bucket_start_.assign(1, 0);
+  bucket_start_.assign(1, 0);
   for (const auto& l : lists) {
-    m.bucket_items_.insert(m.bucket_items_.end(), l.begin(), l.end());
-    m.bucket_start_.push_back(static_cast<std::uint32_t>(m.bucket_items_.size()));
+    bucket_items_.insert(bucket_items_.end(), l.begin(), l.end());
+    bucket_start_.push_back(static_cast<std::uint32_t>(bucket_items_.size()));
   }
   float lo = INFINITY, hi = -INFINITY;
-  for (const glm::vec3& v : m.head_mesh_.vertices) {
+  for (const glm::vec3& v : head_mesh_.vertices) {
     lo = std::min(lo, v.x);
     hi = std::max(hi, v.x);
   }
-  m.mirror_x_ = 0.5f * (lo + hi);
+  mirror_x_ = 0.5f * (lo + hi);
+}
+
+HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, const MeshLimits& limits,
+                           BuildReport* report) {
+  BuildReport local;
+  BuildReport& rep = report ? *report : local;
+  HeadModel m;
+  m.desc_ = desc;
+  if (desc.head_kind == HeadKind::Sphere) {
+    checkSphereHead(desc, source, rep);
+    m.scalp_ = std::make_unique<SphereCapScalp>(desc.head_center, desc.head_radius,
+                                                glm::radians(desc.cap_angle_deg));
+    m.head_ = std::make_shared<SphereBody>(desc.head_center, desc.head_radius);
+    m.head_mesh_ = sphereMesh(desc.head_center, desc.head_radius);
+  } else {
+    m.buildMeshHead(desc, source, limits, rep);
+  }
+  if (desc.has_torso) {
+    TriangleMesh mesh;
+    m.torso_ = meshBody(desc.torso_mesh, "torso", source, limits, rep, mesh);
+    rep.torso_triangles = mesh.triangles.size();
+  }
+  m.buildScalpTables();
   return m;
 }
 
