@@ -263,32 +263,11 @@ void drawProgress(int done, int total, double elapsed) {
   std::fflush(stderr);
 }
 
-int simulate(const Options& o) {
+// What the run starts from: the scene, its particles and connections, the
+// sampling's lengths, the step, and the warnings.
+void printRunStart(const Options& o, const loosehair::SceneDesc& scene, const loosehair::Solver& solver,
+                   const loosehair::BuildReport& build, const loosehair::StrandField* strands, double init_seconds) {
   using namespace loosehair;
-  SceneDesc scene = loadScene(o.scene);
-  if (o.seed) scene.seed = *o.seed;
-  if (o.threads) scene.sim.threads = *o.threads;
-  if (o.allow_expensive) scene.limits = loosehair::SceneDesc::CostLimits::unlimited();
-  overrideHair(scene, o.style, o.no_shape_keeping);
-  if (!o.motion.empty()) scene.motion = loadMotion(o.motion);
-  // an output that cannot be written is refused before the run, not after it
-  if (!o.save_state.empty()) (void)checkOutputTarget(o.save_state);
-
-  const auto t_init = std::chrono::steady_clock::now();
-  BuildReport build;
-  Solver solver = buildSolver(scene, &build);
-  if (!o.dump_dir.empty()) prepareOutputDirectory(o.dump_dir, o.overwrite, "--dump");
-  // the render strands are bound to the rest state, before any snapshot
-  std::optional<StrandField> strands;
-  if (!o.strands_dir.empty()) {
-    if (o.strands_dir != o.dump_dir) prepareOutputDirectory(o.strands_dir, o.overwrite, "--dump-strands");
-    RenderStrandOptions so;
-    so.strands = o.strand_count;
-    so.points = o.strand_points;
-    strands.emplace(bindSceneStrands(scene, solver.particles(), build, so, solver.threadCount()));
-  }
-  const double init_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
   const InitReport& r = solver.initReport();
   std::printf("scene: %s (%s), seed %" PRIu64 "\n", scene.name.c_str(), o.scene.c_str(), scene.seed);
   if (build.head_triangles > 0)
@@ -326,65 +305,40 @@ int simulate(const Options& o) {
                  "may blow up (use \"substeps\": \"auto\" or more substeps)\n",
                  build.time_step * 1e3, r.stable_time_step * 1e3);
 
-  // Frames already run (a resumed snapshot's): the dump's numbering and the
-  // scene's frame count go on from there.
-  int done = 0;
-  if (!o.resume.empty()) {
-    loadSnapshot(solver, o.resume);
-    const std::uint64_t frames_done = solver.stepCount() / static_cast<std::uint64_t>(build.substeps);
-    if (frames_done > kMaxFrames)
-      throw std::runtime_error(o.resume + ": the snapshot is " + std::to_string(frames_done) +
-                               " frames into its run, more than the " + std::to_string(kMaxFrames) +
-                               " frames a run may have");
-    done = static_cast<int>(frames_done);
-    std::printf("resumed from %s: t = %.4f s, %d frames done\n", o.resume.c_str(), solver.time(), done);
-  }
-  const int to_run = o.frames ? *o.frames : std::max(0, scene.frames - done);
-  auto save = [&] {
-    saveSnapshot(solver, o.save_state);
-  };
+}
 
-  StrandSet strand_set;
-  if (strands) strand_set = strands->rest();
+// One frame's outputs: the particles (and the air) as PLY, the carried
+// strands as PLY and .hair. Returns the seconds the strands took to carry.
+double writeFrame(const Options& o, const loosehair::Solver& solver, const loosehair::StrandField* strands,
+                  loosehair::StrandSet& strand_set, int f) {
+  using namespace loosehair;
   double deform_seconds = 0;
-  const bool tty = isatty(fileno(stderr)) != 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int k = 1; k <= to_run; ++k) {
-    const int f = done + k;
-    solver.advance(build.substeps);
-    if (!o.dump_dir.empty()) {
+  if (!o.dump_dir.empty()) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.ply", f);
+    writeParticlePly((std::filesystem::path(o.dump_dir) / name).string(), solver);
+    if (solver.hasWind()) {
+      std::snprintf(name, sizeof name, "air_%05d.ply", f);
+      writeAirPly((std::filesystem::path(o.dump_dir) / name).string(), solver);
+    }
+  }
+  if (strands) {
+    const auto t_def = std::chrono::steady_clock::now();
+    strands->deformWorld(solver, strand_set.points, solver.threadCount());
+    deform_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_def).count();
+    for (const char* ext : {"ply", "hair"}) {
       char name[32];
-      std::snprintf(name, sizeof name, "frame_%05d.ply", f);
-      writeParticlePly((std::filesystem::path(o.dump_dir) / name).string(), solver);
-      if (solver.hasWind()) {
-        std::snprintf(name, sizeof name, "air_%05d.ply", f);
-        writeAirPly((std::filesystem::path(o.dump_dir) / name).string(), solver);
-      }
-    }
-    if (strands) {
-      const auto t_def = std::chrono::steady_clock::now();
-      strands->deformWorld(solver, strand_set.points, solver.threadCount());
-      deform_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_def).count();
-      for (const char* ext : {"ply", "hair"}) {
-        char name[32];
-        std::snprintf(name, sizeof name, "strands_%05d.%s", f, ext);
-        writeStrands(strand_set, (std::filesystem::path(o.strands_dir) / name).string());
-      }
-    }
-    if (o.save_every > 0 && k % o.save_every == 0 && k < to_run) save();
-    if (tty) {
-      const double elapsed =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      drawProgress(k, to_run, elapsed);
+      std::snprintf(name, sizeof name, "strands_%05d.%s", f, ext);
+      writeStrands(strand_set, (std::filesystem::path(o.strands_dir) / name).string());
     }
   }
-  if (!o.save_state.empty()) {
-    save();
-    std::printf("state saved: %s (t = %.4f s, %d frames)\n", o.save_state.c_str(), solver.time(),
-                done + to_run);
-  }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return deform_seconds;
+}
 
+// The run's timings, a step's stage by stage, and the last step's counts.
+void printRunStats(const loosehair::Solver& solver, bool strands, int to_run, double deform_seconds, double wall) {
+  using namespace loosehair;
+  const InitReport& r = solver.initReport();
   const StepStats& st = solver.stats();
   const double steps = static_cast<double>(st.steps);
   const StageTimes& s = st.sum;
@@ -424,6 +378,77 @@ int simulate(const Options& o) {
   else if (solver.hasWind())
     std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles,
                 st.hair_air_pairs);
+}
+
+int simulate(const Options& o) {
+  using namespace loosehair;
+  SceneDesc scene = loadScene(o.scene);
+  if (o.seed) scene.seed = *o.seed;
+  if (o.threads) scene.sim.threads = *o.threads;
+  if (o.allow_expensive) scene.limits = loosehair::SceneDesc::CostLimits::unlimited();
+  overrideHair(scene, o.style, o.no_shape_keeping);
+  if (!o.motion.empty()) scene.motion = loadMotion(o.motion);
+  // an output that cannot be written is refused before the run, not after it
+  if (!o.save_state.empty()) (void)checkOutputTarget(o.save_state);
+
+  const auto t_init = std::chrono::steady_clock::now();
+  BuildReport build;
+  Solver solver = buildSolver(scene, &build);
+  if (!o.dump_dir.empty()) prepareOutputDirectory(o.dump_dir, o.overwrite, "--dump");
+  // the render strands are bound to the rest state, before any snapshot
+  std::optional<StrandField> strands;
+  if (!o.strands_dir.empty()) {
+    if (o.strands_dir != o.dump_dir) prepareOutputDirectory(o.strands_dir, o.overwrite, "--dump-strands");
+    RenderStrandOptions so;
+    so.strands = o.strand_count;
+    so.points = o.strand_points;
+    strands.emplace(bindSceneStrands(scene, solver.particles(), build, so, solver.threadCount()));
+  }
+  const double init_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
+  printRunStart(o, scene, solver, build, strands ? &*strands : nullptr, init_seconds);
+  // Frames already run (a resumed snapshot's): the dump's numbering and the
+  // scene's frame count go on from there.
+  int done = 0;
+  if (!o.resume.empty()) {
+    loadSnapshot(solver, o.resume);
+    const std::uint64_t frames_done = solver.stepCount() / static_cast<std::uint64_t>(build.substeps);
+    if (frames_done > kMaxFrames)
+      throw std::runtime_error(o.resume + ": the snapshot is " + std::to_string(frames_done) +
+                               " frames into its run, more than the " + std::to_string(kMaxFrames) +
+                               " frames a run may have");
+    done = static_cast<int>(frames_done);
+    std::printf("resumed from %s: t = %.4f s, %d frames done\n", o.resume.c_str(), solver.time(), done);
+  }
+  const int to_run = o.frames ? *o.frames : std::max(0, scene.frames - done);
+  auto save = [&] {
+    saveSnapshot(solver, o.save_state);
+  };
+
+  StrandSet strand_set;
+  if (strands) strand_set = strands->rest();
+  double deform_seconds = 0;
+  const bool tty = isatty(fileno(stderr)) != 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 1; k <= to_run; ++k) {
+    const int f = done + k;
+    solver.advance(build.substeps);
+    deform_seconds += writeFrame(o, solver, strands ? &*strands : nullptr, strand_set, f);
+    if (o.save_every > 0 && k % o.save_every == 0 && k < to_run) save();
+    if (tty) {
+      const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      drawProgress(k, to_run, elapsed);
+    }
+  }
+  if (!o.save_state.empty()) {
+    save();
+    std::printf("state saved: %s (t = %.4f s, %d frames)\n", o.save_state.c_str(), solver.time(),
+                done + to_run);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  printRunStats(solver, strands.has_value(), to_run, deform_seconds, wall);
   std::printf("state-hash: %016" PRIx64 "\n", solver.stateHash());
   return 0;
 }
