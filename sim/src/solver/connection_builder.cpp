@@ -37,11 +37,14 @@ constexpr float kLastResortAlignment = 0.05f;
 
 }  // namespace
 
-ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
-                               std::span<const float> s, std::span<const std::uint8_t> is_root,
-                               const ConnectionOptions& opt) {
+namespace {
+
+// Every pair within the support (no root-root pair), with its eq. 5
+// strength, kernel weight, rest angles and which side of i it lies on.
+std::vector<Candidate> candidatePairs(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
+                                      std::span<const float> s, std::span<const std::uint8_t> is_root,
+                                      const ConnectionOptions& opt, const CubicKernel& kernel) {
   const std::size_t n = x.size();
-  const CubicKernel kernel(opt.h1);
   NeighborGrid grid;
   grid.build(x, kernel.support(), opt.threads);
 
@@ -72,6 +75,15 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
     }
   }
 
+  return cand;
+}
+
+// Which candidates are kept: the aligned ones, thinned to about
+// target_connections a particle (the weakest first, never a particle's
+// strongest root-side or tip-side pair); a particle with nothing aligned
+// towards the root keeps a fallback.
+std::vector<std::uint8_t> keptPairs(const std::vector<Candidate>& cand, std::size_t n,
+                                    std::span<const std::uint8_t> is_root, const ConnectionOptions& opt) {
   // Strongest root-side and tip-side candidate of every non-root particle,
   // among the aligned pairs and, as a fallback, among all pairs.
   auto stronger = [&](std::uint32_t a, std::uint32_t b) {  // candidate a beats b?
@@ -136,6 +148,13 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
       keep[last_root[i]] = 1;
   }
 
+  return keep;
+}
+
+// The kept pairs as each particle's list of entries, root side first, then
+// by partner.
+ConnectionSet assembleConnections(const std::vector<Candidate>& cand, const std::vector<std::uint8_t>& keep,
+                                  std::size_t n) {
   ConnectionSet cs;
   cs.offset.assign(n + 1, 0);
   for (std::size_t k = 0; k < cand.size(); ++k)
@@ -200,6 +219,17 @@ ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm
     permute(cs.tip_side);
   }
   return cs;
+}
+
+}  // namespace
+
+ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
+                               std::span<const float> s, std::span<const std::uint8_t> is_root,
+                               const ConnectionOptions& opt) {
+  const CubicKernel kernel(opt.h1);
+  const std::vector<Candidate> cand = candidatePairs(x, t, s, is_root, opt, kernel);
+  const std::vector<std::uint8_t> keep = keptPairs(cand, x.size(), is_root, opt);
+  return assembleConnections(cand, keep, x.size());
 }
 
 std::size_t countUnanchored(const ConnectionSet& c, std::span<const std::uint8_t> is_root) {
