@@ -78,6 +78,86 @@ void sliceSetup(std::size_t rows, std::size_t q0, float scale, const float* __re
 
 }  // namespace
 
+// The blocks of a thread's slices [sb, se): each owner's entries, its 3x3
+// block's inverse (the preconditioner) and its right-hand side
+// dt f_i + dt^2 sum_j w n (n . (v_j - v_i)), in list order.
+void ImplicitSprings::setUp(const Input& in, const Part& part, float scale) {
+  const ConnectionSlices& cs = *in.layout;
+  const std::size_t n = in.particles;
+  const float dt = in.dt;
+  const glm::vec3* f = in.force;
+  const float* m = in.mass;
+  const std::uint8_t* root = in.is_root;
+  const std::size_t sb = part.sb, se = part.se;
+  SetupLanes lanes;
+  for (std::size_t s = sb; s < se; ++s) {
+    const std::size_t row0 = cs.row_begin[s], rows = cs.row_begin[s + 1] - row0;
+    for (std::size_t l = 0; l < L; ++l) {
+      const std::size_t lane = s * L + l;
+      lanes.degree[l] = cs.degree[lane];
+      lanes.live[l] = lane < n && root[cs.owner[lane]] == 0 ? 1.0f : 0.0f;
+    }
+    sliceSetup(rows, row0 * L, scale, in.weight, in.unit_x, in.unit_y, in.unit_z, c_.data(), lanes);
+    for (std::size_t l = 0; l < L; ++l) {
+      const std::size_t lane = s * L + l;
+      if (lane >= n) continue;
+      const std::uint32_t i = cs.owner[lane];
+      float* pc = &precond_[6 * std::size_t{i}];
+      if (root[i]) {
+        std::fill(pc, pc + 6, 0.0f);
+        r_[i] = glm::vec3(0.0f);
+        continue;
+      }
+      const float a0 = lanes.a[0][l], a1 = lanes.a[1][l], a2 = lanes.a[2][l], a3 = lanes.a[3][l],
+                  a4 = lanes.a[4][l], a5 = lanes.a[5][l];
+      const glm::mat3 block(m[i] + a0, a1, a2, a1, m[i] + a3, a4, a2, a4, m[i] + a5);
+      const glm::mat3 inv = glm::inverse(block);
+      pc[0] = inv[0][0];
+      pc[1] = inv[0][1];
+      pc[2] = inv[0][2];
+      pc[3] = inv[1][1];
+      pc[4] = inv[1][2];
+      pc[5] = inv[2][2];
+      r_[i] = dt * f[i] + (dt * dt) * in.pull[i];
+    }
+  }
+}
+
+// ap = A src over a thread's windows, and src . ap per window.
+void ImplicitSprings::multiply(const Input& in, const Part& part, const std::vector<glm::vec3>& src) {
+  const ConnectionSlices& cs = *in.layout;
+  const std::size_t n = in.particles, slices = cs.sliceCount();
+  const float* m = in.mass;
+  const std::uint8_t* root = in.is_root;
+  const std::size_t wb = part.wb, we = part.we;
+  for (std::size_t w = wb; w < we; ++w) {
+    double sum = 0.0;
+    for (std::size_t s = w * kWindowSlices, s1 = std::min(slices, s + kWindowSlices); s < s1; ++s) {
+      float pix[L], piy[L], piz[L], ax[L], ay[L], az[L];
+      for (std::size_t l = 0; l < L; ++l) {
+        const std::uint32_t i = cs.owner[s * L + l];
+        const glm::vec3 pi = src[i];
+        pix[l] = pi.x;
+        piy[l] = pi.y;
+        piz[l] = pi.z;
+        ax[l] = m[i] * pi.x;
+        ay[l] = m[i] * pi.y;
+        az[l] = m[i] * pi.z;
+      }
+      const std::size_t row0 = cs.row_begin[s];
+      sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, in.unit_x, in.unit_y, in.unit_z, c_.data(),
+                   cs.partner.data(), src.data(), pix, piy, piz, ax, ay, az);
+      for (std::size_t l = 0; l < L && s * L + l < n; ++l) {
+        const std::uint32_t i = cs.owner[s * L + l];
+        const glm::vec3 api = root[i] ? glm::vec3(0.0f) : glm::vec3(ax[l], ay[l], az[l]);
+        ap_[i] = api;
+        sum += static_cast<double>(pix[l] * api.x + piy[l] * api.y + piz[l] * api.z);
+      }
+    }
+    pap_partial_[w] = sum;
+  }
+}
+
 ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::vector<glm::vec3>& dv) {
   const ConnectionSlices& cs = *in.layout;
   const std::size_t n = in.particles, slices = cs.sliceCount();
@@ -98,8 +178,6 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
   rz_partial_.assign(windows, 0.0);
   const float dt = in.dt, scale = dt * dt + in.gamma * dt;
   const double tol2 = static_cast<double>(in.tolerance) * in.tolerance;
-  const glm::vec3* f = in.force;
-  const float* m = in.mass;
   const std::uint8_t* root = in.is_root;
   ImplicitSpringReport report;
 
@@ -114,69 +192,10 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
       for (std::size_t k = 0; k < windows; ++k) s += partial[k];
       return s;
     };
-    // Each owner's entries, its 3x3 block and its right-hand side
-    // dt f_i + dt^2 sum_j w n (n . (v_j - v_i)), in list order.
-    SetupLanes lanes;
-    for (std::size_t s = sb; s < se; ++s) {
-      const std::size_t row0 = cs.row_begin[s], rows = cs.row_begin[s + 1] - row0;
-      for (std::size_t l = 0; l < L; ++l) {
-        const std::size_t lane = s * L + l;
-        lanes.degree[l] = cs.degree[lane];
-        lanes.live[l] = lane < n && root[cs.owner[lane]] == 0 ? 1.0f : 0.0f;
-      }
-      sliceSetup(rows, row0 * L, scale, in.weight, in.unit_x, in.unit_y, in.unit_z, c_.data(), lanes);
-      for (std::size_t l = 0; l < L; ++l) {
-        const std::size_t lane = s * L + l;
-        if (lane >= n) continue;
-        const std::uint32_t i = cs.owner[lane];
-        float* pc = &precond_[6 * std::size_t{i}];
-        if (root[i]) {
-          std::fill(pc, pc + 6, 0.0f);
-          r_[i] = glm::vec3(0.0f);
-          continue;
-        }
-        const float a0 = lanes.a[0][l], a1 = lanes.a[1][l], a2 = lanes.a[2][l], a3 = lanes.a[3][l],
-                    a4 = lanes.a[4][l], a5 = lanes.a[5][l];
-        const glm::mat3 block(m[i] + a0, a1, a2, a1, m[i] + a3, a4, a2, a4, m[i] + a5);
-        const glm::mat3 inv = glm::inverse(block);
-        pc[0] = inv[0][0];
-        pc[1] = inv[0][1];
-        pc[2] = inv[0][2];
-        pc[3] = inv[1][1];
-        pc[4] = inv[1][2];
-        pc[5] = inv[2][2];
-        r_[i] = dt * f[i] + (dt * dt) * in.pull[i];
-      }
-    }
+    const Part part{wb, we, sb, se};
+    setUp(in, part, scale);
     // ap = A src and src . ap, per window
-    auto multiply = [&](const std::vector<glm::vec3>& src) {
-      for (std::size_t w = wb; w < we; ++w) {
-        double sum = 0.0;
-        for (std::size_t s = w * kWindowSlices, s1 = std::min(slices, s + kWindowSlices); s < s1; ++s) {
-          float pix[L], piy[L], piz[L], ax[L], ay[L], az[L];
-          for (std::size_t l = 0; l < L; ++l) {
-            const std::uint32_t i = cs.owner[s * L + l];
-            const glm::vec3 pi = src[i];
-            pix[l] = pi.x;
-            piy[l] = pi.y;
-            piz[l] = pi.z;
-            ax[l] = m[i] * pi.x;
-            ay[l] = m[i] * pi.y;
-            az[l] = m[i] * pi.z;
-          }
-          const std::size_t row0 = cs.row_begin[s];
-          sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, in.unit_x, in.unit_y, in.unit_z, c_.data(),
-                       cs.partner.data(), src.data(), pix, piy, piz, ax, ay, az);
-          for (std::size_t l = 0; l < L && s * L + l < n; ++l) {
-            const std::uint32_t i = cs.owner[s * L + l];
-            const glm::vec3 api = root[i] ? glm::vec3(0.0f) : glm::vec3(ax[l], ay[l], az[l]);
-            ap_[i] = api;
-            sum += static_cast<double>(pix[l] * api.x + piy[l] * api.y + piz[l] * api.z);
-          }
-        }
-        pap_partial_[w] = sum;
-      }
-    };
+    auto multiply = [&](const std::vector<glm::vec3>& src) { this->multiply(in, part, src); };
     // The residual of the guess (zero, or dv on entry: dv is 0 at roots),
     // its preconditioned form, and the stopping threshold: relative to the
     // preconditioned norm of the right-hand side, as from a zero guess.

@@ -69,6 +69,11 @@ class ImplicitSprings {
   ImplicitSpringReport solve(const Input& in, int threads, std::vector<glm::vec3>& dv);
 
  private:
+  struct Part {  // a thread's windows [wb, we) and their slices [sb, se)
+    std::size_t wb, we, sb, se;
+  };
+  void setUp(const Input& in, const Part& part, float scale);
+  void multiply(const Input& in, const Part& part, const std::vector<glm::vec3>& src);
   // per slice entry: (dt^2 + gamma dt) w, 0 for padding and for the
   // entries of roots
   std::vector<float> c_;
