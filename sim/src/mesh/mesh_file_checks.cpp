@@ -89,12 +89,17 @@ int plyTypeBytes(const std::string& path, const std::string& type, bool* is_floa
   fail(path, "the PLY header names an unknown type \"" + shown(type) + "\"");
 }
 
-MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::size_t max_faces) {
-  std::size_t at = 0;
-  if (nextLine(bytes, at) != "ply") fail(path, "not a PLY file (it does not start with \"ply\")");
-  const std::size_t size = bytes.size();
+// A PLY header: its elements with their properties, and the format; `at`
+// ends past the end_header line.
+struct PlyHeader {
   std::vector<PlyElement> elements;
   std::string format;
+};
+PlyHeader readPlyHeader(const std::string& path, const std::string& bytes, std::size_t& at) {
+  PlyHeader h;
+  std::vector<PlyElement>& elements = h.elements;
+  std::string& format = h.format;
+  const std::size_t size = bytes.size();
   bool ended = false;
   while (at < size) {
     const std::string line(nextLine(bytes, at));
@@ -141,6 +146,13 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::
   if (!ended) fail(path, "the PLY header has no end_header line");
   if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
     fail(path, "the PLY format \"" + shown(format) + "\" is not ascii or binary");
+  return h;
+}
+
+// The vertex and face elements checked (x, y, z; a corner list; the face
+// limit), their counts; and no element claiming more than the file holds.
+MeshFileCounts checkPlyElements(const std::vector<PlyElement>& elements, const std::string& path,
+                                std::size_t size, std::size_t at, std::size_t max_faces) {
   MeshFileCounts c;
   for (const PlyElement& e : elements) {
     auto has = [&](const char* name, bool list) {
@@ -169,18 +181,40 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::
                      (e.name == "vertex" ? std::string("vertices") : e.name == "face" ? std::string("faces")
                                                                           : shown(e.name) + " elements") +
                      ", more than a file of this size can hold");
-  const bool ascii = format == "ascii";
-  const bool big = format == "binary_big_endian";
-  auto where = [&](const PlyElement& e, std::size_t k) { return shown(e.name) + " " + std::to_string(k); };
-  // One value of property p, as a double (ASCII token or binary bytes).
-  auto token = [&](const PlyElement& e, std::size_t k) -> std::string {
+  return c;
+}
+
+// Reads the values of a PLY body, ASCII or binary, each error naming the
+// element it is in.
+class PlyBody {
+ public:
+  PlyBody(const std::string& file, const std::string& data, std::size_t start, const std::string& format)
+      : path(file), bytes(data), size(data.size()), at(start), ascii(format == "ascii"),
+        big(format == "binary_big_endian") {}
+  /// One value of property p (its list's count when `count`), as a double.
+  double value(const PlyElement& e, std::size_t k, const PlyProperty& p, bool count) {
+    if (ascii) {
+      const std::string t = token(e, k);
+      char* end = nullptr;
+      const double d = std::strtod(t.c_str(), &end);
+      if (*end != '\0') fail(path, where(e, k) + ": \"" + shown(t) + "\" is not a number");
+      return d;
+    }
+    return count ? binary(e, k, p.count_bytes, false, false) : binary(e, k, p.value_bytes, p.value_float, p.value_signed);
+  }
+  std::string where(const PlyElement& e, std::size_t k) const { return shown(e.name) + " " + std::to_string(k); }
+  std::size_t left() const { return size - at; }
+  bool ascii_format() const { return ascii; }
+
+ private:
+  std::string token(const PlyElement& e, std::size_t k) {
     while (at < size && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
     const std::size_t b = at;
     while (at < size && !std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
     if (b == at) fail(path, "the file ends inside " + where(e, k));
     return bytes.substr(b, at - b);
-  };
-  auto binary = [&](const PlyElement& e, std::size_t k, int nbytes, bool floating, bool is_signed) -> double {
+  }
+  double binary(const PlyElement& e, std::size_t k, int nbytes, bool floating, bool is_signed) {
     if (size - at < static_cast<std::size_t>(nbytes)) fail(path, "the file ends inside " + where(e, k));
     unsigned char b[8] = {};
     for (int i = 0; i < nbytes; ++i)
@@ -200,16 +234,25 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::
     for (int i = nbytes - 1; i >= 0; --i) u = (u << 8) | b[i];
     if (is_signed && nbytes < 8 && (u >> (8 * nbytes - 1)) != 0) u |= ~std::uint64_t{0} << (8 * nbytes);
     return is_signed ? static_cast<double>(static_cast<std::int64_t>(u)) : static_cast<double>(u);
-  };
-  auto value = [&](const PlyElement& e, std::size_t k, const PlyProperty& p, bool count) -> double {
-    if (ascii) {
-      const std::string t = token(e, k);
-      char* end = nullptr;
-      const double d = std::strtod(t.c_str(), &end);
-      if (*end != '\0') fail(path, where(e, k) + ": \"" + shown(t) + "\" is not a number");
-      return d;
-    }
-    return count ? binary(e, k, p.count_bytes, false, false) : binary(e, k, p.value_bytes, p.value_float, p.value_signed);
+  }
+  const std::string& path;
+  const std::string& bytes;
+  const std::size_t size;
+  std::size_t at;
+  const bool ascii, big;
+};
+
+MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::size_t max_faces) {
+  std::size_t at = 0;
+  if (nextLine(bytes, at) != "ply") fail(path, "not a PLY file (it does not start with \"ply\")");
+  const PlyHeader header = readPlyHeader(path, bytes, at);
+  const std::vector<PlyElement>& elements = header.elements;
+  MeshFileCounts c = checkPlyElements(elements, path, bytes.size(), at, max_faces);
+  PlyBody body(path, bytes, at, header.format);
+  const bool ascii = body.ascii_format();
+  auto where = [&](const PlyElement& e, std::size_t k) { return body.where(e, k); };
+  auto value = [&](const PlyElement& e, std::size_t k, const PlyProperty& p, bool count) {
+    return body.value(e, k, p, count);
   };
   for (const PlyElement& e : elements) {
     const bool vertex = e.name == "vertex", face = e.name == "face";
@@ -227,7 +270,7 @@ MeshFileCounts checkPly(const std::string& path, const std::string& bytes, std::
         }
         const double nd = value(e, k, p, true);
         const std::size_t per = ascii ? 2 : static_cast<std::size_t>(p.value_bytes);
-        if (!(nd >= 0) || nd != std::floor(nd) || nd > static_cast<double>((size - at) / per))
+        if (!(nd >= 0) || nd != std::floor(nd) || nd > static_cast<double>(body.left() / per))
           fail(path, where(e, k) + ": the list " + shown(p.name) + " claims " + numberText(nd) +
                          " values, more than the rest of the file holds");
         const auto n = static_cast<std::size_t>(nd);
