@@ -255,58 +255,85 @@ struct SnapshotAccess {
     return std::move(w.out);
   }
 
-  static void decode(Solver& s, std::string_view payload, const std::string& name) {
-    Reader r(payload, name);
-    const std::size_t n = s.particles_.size();
-    const auto time = r.get<double>("the time");
-    const auto steps = r.get<std::uint64_t>("the step count");
-    const auto dt = r.get<double>("the time step");
-    auto position = r.array<glm::vec3>("the positions", n);
-    auto velocity = r.array<glm::vec3>("the velocities", n);
-    auto direction = r.array<glm::vec3>("the directions", n);
-    const bool absorb = r.get<std::uint8_t>("the correction flag") != 0;
-    const bool sums_current = r.get<std::uint8_t>("the sums flag") != 0;
+  // What a snapshot holds, read and not yet checked.
+  struct Decoded {
+    double time = 0, dt = 0;
+    std::uint64_t steps = 0;
+    std::vector<glm::vec3> position, velocity, direction, spring_dv;
+    bool absorb = false, sums_current = false;
     std::vector<float> sum_root, sum_tip;
     std::uint64_t active = 0;
-    if (sums_current) {
-      sum_root = r.array<float>("the root-side sums", n);
-      sum_tip = r.array<float>("the tip-side sums", n);
-      active = r.get<std::uint64_t>("the active connection count");
-    }
-    auto spring_dv = r.array<glm::vec3>("the implicit springs' last velocity change");
-    if (!spring_dv.empty() && spring_dv.size() != n)
-      r.fail("the implicit springs' last velocity change has " + std::to_string(spring_dv.size()) +
-             " values where the scene has " + std::to_string(n) + " particles");
-    const auto air_kind = r.get<std::uint8_t>("the wind flag");
+    std::uint8_t air_kind = 0;
+    AirGrid::State grid;
+    AirSystem::State air;
+  };
+
+  // Reads every field (sizes checked against the scene, the wind's kind too).
+  static Decoded read(Reader& r, Solver& s) {
+    const std::size_t n = s.particles_.size();
+    Decoded d;
     const std::uint8_t scene_kind = airKind(s);
     AirGrid* const scene_grid = gridAir(s);
-    AirSystem* const scene_air = particleAir(s);
-    if (air_kind != scene_kind) {
-      if (air_kind == kNoAir) r.fail("the scene has wind and it has none");
+    d.time = r.get<double>("the time");
+    d.steps = r.get<std::uint64_t>("the step count");
+    d.dt = r.get<double>("the time step");
+    d.position = r.array<glm::vec3>("the positions", n);
+    d.velocity = r.array<glm::vec3>("the velocities", n);
+    d.direction = r.array<glm::vec3>("the directions", n);
+    d.absorb = r.get<std::uint8_t>("the correction flag") != 0;
+    d.sums_current = r.get<std::uint8_t>("the sums flag") != 0;
+    if (d.sums_current) {
+      d.sum_root = r.array<float>("the root-side sums", n);
+      d.sum_tip = r.array<float>("the tip-side sums", n);
+      d.active = r.get<std::uint64_t>("the active connection count");
+    }
+    d.spring_dv = r.array<glm::vec3>("the implicit springs' last velocity change");
+    if (!d.spring_dv.empty() && d.spring_dv.size() != n)
+      r.fail("the implicit springs' last velocity change has " + std::to_string(d.spring_dv.size()) +
+             " values where the scene has " + std::to_string(n) + " particles");
+    d.air_kind = r.get<std::uint8_t>("the wind flag");
+    if (d.air_kind != scene_kind) {
+      if (d.air_kind == kNoAir) r.fail("the scene has wind and it has none");
       if (scene_kind == kNoAir) r.fail("it has wind and the scene has none");
-      r.fail("its air is on a " + std::string(air_kind == kGridAir ? "grid" : "set of particles") +
+      r.fail("its air is on a " + std::string(d.air_kind == kGridAir ? "grid" : "set of particles") +
              " and the scene's is not");
     }
-    AirGrid::State grid;
-    if (air_kind == kGridAir) {
+    if (d.air_kind == kGridAir) {
       for (int c = 0; c < 3; ++c)
-        grid.u[static_cast<std::size_t>(c)] =
+        d.grid.u[static_cast<std::size_t>(c)] =
             r.array<float>("the air grid's velocities", scene_grid->faceCount(c));
-      grid.pressure = r.array<float>("the air grid's pressures", scene_grid->cellCount());
-      grid.pending = r.get<double>("the air grid's time since its step");
+      d.grid.pressure = r.array<float>("the air grid's pressures", scene_grid->cellCount());
+      d.grid.pending = r.get<double>("the air grid's time since its step");
     }
-    AirSystem::State air;
-    if (air_kind == kParticleAir) {
-      air.x = r.array<glm::vec3>("the air positions");
-      air.v = r.array<glm::vec3>("the air velocities", air.x.size());
-      air.density = r.array<float>("the air densities");
-      if (air.density.size() > air.x.size()) r.fail("more air densities than air particles");
-      air.advance = r.get<double>("the wind run");
-      air.layer_counter = r.get<std::uint64_t>("the air layer count");
-      air.emitted = r.get<std::uint64_t>("the emitted air count");
-      air.removed = r.get<std::uint64_t>("the removed air count");
+    if (d.air_kind == kParticleAir) {
+      d.air.x = r.array<glm::vec3>("the air positions");
+      d.air.v = r.array<glm::vec3>("the air velocities", d.air.x.size());
+      d.air.density = r.array<float>("the air densities");
+      if (d.air.density.size() > d.air.x.size()) r.fail("more air densities than air particles");
+      d.air.advance = r.get<double>("the wind run");
+      d.air.layer_counter = r.get<std::uint64_t>("the air layer count");
+      d.air.emitted = r.get<std::uint64_t>("the emitted air count");
+      d.air.removed = r.get<std::uint64_t>("the removed air count");
     }
     r.end();
+    return d;
+  }
+
+  // The hair's state within what the scene allows: finite, unit
+  // directions, hair within its length of the scalp as far as a head may
+  // travel, speeds and air within bounds no run reaches.
+  static void checkHair(Reader& r, const Solver& s, const Decoded& d) {
+    const std::size_t n = s.particles_.size();
+    const auto& position = d.position;
+    const auto& velocity = d.velocity;
+    const auto& direction = d.direction;
+    const auto& spring_dv = d.spring_dv;
+    const auto& sum_root = d.sum_root;
+    const auto& sum_tip = d.sum_tip;
+    const auto& air = d.air;
+    const auto& grid = d.grid;
+    const double time = d.time;
+    const std::uint64_t steps = d.steps;
     if (!std::isfinite(time) || time < 0.0 || time > kMaxSnapshotTime)
       r.fail("the time is " + num(time) + " s, outside [0, " + num(kMaxSnapshotTime) + "]");
     if (steps > kMaxSnapshotSteps)
@@ -319,8 +346,6 @@ struct SnapshotAccess {
       r.fail("it holds non-finite numbers");
     for (const glm::vec3& t : direction)
       if (std::abs(glm::dot(t, t) - 1.0f) > 1e-3f) r.fail("a hair direction is not a unit vector");
-    // what the scene allows: hair within its length of the scalp as far as
-    // a head may travel, speeds and air within bounds no run reaches
     {
       const Particles& p = s.particles_;
       double reach = 0.0;
@@ -336,31 +361,45 @@ struct SnapshotAccess {
         r.fail("it holds a speed of " + num(fast) + " m/s, above the " + num(kMaxSnapshotSpeed) +
                " m/s a hair or air state may have");
     }
-    if (air_kind == kParticleAir) {
-      const WindParams& w = scene_air->params();
-      const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size.z;
-      const double capacity = 4.0 * box / (static_cast<double>(w.spacing) * w.spacing * w.spacing) + 1000.0;
-      if (static_cast<double>(air.x.size()) > capacity)
-        r.fail("it holds " + std::to_string(air.x.size()) + " air particles where this scene's air box holds about " +
-               num(capacity / 4.0));
-      if (!(air.advance >= 0.0 && air.advance <= w.spacing))
-        r.fail("the wind run is " + num(air.advance) + " m, outside [0, " + num(w.spacing) + "] (the air spacing)");
-      if (air.removed > air.emitted) r.fail("more air particles removed than emitted");
-      const double box_reach = glm::length(w.box_size) + glm::length(w.box_center) + kHeadTravel;
-      if (largest(air.x) > box_reach)
-        r.fail("an air particle lies " + num(largest(air.x)) + " m away, beyond the air box");
-      // air crowded into one place would make every pair of it neighbours
-      std::unordered_map<std::uint64_t, std::uint32_t> cells;
-      cells.reserve(air.x.size());
-      for (const glm::vec3& x : air.x) {
-        const glm::ivec3 c = glm::ivec3(glm::floor(x / w.spacing)) + glm::ivec3(1 << 20);
-        const std::uint64_t key = (static_cast<std::uint64_t>(c.x) << 42) ^ (static_cast<std::uint64_t>(c.y) << 21) ^
-                                  static_cast<std::uint64_t>(c.z);
-        if (++cells[key] > kMaxAirPerCell)
-          r.fail("more than " + std::to_string(kMaxAirPerCell) + " air particles crowd into one cell of the air "
-                 "spacing, near (" + num(x.x) + ", " + num(x.y) + ", " + num(x.z) + ")");
-      }
+  }
+
+  // Particle air within its box and spacing.
+  static void checkParticleAir(Reader& r, const AirSystem& scene_air, const AirSystem::State& air) {
+    const WindParams& w = scene_air.params();
+const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size.z;
+    const double capacity = 4.0 * box / (static_cast<double>(w.spacing) * w.spacing * w.spacing) + 1000.0;
+    if (static_cast<double>(air.x.size()) > capacity)
+      r.fail("it holds " + std::to_string(air.x.size()) + " air particles where this scene's air box holds about " +
+             num(capacity / 4.0));
+    if (!(air.advance >= 0.0 && air.advance <= w.spacing))
+      r.fail("the wind run is " + num(air.advance) + " m, outside [0, " + num(w.spacing) + "] (the air spacing)");
+    if (air.removed > air.emitted) r.fail("more air particles removed than emitted");
+    const double box_reach = glm::length(w.box_size) + glm::length(w.box_center) + kHeadTravel;
+    if (largest(air.x) > box_reach)
+      r.fail("an air particle lies " + num(largest(air.x)) + " m away, beyond the air box");
+    // air crowded into one place would make every pair of it neighbours
+    std::unordered_map<std::uint64_t, std::uint32_t> cells;
+    cells.reserve(air.x.size());
+    for (const glm::vec3& x : air.x) {
+      const glm::ivec3 c = glm::ivec3(glm::floor(x / w.spacing)) + glm::ivec3(1 << 20);
+      const std::uint64_t key = (static_cast<std::uint64_t>(c.x) << 42) ^ (static_cast<std::uint64_t>(c.y) << 21) ^
+                                static_cast<std::uint64_t>(c.z);
+      if (++cells[key] > kMaxAirPerCell)
+        r.fail("more than " + std::to_string(kMaxAirPerCell) + " air particles crowd into one cell of the air "
+               "spacing, near (" + num(x.x) + ", " + num(x.y) + ", " + num(x.z) + ")");
     }
+  }
+
+  static void decode(Solver& s, std::string_view payload, const std::string& name) {
+    Reader r(payload, name);
+    Decoded d = read(r, s);
+    checkHair(r, s, d);
+    AirGrid* const scene_grid = gridAir(s);
+    AirSystem* const scene_air = particleAir(s);
+    if (d.air_kind == kParticleAir) checkParticleAir(r, *scene_air, d.air);
+    const double dt = d.dt;
+    const auto& grid = d.grid;
+    const std::uint8_t air_kind = d.air_kind;
     if (dt != s.params_.time_step) {
       SimParams next = s.params_;
       next.time_step = dt;
@@ -373,27 +412,28 @@ struct SnapshotAccess {
       r.fail("the air grid's time since its step is " + std::to_string(grid.pending) + " s");
     // Everything checked: the solver changes only from here on.
     if (dt != s.params_.time_step) s.setTimeStep(dt);
-    s.time_ = time;
+    s.time_ = d.time;
     s.stats_ = StepStats{};
-    s.stats_.steps = steps;
-    s.particles_.position = std::move(position);
-    s.particles_.velocity = std::move(velocity);
-    s.particles_.direction = std::move(direction);
-    s.absorb_corrections_ = absorb;
-    s.spring_dv_ = std::move(spring_dv);
-    if (scene_air) scene_air->restore(std::move(air));
-    if (scene_grid) scene_grid->restore(std::move(grid));  // checked above: cannot throw
+    s.stats_.steps = d.steps;
+    s.particles_.position = std::move(d.position);
+    s.particles_.velocity = std::move(d.velocity);
+    s.particles_.direction = std::move(d.direction);
+    s.absorb_corrections_ = d.absorb;
+    s.spring_dv_ = std::move(d.spring_dv);
+    if (scene_air) scene_air->restore(std::move(d.air));
+    if (scene_grid) scene_grid->restore(std::move(d.grid));  // checked above: cannot throw
     // Queries between steps see the state (as after a step).
     s.findNeighbors();
     s.measureDensity(s.step_->pair_records);
     auto& scratch = *s.scratch_;
-    scratch.sums_current = sums_current;
-    if (sums_current) {
-      scratch.sum_root = std::move(sum_root);
-      scratch.sum_tip = std::move(sum_tip);
-      scratch.active_entries = static_cast<std::size_t>(active);
+    scratch.sums_current = d.sums_current;
+    if (d.sums_current) {
+      scratch.sum_root = std::move(d.sum_root);
+      scratch.sum_tip = std::move(d.sum_tip);
+      scratch.active_entries = static_cast<std::size_t>(d.active);
     }
   }
+
 };
 
 std::uint64_t Solver::sceneFingerprint() const {
