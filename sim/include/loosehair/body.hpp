@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <filesystem>
 #include <memory>
 #include <span>
 #include <vector>
@@ -231,6 +232,11 @@ class GridSdfBody final : public Body {
   void sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc, const glm::vec3& f,
               float& phi, glm::vec3& normal) const;
   void computeBricks();  // brick_min_ from values_
+  // the steps of bake (sdf_body.cpp)
+  bool readCache(const std::filesystem::path& cache_file, std::uint64_t key, std::size_t triangles);
+  void convert(const TriangleMesh& mesh, glm::vec3 grid_lower, float margin);  // grid_lower: in voxels
+  void exactNearSurface(const TriangleMesh& mesh);
+  void writeCache(const std::filesystem::path& cache_file, std::uint64_t key) const;
   std::size_t brickIndex(const glm::ivec3& brick) const;
   float at(int i, int j, int k) const {
     return values_[(static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_.y) +

@@ -57,6 +57,143 @@ std::string GridSdfBody::defaultCacheDir() {
   return {};
 }
 
+// Reads the grid from the cache file when it holds this key and placement
+// (and its nearest triangles are triangles of the mesh).
+bool GridSdfBody::readCache(const std::filesystem::path& cache_file, std::uint64_t key, std::size_t triangles) {
+  const float voxel = voxel_;
+  const glm::ivec3 dims = dims_;
+  const double cells = static_cast<double>(dims.x) * dims.y * dims.z;
+  GridSdfBody* body = this;
+  std::ifstream in(cache_file, std::ios::binary);
+  CacheHeader h;
+  if (in && in.read(reinterpret_cast<char*>(&h), sizeof h) && h.magic == kCacheMagic &&
+      h.version == kCacheVersion && h.key == key && h.voxel == voxel && h.dims[0] == dims.x &&
+      h.dims[1] == dims.y && h.dims[2] == dims.z) {
+    body->values_.resize(static_cast<std::size_t>(cells));
+    body->nearest_.resize(static_cast<std::size_t>(cells));
+    bool ok = in.read(reinterpret_cast<char*>(body->values_.data()),
+                      static_cast<std::streamsize>(body->values_.size() * sizeof(float))) &&
+              in.read(reinterpret_cast<char*>(body->nearest_.data()),
+                      static_cast<std::streamsize>(body->nearest_.size() * sizeof(std::int32_t)));
+    for (std::size_t k = 0; ok && k < body->nearest_.size(); ++k)
+      ok = body->nearest_[k] >= -1 &&
+           body->nearest_[k] < static_cast<std::int64_t>(triangles);
+    if (ok) return true;
+  }
+  return false;
+}
+
+// The distances from OpenVDB's mesh-to-volume conversion (index space: the
+// coordinates in voxels), with the nearest triangle of every voxel in the
+// band, which the exact queries of MeshBody start from.
+void GridSdfBody::convert(const TriangleMesh& mesh, glm::vec3 glo, float margin) {
+  const float voxel = voxel_;
+  const glm::ivec3 dims = dims_;
+  const double cells = static_cast<double>(dims.x) * dims.y * dims.z;
+  GridSdfBody* body = this;
+  static std::once_flag init;
+  std::call_once(init, [] { openvdb::initialize(); });
+  std::vector<openvdb::Vec3s> points(mesh.vertices.size());
+  for (std::size_t v = 0; v < points.size(); ++v)
+    points[v] = openvdb::Vec3s(mesh.vertices[v].x, mesh.vertices[v].y, mesh.vertices[v].z);
+  // The conversion signs the distance by flooding the outside, so it needs a
+  // closed mesh (checkMesh) but not any particular winding.
+  std::vector<openvdb::Vec3I> tris(mesh.triangles.size());
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    tris[t] = openvdb::Vec3I(mesh.triangles[t].x, mesh.triangles[t].y, mesh.triangles[t].z);
+  auto xform = openvdb::math::Transform::createLinearTransform(static_cast<double>(voxel));
+  const float band = margin / voxel + 2.0f;
+  // The conversion works in index space (coordinates in voxels); it also
+  // gives the nearest triangle of every voxel in the band, which the exact
+  // queries of MeshBody start from.
+  for (auto& p : points) p /= voxel;
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(
+      points.data(), points.size(), tris.data(), tris.size());
+  openvdb::Int32Grid index_grid(static_cast<openvdb::Int32>(openvdb::util::INVALID_IDX));
+  // Without renormalisation the voxels keep their exact distances to the
+  // nearest triangle, which the Lipschitz bounds of cell() rely on.
+  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+      adapter, *xform, band, std::numeric_limits<float>::max(),
+      openvdb::tools::DISABLE_RENORMALIZATION, &index_grid);
+  auto acc = grid->getConstAccessor();
+  auto index_acc = index_grid.getConstAccessor();
+  body->values_.resize(static_cast<std::size_t>(cells));
+  body->nearest_.resize(static_cast<std::size_t>(cells));
+  const glm::ivec3 base(glo);
+  const auto triangles = static_cast<std::int64_t>(mesh.triangles.size());
+  std::size_t idx = 0;
+  for (int k = 0; k < dims.z; ++k)
+    for (int j = 0; j < dims.y; ++j)
+      for (int i = 0; i < dims.x; ++i) {
+        const openvdb::Coord ijk(base.x + i, base.y + j, base.z + k);
+        body->values_[idx] = acc.getValue(ijk);
+        const std::int64_t t = index_acc.getValue(ijk);
+        body->nearest_[idx++] = t >= 0 && t < triangles ? static_cast<std::int32_t>(t) : -1;
+      }
+}
+
+// The conversion's sign is unreliable a fraction of a voxel from the
+// surface (on the bundled head about 1 voxel in 700 of the band has it
+// flipped); MeshBody's bounds need exact voxels there, so the voxels within
+// kExactBand voxels of the surface get the exact signed distance. (The
+// conversion's distance is to some triangle, never below the exact one, so
+// every voxel it put nearer than that is recomputed, and only those are: a
+// value beyond the band may exceed the distance.)
+void GridSdfBody::exactNearSurface(const TriangleMesh& mesh) {
+  const float voxel = voxel_;
+  const glm::ivec3 dims = dims_;
+  GridSdfBody* body = this;
+  const ExactDistance exact(mesh);
+  const float near = kExactBand * voxel;
+  const auto sx = static_cast<std::size_t>(dims.x), sy = static_cast<std::size_t>(dims.y);
+  parallel::forEach(parallel::availableThreads(), static_cast<std::size_t>(dims.z), [&](std::size_t k) {
+    for (std::size_t j = 0; j < sy; ++j)
+      for (std::size_t i = 0; i < sx; ++i) {
+        const std::size_t at = (k * sy + j) * sx + i;
+        if (!(std::fabs(body->values_[at]) < near)) continue;
+        const glm::vec3 c = body->lower_ + voxel * glm::vec3(glm::uvec3(i, j, k));
+        const std::int32_t seed = body->nearest_[at];
+        std::uint32_t tri = 0;
+        const float d = exact.signedDistance(c, &seed, seed >= 0 ? 1 : 0, nullptr, &tri);
+        if (!std::isfinite(d)) continue;
+        body->values_[at] = d;
+        body->nearest_[at] = static_cast<std::int32_t>(tri);
+      }
+  });
+  // Beyond that band a value may exceed the distance; MeshBody's proofs of
+  // clearance allow kFarAllowance voxel of that (grid_value_bounds.hpp),
+  // and a voxel over it gets its exact value too.
+  const GridValues view{body->lower_, voxel, dims, body->values_, body->nearest_};
+  boundFarValues(exact, view, near, kFarAllowance * voxel, parallel::availableThreads());
+}
+
+// The grid into the cache (optional: a failed write leaves the next run to
+// bake again).
+void GridSdfBody::writeCache(const std::filesystem::path& cache_file, std::uint64_t key) const {
+  const GridSdfBody* body = this;
+  const float voxel = voxel_;
+  const glm::ivec3 dims = dims_;
+  std::error_code ec;
+  std::filesystem::create_directories(cache_file.parent_path(), ec);
+  CacheHeader h;
+  h.key = key;
+  for (int a = 0; a < 3; ++a) {
+    h.lower[a] = body->lower_[a];
+    h.dims[a] = dims[a];
+  }
+  h.voxel = voxel;
+  try {
+    AtomicFile out(cache_file.string());
+    out.write({reinterpret_cast<const char*>(&h), sizeof h});
+    out.write({reinterpret_cast<const char*>(body->values_.data()), body->values_.size() * sizeof(float)});
+    out.write({reinterpret_cast<const char*>(body->nearest_.data()),
+               body->nearest_.size() * sizeof(std::int32_t)});
+    out.commit();
+  } catch (const FileError&) {
+    // a cache is optional: without it the next run bakes again
+  }
+}
+
 std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const SdfBakeOptions& opt,
                                                bool* from_cache) {
   if (from_cache) *from_cache = false;
@@ -99,120 +236,19 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
     char name[40];
     std::snprintf(name, sizeof name, "sdf-%016llx.bin", static_cast<unsigned long long>(key));
     cache_file = std::filesystem::path(opt.cache_dir) / name;
-    std::ifstream in(cache_file, std::ios::binary);
-    CacheHeader h;
-    if (in && in.read(reinterpret_cast<char*>(&h), sizeof h) && h.magic == kCacheMagic &&
-        h.version == kCacheVersion && h.key == key && h.voxel == voxel && h.dims[0] == dims.x &&
-        h.dims[1] == dims.y && h.dims[2] == dims.z) {
-      body->values_.resize(static_cast<std::size_t>(cells));
-      body->nearest_.resize(static_cast<std::size_t>(cells));
-      bool ok = in.read(reinterpret_cast<char*>(body->values_.data()),
-                        static_cast<std::streamsize>(body->values_.size() * sizeof(float))) &&
-                in.read(reinterpret_cast<char*>(body->nearest_.data()),
-                        static_cast<std::streamsize>(body->nearest_.size() * sizeof(std::int32_t)));
-      for (std::size_t k = 0; ok && k < body->nearest_.size(); ++k)
-        ok = body->nearest_[k] >= -1 &&
-             body->nearest_[k] < static_cast<std::int64_t>(mesh.triangles.size());
-      if (ok) {
-        if (from_cache) *from_cache = true;
-        body->computeBricks();
-        return body;
-      }
+    if (body->readCache(cache_file, key, mesh.triangles.size())) {
+      if (from_cache) *from_cache = true;
+      body->computeBricks();
+      return body;
     }
   }
 
-  static std::once_flag init;
-  std::call_once(init, [] { openvdb::initialize(); });
-  std::vector<openvdb::Vec3s> points(mesh.vertices.size());
-  for (std::size_t v = 0; v < points.size(); ++v)
-    points[v] = openvdb::Vec3s(mesh.vertices[v].x, mesh.vertices[v].y, mesh.vertices[v].z);
-  // The conversion signs the distance by flooding the outside, so it needs a
-  // closed mesh (checkMesh) but not any particular winding.
-  std::vector<openvdb::Vec3I> tris(mesh.triangles.size());
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    tris[t] = openvdb::Vec3I(mesh.triangles[t].x, mesh.triangles[t].y, mesh.triangles[t].z);
-  auto xform = openvdb::math::Transform::createLinearTransform(static_cast<double>(voxel));
-  const float band = margin / voxel + 2.0f;
-  // The conversion works in index space (coordinates in voxels); it also
-  // gives the nearest triangle of every voxel in the band, which the exact
-  // queries of MeshBody start from.
-  for (auto& p : points) p /= voxel;
-  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(
-      points.data(), points.size(), tris.data(), tris.size());
-  openvdb::Int32Grid index_grid(static_cast<openvdb::Int32>(openvdb::util::INVALID_IDX));
-  // Without renormalisation the voxels keep their exact distances to the
-  // nearest triangle, which the Lipschitz bounds of cell() rely on.
-  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-      adapter, *xform, band, std::numeric_limits<float>::max(),
-      openvdb::tools::DISABLE_RENORMALIZATION, &index_grid);
-  auto acc = grid->getConstAccessor();
-  auto index_acc = index_grid.getConstAccessor();
-  body->values_.resize(static_cast<std::size_t>(cells));
-  body->nearest_.resize(static_cast<std::size_t>(cells));
-  const glm::ivec3 base(glo);
-  const auto triangles = static_cast<std::int64_t>(mesh.triangles.size());
-  std::size_t idx = 0;
-  for (int k = 0; k < dims.z; ++k)
-    for (int j = 0; j < dims.y; ++j)
-      for (int i = 0; i < dims.x; ++i) {
-        const openvdb::Coord ijk(base.x + i, base.y + j, base.z + k);
-        body->values_[idx] = acc.getValue(ijk);
-        const std::int64_t t = index_acc.getValue(ijk);
-        body->nearest_[idx++] = t >= 0 && t < triangles ? static_cast<std::int32_t>(t) : -1;
-      }
-  // The conversion's sign is unreliable a fraction of a voxel from the
-  // surface (on the bundled head about 1 voxel in 700 of the band has it
-  // flipped); MeshBody's bounds need exact voxels there, so the voxels
-  // within kExactBand voxels of the surface get the exact signed distance.
-  // (The conversion's distance is to some triangle, never below the exact
-  // one, so every voxel it put nearer than that is recomputed, and only
-  // those are: a value beyond the band may exceed the distance.)
-  {
-    const ExactDistance exact(mesh);
-    const float near = kExactBand * voxel;
-    const auto sx = static_cast<std::size_t>(dims.x), sy = static_cast<std::size_t>(dims.y);
-    parallel::forEach(parallel::availableThreads(), static_cast<std::size_t>(dims.z), [&](std::size_t k) {
-      for (std::size_t j = 0; j < sy; ++j)
-        for (std::size_t i = 0; i < sx; ++i) {
-          const std::size_t at = (k * sy + j) * sx + i;
-          if (!(std::fabs(body->values_[at]) < near)) continue;
-          const glm::vec3 c = body->lower_ + voxel * glm::vec3(glm::uvec3(i, j, k));
-          const std::int32_t seed = body->nearest_[at];
-          std::uint32_t tri = 0;
-          const float d = exact.signedDistance(c, &seed, seed >= 0 ? 1 : 0, nullptr, &tri);
-          if (!std::isfinite(d)) continue;
-          body->values_[at] = d;
-          body->nearest_[at] = static_cast<std::int32_t>(tri);
-        }
-    });
-    // Beyond that band a value may exceed the distance; MeshBody's proofs of
-    // clearance allow kFarAllowance voxel of that (grid_value_bounds.hpp),
-    // and a voxel over it gets its exact value too.
-    const GridValues view{body->lower_, voxel, dims, body->values_, body->nearest_};
-    boundFarValues(exact, view, near, kFarAllowance * voxel, parallel::availableThreads());
-  }
+  body->convert(mesh, glo, margin);
+  body->exactNearSurface(mesh);
   body->computeBricks();
 
   if (!cache_file.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(cache_file.parent_path(), ec);
-    CacheHeader h;
-    h.key = key;
-    for (int a = 0; a < 3; ++a) {
-      h.lower[a] = body->lower_[a];
-      h.dims[a] = dims[a];
-    }
-    h.voxel = voxel;
-    try {
-      AtomicFile out(cache_file.string());
-      out.write({reinterpret_cast<const char*>(&h), sizeof h});
-      out.write({reinterpret_cast<const char*>(body->values_.data()), body->values_.size() * sizeof(float)});
-      out.write({reinterpret_cast<const char*>(body->nearest_.data()),
-                 body->nearest_.size() * sizeof(std::int32_t)});
-      out.commit();
-    } catch (const FileError&) {
-      // a cache is optional: without it the next run bakes again
-    }
+    body->writeCache(cache_file, key);
   }
   return body;
 }
