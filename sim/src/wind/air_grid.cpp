@@ -390,6 +390,151 @@ void AirGrid::fill(double t, const BodySampler& bodies) {
   project(1);
 }
 
+// Each hair particle's stencil (the lower of its eight cells and
+// their trilinear weights, between cell centres) and its world
+// velocity in the grid's axes; the cells' velocities, the mean of
+// each component's two faces.
+void AirGrid::dragStencils(const DragPass& pass, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
+                           std::span<const std::uint8_t> hair_root) {
+  const std::size_t nh = hair_x.size();
+  const glm::mat3& rot = pass.rot;
+  const glm::vec3 centre = pass.centre, omega = pass.omega, frame_v = pass.frame_v, extent = pass.extent;
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  const auto [b, e] = parallel::share(nh);
+  for (std::size_t i = b; i < e; ++i) {
+    const glm::vec3 q = toGrid(rot * hair_x[i] + centre);
+    const bool inside = q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y &&
+                        q.z <= extent.z;
+    if (hair_root[i] || !inside) {
+      hair_cell_[i] = kNone;
+      continue;
+    }
+    int lo[3];
+    glm::vec3 f;
+    for (int a = 0; a < 3; ++a) {
+      // x >= -0.5 inside the box: truncation is the floor where it
+      // matters (below 0 both clamp to the first cell, fraction 0)
+      const float x = q[a] / h_ - 0.5f;
+      lo[a] = std::clamp(static_cast<int>(x), 0, n_[a] - 2);
+      f[a] = std::clamp(x - static_cast<float>(lo[a]), 0.0f, 1.0f);
+    }
+    hair_cell_[i] = static_cast<std::uint32_t>(cell(lo[0], lo[1], lo[2]));
+    const float yz[4] = {(1.0f - f.y) * (1.0f - f.z), f.y * (1.0f - f.z), (1.0f - f.y) * f.z, f.y * f.z};
+    for (int t = 0; t < 4; ++t) {
+      hair_w_[i][2 * t] = (1.0f - f.x) * yz[t];
+      hair_w_[i][2 * t + 1] = f.x * yz[t];
+    }
+    const glm::vec3 vw = rot * (hair_v[i] + glm::cross(omega, hair_x[i])) + frame_v;
+    hair_vb_[i] = {glm::dot(vw, axes_.wind), glm::dot(vw, axes_.up), glm::dot(vw, axes_.side)};
+  }
+  const auto [kb, ke] = parallel::share(static_cast<std::size_t>(n_[2]));
+  for (int k = static_cast<int>(kb); k < static_cast<int>(ke); ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i)
+        cell_air_[cell(i, j, k)] = glm::vec4(0.5f * glm::vec3(u_[0][face(0, i, j, k)] + u_[0][face(0, i + 1, j, k)],
+                                                              u_[1][face(1, i, j, k)] + u_[1][face(1, i, j + 1, k)],
+                                                              u_[2][face(2, i, j, k)] + u_[2][face(2, i, j, k + 1)]),
+                                              0.0f);
+}
+
+// The hair mass each cell holds, which makes its limiter (as the
+// particle air's: a side whose velocity would relax by more than
+// half in a step has its pair forces scaled down; a pair takes the
+// smaller of its two). Each thread owns a range of cells and adds
+// their taps in hair order: the same sums for any thread count.
+void AirGrid::dragLimiters(const DragPass& pass, std::span<const float> hair_m, float dt, std::size_t cb,
+                           std::size_t ce) {
+  const std::size_t nh = hair_m.size();
+  const float rate = pass.rate, cell_mass = pass.cell_mass, hair_limit = pass.hair_limit;
+  const std::uint32_t* offset = pass.offset;
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  for (std::size_t i = 0; i < nh; ++i) {
+    const std::uint32_t base = hair_cell_[i];
+    if (base == kNone || base + offset[7] < cb || base >= ce) continue;
+    const auto& w = hair_w_[i];
+    for (int t = 0; t < 8; ++t) {
+      const std::uint32_t q = base + offset[t];
+      if (q >= cb && q < ce) cell_air_[q].w += w[t] * hair_m[i];
+    }
+  }
+  for (std::size_t q = cb; q < ce; ++q) {
+    const float r = rate * cell_air_[q].w / cell_mass;
+    cell_air_[q].w = std::min(hair_limit, r * dt > 0.5f ? 0.5f / (r * dt) : 1.0f);
+  }
+}
+
+// The force on each hair particle.
+void AirGrid::dragOnHair(const DragPass& pass, std::span<const float> hair_m, std::span<glm::vec3> hair_force) {
+  const std::size_t nh = hair_m.size();
+  const glm::mat3& rot_t = pass.rot_t;
+  const float rate = pass.rate;
+  const std::uint32_t* offset = pass.offset;
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  const auto [b, e] = parallel::share(nh);
+  for (std::size_t i = b; i < e; ++i) {
+    const std::uint32_t base = hair_cell_[i];
+    if (base == kNone) continue;
+    const auto& w = hair_w_[i];
+    glm::vec3 sum_u(0.0f);  // sum_t w_t L_t U_t
+    float sum_w = 0.0f;     // sum_t w_t L_t
+    for (int t = 0; t < 8; ++t) {
+      const glm::vec4 air = cell_air_[base + offset[t]];
+      const float a = w[t] * air.w;
+      sum_u += a * glm::vec3(air);
+      sum_w += a;
+    }
+    const glm::vec3 force = rate * hair_m[i] * (sum_u - sum_w * hair_vb_[i]);
+    const glm::vec3 world = force.x * axes_.wind + force.y * axes_.up + force.z * axes_.side;
+    hair_force[i] += rot_t * world;
+  }
+}
+
+// The opposite impulses onto the cells (velocity changes), each
+// thread its cells in hair order, as the masses.
+void AirGrid::dragOnCells(const DragPass& pass, std::span<const float> hair_m, float dt, std::size_t cb,
+                          std::size_t ce) {
+  const std::size_t nh = hair_m.size();
+  const float rate = pass.rate, cell_mass = pass.cell_mass;
+  const std::uint32_t* offset = pass.offset;
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  std::fill(cell_push_.begin() + static_cast<std::ptrdiff_t>(cb), cell_push_.begin() + static_cast<std::ptrdiff_t>(ce), glm::vec3(0.0f));
+  const float to_velocity = -rate * dt / cell_mass;
+  for (std::size_t i = 0; i < nh; ++i) {
+    const std::uint32_t base = hair_cell_[i];
+    if (base == kNone || base + offset[7] < cb || base >= ce) continue;
+    const auto& w = hair_w_[i];
+    const float scale = to_velocity * hair_m[i];
+    const glm::vec3 v = hair_vb_[i];
+    for (int t = 0; t < 8; ++t) {
+      const std::uint32_t q = base + offset[t];
+      if (q < cb || q >= ce) continue;
+      const glm::vec4 air = cell_air_[q];
+      cell_push_[q] += (scale * w[t] * air.w) * (glm::vec3(air) - v);
+    }
+  }
+}
+
+// Each cell's impulse goes half to each of its two faces of every
+// component (so the faces' momentum changes by the cells'), the faces
+// shared by the threads in slabs along z.
+void AirGrid::cellsToFaces() {
+  const auto [kb, ke] = parallel::share(static_cast<std::size_t>(n_[2]) + 1);
+  for (int c = 0; c < 3; ++c) {
+    const auto& d = fdim_[static_cast<std::size_t>(c)];
+    auto& u = u_[static_cast<std::size_t>(c)];
+    for (int k = static_cast<int>(kb); k < std::min(static_cast<int>(ke), d[2]); ++k)
+      for (int j = 0; j < d[1]; ++j)
+        for (int i = 0; i < d[0]; ++i) {
+          int at[3] = {i, j, k};
+          float sum = 0.0f;
+          if (at[c] < n_[c]) sum += cell_push_[cell(at[0], at[1], at[2])][c];
+          at[c] -= 1;
+          if (at[c] >= 0) sum += cell_push_[cell(at[0], at[1], at[2])][c];
+          u[face(c, i, j, k)] += 0.5f * sum;
+        }
+  }
+}
+
 void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
                            std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
                            std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
@@ -400,137 +545,35 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
   hair_vb_.resize(nh);
   cell_air_.resize(nc);
   cell_push_.resize(nc);
-  const glm::mat3 rot(head.pose.rotation), rot_t = glm::transpose(glm::mat3(head.pose.rotation));
-  const glm::vec3 centre(head.pose.center), omega(head.angular_velocity), frame_v(head.velocity);
-  const glm::vec3 extent = h_ * glm::vec3(static_cast<float>(n_[0]), static_cast<float>(n_[1]), static_cast<float>(n_[2]));
+  DragPass pass;
+  pass.rot = glm::mat3(head.pose.rotation);
+  pass.rot_t = glm::transpose(glm::mat3(head.pose.rotation));
+  pass.centre = glm::vec3(head.pose.center);
+  pass.omega = glm::vec3(head.angular_velocity);
+  pass.frame_v = glm::vec3(head.velocity);
+  pass.extent = h_ * glm::vec3(static_cast<float>(n_[0]), static_cast<float>(n_[1]), static_cast<float>(n_[2]));
   const std::uint32_t sy = static_cast<std::uint32_t>(n_[0]), sz = sy * static_cast<std::uint32_t>(n_[1]);
   // a stencil's eight cells: the base and +x, +y, +z combinations
   const std::uint32_t offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  std::copy(std::begin(offset), std::end(offset), pass.offset);
   const float rate = p_.drag_rate, cell_mass = p_.density * h_ * h_ * h_;
-  const float hair_limit = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
+  pass.rate = rate;
+  pass.cell_mass = cell_mass;
+  pass.hair_limit = rate * dt > 0.5f ? 0.5f / (rate * dt) : 1.0f;
   // The pair forces of a hair particle and its cells, on the hair (the
   // cells take minus them): rate m_i w_t L_t (U_t - v_i), with the pair's
   // limiter L_t = min(the hair's, the cell's). cell_air_ holds (U, L).
   constexpr std::uint32_t kNone = UINT32_MAX;
   parallel::run(threads, [&] {
-    // 1. Each hair particle's stencil (the lower of its eight cells and
-    //    their trilinear weights, between cell centres) and its world
-    //    velocity in the grid's axes; the cells' velocities, the mean of
-    //    each component's two faces.
-    {
-      const auto [b, e] = parallel::share(nh);
-      for (std::size_t i = b; i < e; ++i) {
-        const glm::vec3 q = toGrid(rot * hair_x[i] + centre);
-        const bool inside = q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y &&
-                            q.z <= extent.z;
-        if (hair_root[i] || !inside) {
-          hair_cell_[i] = kNone;
-          continue;
-        }
-        int lo[3];
-        glm::vec3 f;
-        for (int a = 0; a < 3; ++a) {
-          // x >= -0.5 inside the box: truncation is the floor where it
-          // matters (below 0 both clamp to the first cell, fraction 0)
-          const float x = q[a] / h_ - 0.5f;
-          lo[a] = std::clamp(static_cast<int>(x), 0, n_[a] - 2);
-          f[a] = std::clamp(x - static_cast<float>(lo[a]), 0.0f, 1.0f);
-        }
-        hair_cell_[i] = static_cast<std::uint32_t>(cell(lo[0], lo[1], lo[2]));
-        const float yz[4] = {(1.0f - f.y) * (1.0f - f.z), f.y * (1.0f - f.z), (1.0f - f.y) * f.z, f.y * f.z};
-        for (int t = 0; t < 4; ++t) {
-          hair_w_[i][2 * t] = (1.0f - f.x) * yz[t];
-          hair_w_[i][2 * t + 1] = f.x * yz[t];
-        }
-        const glm::vec3 vw = rot * (hair_v[i] + glm::cross(omega, hair_x[i])) + frame_v;
-        hair_vb_[i] = {glm::dot(vw, axes_.wind), glm::dot(vw, axes_.up), glm::dot(vw, axes_.side)};
-      }
-      const auto [kb, ke] = parallel::share(static_cast<std::size_t>(n_[2]));
-      for (int k = static_cast<int>(kb); k < static_cast<int>(ke); ++k)
-        for (int j = 0; j < n_[1]; ++j)
-          for (int i = 0; i < n_[0]; ++i)
-            cell_air_[cell(i, j, k)] = glm::vec4(0.5f * glm::vec3(u_[0][face(0, i, j, k)] + u_[0][face(0, i + 1, j, k)],
-                                                                  u_[1][face(1, i, j, k)] + u_[1][face(1, i, j + 1, k)],
-                                                                  u_[2][face(2, i, j, k)] + u_[2][face(2, i, j, k + 1)]),
-                                                  0.0f);
-    }
+    dragStencils(pass, hair_x, hair_v, hair_root);
     parallel::barrier();
-    // 2. The hair mass each cell holds, which makes its limiter (as the
-    //    particle air's: a side whose velocity would relax by more than
-    //    half in a step has its pair forces scaled down; a pair takes the
-    //    smaller of its two). Each thread owns a range of cells and adds
-    //    their taps in hair order: the same sums for any thread count.
     const auto [cb, ce] = parallel::share(nc);
-    for (std::size_t i = 0; i < nh; ++i) {
-      const std::uint32_t base = hair_cell_[i];
-      if (base == kNone || base + offset[7] < cb || base >= ce) continue;
-      const auto& w = hair_w_[i];
-      for (int t = 0; t < 8; ++t) {
-        const std::uint32_t q = base + offset[t];
-        if (q >= cb && q < ce) cell_air_[q].w += w[t] * hair_m[i];
-      }
-    }
-    for (std::size_t q = cb; q < ce; ++q) {
-      const float r = rate * cell_air_[q].w / cell_mass;
-      cell_air_[q].w = std::min(hair_limit, r * dt > 0.5f ? 0.5f / (r * dt) : 1.0f);
-    }
+    dragLimiters(pass, hair_m, dt, cb, ce);
     parallel::barrier();
-    // 3. The force on each hair particle.
-    {
-      const auto [b, e] = parallel::share(nh);
-      for (std::size_t i = b; i < e; ++i) {
-        const std::uint32_t base = hair_cell_[i];
-        if (base == kNone) continue;
-        const auto& w = hair_w_[i];
-        glm::vec3 sum_u(0.0f);  // sum_t w_t L_t U_t
-        float sum_w = 0.0f;     // sum_t w_t L_t
-        for (int t = 0; t < 8; ++t) {
-          const glm::vec4 air = cell_air_[base + offset[t]];
-          const float a = w[t] * air.w;
-          sum_u += a * glm::vec3(air);
-          sum_w += a;
-        }
-        const glm::vec3 force = rate * hair_m[i] * (sum_u - sum_w * hair_vb_[i]);
-        const glm::vec3 world = force.x * axes_.wind + force.y * axes_.up + force.z * axes_.side;
-        hair_force[i] += rot_t * world;
-      }
-    }
-    // 4. The opposite impulses onto the cells (velocity changes), each
-    //    thread its cells in hair order, as the masses.
-    std::fill(cell_push_.begin() + static_cast<std::ptrdiff_t>(cb), cell_push_.begin() + static_cast<std::ptrdiff_t>(ce), glm::vec3(0.0f));
-    const float to_velocity = -rate * dt / cell_mass;
-    for (std::size_t i = 0; i < nh; ++i) {
-      const std::uint32_t base = hair_cell_[i];
-      if (base == kNone || base + offset[7] < cb || base >= ce) continue;
-      const auto& w = hair_w_[i];
-      const float scale = to_velocity * hair_m[i];
-      const glm::vec3 v = hair_vb_[i];
-      for (int t = 0; t < 8; ++t) {
-        const std::uint32_t q = base + offset[t];
-        if (q < cb || q >= ce) continue;
-        const glm::vec4 air = cell_air_[q];
-        cell_push_[q] += (scale * w[t] * air.w) * (glm::vec3(air) - v);
-      }
-    }
+    dragOnHair(pass, hair_m, hair_force);
+    dragOnCells(pass, hair_m, dt, cb, ce);
     parallel::barrier();
-    // 5. Each cell's impulse goes half to each of its two faces of every
-    //    component (so the faces' momentum changes by the cells'), the faces
-    //    shared by the threads in slabs along z.
-    const auto [kb, ke] = parallel::share(static_cast<std::size_t>(n_[2]) + 1);
-    for (int c = 0; c < 3; ++c) {
-      const auto& d = fdim_[static_cast<std::size_t>(c)];
-      auto& u = u_[static_cast<std::size_t>(c)];
-      for (int k = static_cast<int>(kb); k < std::min(static_cast<int>(ke), d[2]); ++k)
-        for (int j = 0; j < d[1]; ++j)
-          for (int i = 0; i < d[0]; ++i) {
-            int at[3] = {i, j, k};
-            float sum = 0.0f;
-            if (at[c] < n_[c]) sum += cell_push_[cell(at[0], at[1], at[2])][c];
-            at[c] -= 1;
-            if (at[c] >= 0) sum += cell_push_[cell(at[0], at[1], at[2])][c];
-            u[face(c, i, j, k)] += 0.5f * sum;
-          }
-    }
+    cellsToFaces();
   });
   coupled_ = static_cast<std::size_t>(std::count_if(hair_cell_.begin(), hair_cell_.end(), [](std::uint32_t q) { return q != kNone; }));
   // the air's side of the exchange, summed in cell order

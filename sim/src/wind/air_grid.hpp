@@ -137,6 +137,20 @@ class AirGrid final : public WindAir {
   std::size_t faceCount(int c) const { return u_[static_cast<std::size_t>(c)].size(); }
 
  private:
+  // exchangeDrag's constants and its steps, in order (each inside the
+  // parallel region, between barriers)
+  struct DragPass {
+    glm::mat3 rot{1.0f}, rot_t{1.0f};
+    glm::vec3 centre{0.0f}, omega{0.0f}, frame_v{0.0f}, extent{0.0f};
+    std::uint32_t offset[8] = {};
+    float rate = 0, cell_mass = 0, hair_limit = 0;
+  };
+  void dragStencils(const DragPass& pass, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
+                    std::span<const std::uint8_t> hair_root);
+  void dragLimiters(const DragPass& pass, std::span<const float> hair_m, float dt, std::size_t cb, std::size_t ce);
+  void dragOnHair(const DragPass& pass, std::span<const float> hair_m, std::span<glm::vec3> hair_force);
+  void dragOnCells(const DragPass& pass, std::span<const float> hair_m, float dt, std::size_t cb, std::size_t ce);
+  void cellsToFaces();
   // faces of component c: (n0 + [c==0]) x (n1 + [c==1]) x (n2 + [c==2])
   std::size_t face(int c, int i, int j, int k) const {
     const auto& d = fdim_[static_cast<std::size_t>(c)];
