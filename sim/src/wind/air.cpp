@@ -196,14 +196,11 @@ void AirSystem::fill(double t, const HeadKinematics& head, const WorldDistance& 
   advance_ = 0.5 * p_.spacing;
 }
 
-void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int threads) {
-  const std::size_t na = x_.size(), nh = hair_x.size();
-  const CubicKernel k(h_);
-  const float support = k.support(), support2 = k.support2();
-
-  // Keep the air sorted by cell (a stable sort, so the order is
-  // deterministic): neighbours are then near in memory, and the cells are
-  // contiguous ranges for the hair-air search.
+// Keeps the air sorted by cell (a stable sort, so the order is
+// deterministic): neighbours are then near in memory, and the cells are
+// contiguous ranges for the hair-air search.
+void AirSystem::sortByCell(float support, int threads) {
+  const std::size_t na = x_.size();
   const float inv_cell = 1.0f / support;
   auto& key = key_;
   key.resize(na);
@@ -234,18 +231,17 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int t
     }
   }
   cell_begin_.push_back(static_cast<std::uint32_t>(na));
-  // Without a sound speed: the density projection (air_projection.cpp) on
-  // the air's own neighbour lists, before the hair looks for its air. The
-  // cell ranges below keep the cells from before the shifts: a shifted
-  // particle is at most its shift (a small part of h_air) away from its
-  // cell, so only pairs within that much of the support's edge, where W is
-  // nearly 0, can be missed.
-  if (p_.projection_iterations > 0) projectDensity(dt, threads);
+}
 
-  // Hair -> air lists: each thread takes a contiguous block of hair
-  // particles (which are ordered along a Morton curve, so consecutive ones
-  // share a cell and reuse its 27 ranges) into its own buffer; the blocks
-  // are joined in order, so the lists do not depend on the thread count.
+// Hair -> air lists: each thread takes a contiguous block of hair particles
+// (which are ordered along a Morton curve, so consecutive ones share a cell
+// and reuse its 27 ranges) into its own buffer; the blocks are joined in
+// order, so the lists do not depend on the thread count. Then the
+// transpose: each air particle's hair neighbours in increasing order,
+// remembering which hair-list entry each came from.
+void AirSystem::listHairAir(std::span<const glm::vec3> hair_x, float support, float support2, int threads) {
+  const std::size_t na = x_.size(), nh = hair_x.size();
+  const float inv_cell = 1.0f / support;
   const int nt = std::max(1, threads);
   auto& buffers = buffers_;
   buffers.resize(static_cast<std::size_t>(nt));
@@ -291,8 +287,6 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int t
   hair_list_.clear();
   hair_list_.reserve(hair_start_[nh]);
   for (const auto& buf : buffers) hair_list_.insert(hair_list_.end(), buf.begin(), buf.end());
-  // Transpose: each air particle's hair neighbours in increasing order,
-  // remembering which hair-list entry each came from.
   air_start_.assign(na + 1, 0);
   for (std::uint32_t a : hair_list_) ++air_start_[a + 1];
   for (std::size_t a = 0; a < na; ++a) air_start_[a + 1] += air_start_[a];
@@ -307,6 +301,22 @@ void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int t
       air_pair_[slot] = q;
     }
 
+}
+
+void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int threads) {
+  const std::size_t na = x_.size();
+  const CubicKernel k(h_);
+  const float support = k.support(), support2 = k.support2();
+  sortByCell(support, threads);
+  // Without a sound speed: the density projection (air_projection.cpp) on
+  // the air's own neighbour lists, before the hair looks for its air. The
+  // cell ranges below keep the cells from before the shifts: a shifted
+  // particle is at most its shift (a small part of h_air) away from its
+  // cell, so only pairs within that much of the support's edge, where W is
+  // nearly 0, can be missed.
+  if (p_.projection_iterations > 0) projectDensity(dt, threads);
+
+  listHairAir(hair_x, support, support2, threads);
   // Air density (air only: the hair is not air).
   density_.resize(na);
   const float c2 = sound_speed_ * sound_speed_;

@@ -113,6 +113,9 @@ class AirSystem final : public WindAir {
   }
 
  private:
+  // findNeighbors' steps (air.cpp)
+  void sortByCell(float support, int threads);
+  void listHairAir(std::span<const glm::vec3> hair_x, float support, float support2, int threads);
   void emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies,
                  float speed);
 
