@@ -241,47 +241,87 @@ bool SimulationThread::waitForFrame(std::int64_t n) const {
   return latest_->frame >= n;
 }
 
+// Builds the scene asked for (the lock released meanwhile) and takes it
+// in: a new generation, the head and frame count reset, its first frame
+// published. Called and returns with `lk` locked; a scene that fails to
+// build leaves its error and the running scene.
+void SimulationThread::rebuild(std::unique_lock<std::mutex>& lk) {
+  const SceneDesc next = std::move(*restart_);
+  restart_.reset();
+  lk.unlock();
+  std::unique_ptr<Solver> solver;
+  BuildReport report;
+  std::string error;
+  try {
+    solver = std::make_unique<Solver>(buildSolver(next, &report));
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  lk.lock();
+  if (!solver) {
+    error_ = error;
+    published_.notify_all();
+    return;
+  }
+  scene_ = next;
+  build_ = report;
+  solver_ = std::move(solver);
+  rest_ = std::make_shared<const Particles>(solver_->particles());
+  built_scene_ = std::make_shared<const SceneDesc>(scene_);
+  built_report_ = std::make_shared<const BuildReport>(build_);
+  ++generation_;
+  live_head_.reset();
+  head_target_.reset();
+  head_script_ = nullptr;
+  head_keys_.clear();
+  frame_ = 0;
+  rate_window_.clear();
+  lk.unlock();
+  publish(0.0);
+  lk.lock();
+  pace_wall_ = wallNow();
+  pace_sim_ = solver_->time();
+}
+
+// The head moved by hand: the live trajectory, from the rest pose before
+// the first input; without new input the last pose holds.
+void SimulationThread::moveHead(const std::optional<HeadKeyframe>& target) {
+  if (target) {
+    if (!live_head_) {
+      live_head_.emplace(scene_.frame_rate);
+      for (std::int64_t n = 0; n < frame_; ++n) live_head_->beginFrame(n, HeadKeyframe{});
+    }
+    live_head_->beginFrame(frame_, *target);
+    solver_->setTrajectory(live_head_->trajectory());
+  } else if (live_head_) {
+    live_head_->beginFrame(frame_, live_head_->latest());
+    solver_->setTrajectory(live_head_->trajectory());
+  }
+}
+
+// Pacing: never ahead of real time times the speed; time lost to a slow
+// frame is not made up afterwards. Called with `lk` locked.
+void SimulationThread::pace(std::unique_lock<std::mutex>& lk) {
+  if (speed_ > 0.0) {
+    const double due = pace_wall_ + (latest_->time - pace_sim_) / speed_;
+    const double now = wallNow();
+    if (due > now) {
+      const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(due - now);
+      wake_.wait_until(lk, until, [&] { return stop_ || restart_.has_value() || paused_ || step_once_; });
+    } else {
+      pace_wall_ = now;
+      pace_sim_ = latest_->time;
+    }
+  }
+}
+
 void SimulationThread::loop() {
   std::unique_lock<std::mutex> lk(mutex_);
   for (;;) {
     wake_.wait(lk, [&] { return stop_ || restart_ || !changes_.empty() || !paused_ || step_once_; });
     if (stop_) return;
     if (restart_) {
-      const SceneDesc next = std::move(*restart_);
-      restart_.reset();
-      lk.unlock();
-      std::unique_ptr<Solver> solver;
-      BuildReport report;
-      std::string error;
-      try {
-        solver = std::make_unique<Solver>(buildSolver(next, &report));
-      } catch (const std::exception& e) {
-        error = e.what();
-      }
-      lk.lock();
-      if (!solver) {
-        error_ = error;
-        published_.notify_all();
-        continue;
-      }
-      scene_ = next;
-      build_ = report;
-      solver_ = std::move(solver);
-      rest_ = std::make_shared<const Particles>(solver_->particles());
-      built_scene_ = std::make_shared<const SceneDesc>(scene_);
-      built_report_ = std::make_shared<const BuildReport>(build_);
-      ++generation_;
-      live_head_.reset();
-      head_target_.reset();
-      head_script_ = nullptr;
-      head_keys_.clear();
-      frame_ = 0;
-      rate_window_.clear();
-      lk.unlock();
-      publish(0.0);
-      lk.lock();
-      pace_wall_ = wallNow();
-      pace_sim_ = solver_->time();
+      rebuild(lk);
       continue;
     }
     std::deque<std::function<void(Solver&)>> changes;
@@ -313,19 +353,7 @@ void SimulationThread::loop() {
       lk.lock();
       continue;
     }
-    // the head moved by hand: the live trajectory, from the rest pose
-    // before the first input
-    if (target) {
-      if (!live_head_) {
-        live_head_.emplace(scene_.frame_rate);
-        for (std::int64_t n = 0; n < frame_; ++n) live_head_->beginFrame(n, HeadKeyframe{});
-      }
-      live_head_->beginFrame(frame_, *target);
-      solver_->setTrajectory(live_head_->trajectory());
-    } else if (live_head_) {
-      live_head_->beginFrame(frame_, live_head_->latest());
-      solver_->setTrajectory(live_head_->trajectory());
-    }
+    moveHead(target);
     const double t0 = wallNow();
     std::string failure;
     try {
@@ -349,19 +377,7 @@ void SimulationThread::loop() {
       published_.notify_all();
       continue;
     }
-    // pacing: never ahead of real time times the speed; time lost to a slow
-    // frame is not made up afterwards
-    if (speed_ > 0.0) {
-      const double due = pace_wall_ + (latest_->time - pace_sim_) / speed_;
-      const double now = wallNow();
-      if (due > now) {
-        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(due - now);
-        wake_.wait_until(lk, until, [&] { return stop_ || restart_.has_value() || paused_ || step_once_; });
-      } else {
-        pace_wall_ = now;
-        pace_sim_ = latest_->time;
-      }
-    }
+    pace(lk);
   }
 }
 

@@ -130,6 +130,10 @@ class SimulationThread {
   bool waitForFrame(std::int64_t n) const;
 
  private:
+  // loop()'s steps (simulation_thread.cpp)
+  void rebuild(std::unique_lock<std::mutex>& lk);
+  void moveHead(const std::optional<HeadKeyframe>& target);
+  void pace(std::unique_lock<std::mutex>& lk);
   void loop();
   void simulateFrame();
   void publish(double frame_ms);
