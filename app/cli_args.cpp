@@ -70,9 +70,9 @@ long long parseInteger(const std::string& flag, const std::string& value, long l
   errno = 0;
   const long long v = std::strtoll(value.c_str(), &end, 10);
   if (value.empty() || *end != '\0' || errno != 0 || v < lo || v > hi)
-    throw UsageError{flag + " needs an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
-                         value + "'",
-                     usage};
+    throw UsageError{
+        flag + " needs an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + value + "'",
+        usage};
   return v;
 }
 
@@ -80,9 +80,9 @@ double parseReal(const std::string& flag, const std::string& value, double lo, d
   char* end = nullptr;
   const double v = std::strtod(value.c_str(), &end);
   if (value.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
-    throw UsageError{flag + " needs a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
-                         value + "'",
-                     usage};
+    throw UsageError{
+        flag + " needs a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + value + "'",
+        usage};
   return v;
 }
 

@@ -23,7 +23,6 @@ UsageError unknownOption(const std::string& given, const char* usage);
 long long parseInteger(const std::string& flag, const std::string& value, long long lo, long long hi,
                        const char* usage = nullptr);
 /// A finite number in [lo, hi] given for `flag`; UsageError otherwise.
-double parseReal(const std::string& flag, const std::string& value, double lo, double hi,
-                 const char* usage = nullptr);
+double parseReal(const std::string& flag, const std::string& value, double lo, double hi, const char* usage = nullptr);
 
 }  // namespace loosehair::app

@@ -39,8 +39,8 @@ class EGLContextImpl final : public HeadlessGL::Context {
  public:
   EGLContextImpl(int width, int height) {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    auto getPlatformDisplay =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (!getPlatformDisplay) throw std::runtime_error("EGL: no eglGetPlatformDisplayEXT (EGL_EXT_platform_base)");
     // a device first (a GPU), else the surfaceless platform
     if (hasExtension(client, "EGL_EXT_platform_device")) {
@@ -64,8 +64,7 @@ class EGLContextImpl final : public HeadlessGL::Context {
       eglTerminate(display_);
       throw std::runtime_error("EGL: the display cannot make a context current without a surface");
     }
-    const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                     EGL_NONE};
+    const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
     EGLConfig config = nullptr;
     EGLint n = 0;
     if (!eglChooseConfig(display_, config_attribs, &config, 1, &n) || n < 1) {
@@ -80,8 +79,9 @@ class EGLContextImpl final : public HeadlessGL::Context {
       eglTerminate(display_);
       throw std::runtime_error("EGL: the display has no desktop OpenGL");
     }
-    const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint ctx_attribs[] = {
+        EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, ctx_attribs);
     if (context_ == EGL_NO_CONTEXT || !eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
       if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
@@ -133,7 +133,8 @@ class EGLContextImpl final : public HeadlessGL::Context {
     const std::size_t row = static_cast<std::size_t>(width) * 4;
     std::vector<std::uint8_t> out(flipped.size());
     for (int y = 0; y < height; ++y)
-      std::memcpy(&out[static_cast<std::size_t>(y) * row], &flipped[static_cast<std::size_t>(height - 1 - y) * row], row);
+      std::memcpy(&out[static_cast<std::size_t>(y) * row], &flipped[static_cast<std::size_t>(height - 1 - y) * row],
+                  row);
     return out;
   }
 

@@ -15,9 +15,19 @@ namespace {
 class OSMesaContextImpl final : public HeadlessGL::Context {
  public:
   OSMesaContextImpl(int width, int height) {
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_STENCIL_BITS, 0,
-                           OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                           OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_STENCIL_BITS,
+                           0,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           3,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           3,
+                           0};
     ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!ctx_) throw std::runtime_error("OSMesa cannot create an OpenGL 3.3 core context");
     buffer_.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4, 0);
@@ -35,8 +45,8 @@ class OSMesaContextImpl final : public HeadlessGL::Context {
     const std::size_t row = static_cast<std::size_t>(width) * 4;
     std::vector<std::uint8_t> out(buffer_.size());
     for (int y = 0; y < height; ++y)
-      std::memcpy(&out[static_cast<std::size_t>(y) * row],
-                  &buffer_[static_cast<std::size_t>(height - 1 - y) * row], row);
+      std::memcpy(&out[static_cast<std::size_t>(y) * row], &buffer_[static_cast<std::size_t>(height - 1 - y) * row],
+                  row);
     return out;
   }
 

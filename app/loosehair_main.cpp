@@ -151,9 +151,10 @@ void printStyle(const loosehair::BuildReport& b, const std::string& style_file) 
   if (b.style_strands == 0) return;
   char keeping[32] = "off";
   if (b.shape_keeping > 0) std::snprintf(keeping, sizeof keeping, "%.3g Hz", b.shape_keeping);
-  std::printf("style: %s: %zu wisps, %zu member strands, %zu points; %zu particles held by ties; "
-              "shape keeping %s\n",
-              style_file.c_str(), b.style_wisps, b.style_strands, b.style_points, b.tied_particles, keeping);
+  std::printf(
+      "style: %s: %zu wisps, %zu member strands, %zu points; %zu particles held by ties; "
+      "shape keeping %s\n",
+      style_file.c_str(), b.style_wisps, b.style_strands, b.style_points, b.tied_particles, keeping);
 }
 
 // Makes `dir` ready for a run's frames: created if missing. A directory that
@@ -173,7 +174,8 @@ void prepareOutputDirectory(const std::string& dir, bool overwrite, const char* 
   if (entries.empty()) return;
   if (!overwrite)
     throw std::runtime_error(dir + ": the directory is not empty (" + std::to_string(entries.size()) +
-                             " entries, e.g. " + entries.front().filename().string() + "); choose an "
+                             " entries, e.g. " + entries.front().filename().string() +
+                             "); choose an "
                              "empty one or give --overwrite to replace the frames of the earlier run");
   auto isFrame = [](const std::string& name) {
     for (const char* prefix : {"frame_", "air_", "strands_"}) {
@@ -257,8 +259,8 @@ Options parseSimulate(const std::vector<std::string>& args) {
 void drawProgress(int done, int total, double elapsed) {
   constexpr int kWidth = 30;
   const int filled = total > 0 ? done * kWidth / total : kWidth;
-  std::fprintf(stderr, "\r[%.*s%*s] frame %d/%d  %.1f s", filled,
-               "##############################", kWidth - filled, "", done, total, elapsed);
+  std::fprintf(stderr, "\r[%.*s%*s] frame %d/%d  %.1f s", filled, "##############################", kWidth - filled, "",
+               done, total, elapsed);
   if (done == total) std::fputc('\n', stderr);
   std::fflush(stderr);
 }
@@ -271,24 +273,21 @@ void printRunStart(const Options& o, const loosehair::SceneDesc& scene, const lo
   const InitReport& r = solver.initReport();
   std::printf("scene: %s (%s), seed %" PRIu64 "\n", scene.name.c_str(), o.scene.c_str(), scene.seed);
   if (build.head_triangles > 0)
-    std::printf("head mesh: %zu triangles (signed distance %s, %.2f s), scalp: %zu triangles, %.0f cm^2, "
-                "harmonic map %.2f s%s\n",
-                build.head_triangles, build.sdf_from_cache ? "from cache" : "baked",
-                build.seconds_sdf, build.scalp_triangles, build.scalp_area * 1e4, build.seconds_scalp,
-                build.scalp_mean_value ? " (mean-value weights)" : "");
+    std::printf(
+        "head mesh: %zu triangles (signed distance %s, %.2f s), scalp: %zu triangles, %.0f cm^2, "
+        "harmonic map %.2f s%s\n",
+        build.head_triangles, build.sdf_from_cache ? "from cache" : "baked", build.seconds_sdf, build.scalp_triangles,
+        build.scalp_area * 1e4, build.seconds_scalp, build.scalp_mean_value ? " (mean-value weights)" : "");
   std::printf("particles: %zu (%zu roots", r.particles, r.roots);
-  if (build.stragglers_pulled > 0)
-    std::printf("; %zu drawn in to the hair nearer the root", build.stragglers_pulled);
+  if (build.stragglers_pulled > 0) std::printf("; %zu drawn in to the hair nearer the root", build.stragglers_pulled);
   if (build.stragglers_dropped > 0)
     std::printf("; %zu dropped, with nothing nearer the root within reach", build.stragglers_dropped);
-  std::printf("), connections: %zu pairs, degree mean %.1f min %u max %u\n", r.connection_pairs,
-              r.mean_degree, r.min_degree, r.max_degree);
-  std::printf("Poisson radius %.4f m, mean nearest neighbour %.4f m, h1 = %.4f m, h2 = %.4f m\n",
-              build.poisson_radius, build.mean_neighbor_distance, solver.params().h1,
-              solver.params().h2);
+  std::printf("), connections: %zu pairs, degree mean %.1f min %u max %u\n", r.connection_pairs, r.mean_degree,
+              r.min_degree, r.max_degree);
+  std::printf("Poisson radius %.4f m, mean nearest neighbour %.4f m, h1 = %.4f m, h2 = %.4f m\n", build.poisson_radius,
+              build.mean_neighbor_distance, solver.params().h1, solver.params().h2);
   std::printf("time step %.4f ms x %d per frame (stable limit %.4f ms), %d threads, init %.2f s\n",
-              build.time_step * 1e3, build.substeps, r.stable_time_step * 1e3,
-              solver.threadCount(), init_seconds);
+              build.time_step * 1e3, build.substeps, r.stable_time_step * 1e3, solver.threadCount(), init_seconds);
   printStyle(build, scene.hair.style);
   if (strands)
     std::printf("render strands: %zu of %d points, carried by the particles\n", strands->strandCount(),
@@ -304,7 +303,6 @@ void printRunStart(const Options& o, const loosehair::SceneDesc& scene, const lo
                  "warning: the time step %.4f ms is above the stable limit %.4f ms; the scene "
                  "may blow up (use \"substeps\": \"auto\" or more substeps)\n",
                  build.time_step * 1e3, r.stable_time_step * 1e3);
-
 }
 
 // One frame's outputs: the particles (and the air) as PLY, the carried
@@ -345,17 +343,22 @@ void printRunStats(const loosehair::Solver& solver, bool strands, int to_run, do
   if (strands && to_run > 0)
     std::printf("render strands: %.2f ms a frame to carry (%d threads)\n", 1e3 * deform_seconds / to_run,
                 solver.threadCount());
-  std::printf("simulated %.3f s in %" PRIu64 " steps, %.2f s wall (%.1f frames/s)\n", solver.time(),
-              st.steps, wall, wall > 0 ? to_run / wall : 0.0);
+  std::printf("simulated %.3f s in %" PRIu64 " steps, %.2f s wall (%.1f frames/s)\n", solver.time(), st.steps, wall,
+              wall > 0 ? to_run / wall : 0.0);
   std::printf("stage timings, ms per step (mean):\n");
   const struct {
     const char* name;
     double seconds;
-  } rows[] = {{"neighbors", s.neighbors}, {"density", s.density},
-              {"springs", s.springs},     {"hair-hair", s.hair_hair},
-              {"external", s.external},   {"integrate", s.integrate},
-              {"strain limit", s.strain_limit}, {"tethers", s.tethers},
-              {"body contacts", s.body_contacts}, {"directions", s.directions},
+  } rows[] = {{"neighbors", s.neighbors},
+              {"density", s.density},
+              {"springs", s.springs},
+              {"hair-hair", s.hair_hair},
+              {"external", s.external},
+              {"integrate", s.integrate},
+              {"strain limit", s.strain_limit},
+              {"tethers", s.tethers},
+              {"body contacts", s.body_contacts},
+              {"directions", s.directions},
               {"air", s.air}};
   const double total = s.total();
   for (const auto& row : rows) {
@@ -365,10 +368,10 @@ void printRunStats(const loosehair::Solver& solver, bool strands, int to_run, do
   }
   std::printf("  %-13s %8.3f  (%.2f M particle-steps/s)\n", "total", total / steps * 1e3,
               total > 0 ? static_cast<double>(r.particles) * steps / total * 1e-6 : 0.0);
-  std::printf("last step: %zu neighbour pairs, %zu active connections, %zu body contacts, %zu "
-              "clamped sides, %zu particles strain-limited\n",
-              st.neighbor_pairs / 2, st.active_connections, st.body_contacts, st.clamped_sides,
-              st.strain_limited);
+  std::printf(
+      "last step: %zu neighbour pairs, %zu active connections, %zu body contacts, %zu "
+      "clamped sides, %zu particles strain-limited\n",
+      st.neighbor_pairs / 2, st.active_connections, st.body_contacts, st.clamped_sides, st.strain_limited);
   if (solver.params().implicit_springs)
     std::printf("implicit springs: %d conjugate-gradient iterations, relative residual %.1e, last step\n",
                 st.spring_iterations, static_cast<double>(st.spring_residual));
@@ -376,8 +379,7 @@ void printRunStats(const loosehair::Solver& solver, bool strands, int to_run, do
     std::printf("wind: air grid of %zu cells, %zu hair particles in it, %d pressure iterations, last step\n",
                 st.air_particles, st.coupled_hair, st.air_iterations);
   else if (solver.hasWind())
-    std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles,
-                st.hair_air_pairs);
+    std::printf("wind: %zu air particles, %zu hair-air pairs, last step\n", st.air_particles, st.hair_air_pairs);
 }
 
 int simulate(const Options& o) {
@@ -404,8 +406,7 @@ int simulate(const Options& o) {
     so.points = o.strand_points;
     strands.emplace(bindSceneStrands(scene, solver.particles(), build, so, solver.threadCount()));
   }
-  const double init_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
+  const double init_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_init).count();
   printRunStart(o, scene, solver, build, strands ? &*strands : nullptr, init_seconds);
   // Frames already run (a resumed snapshot's): the dump's numbering and the
   // scene's frame count go on from there.
@@ -421,9 +422,7 @@ int simulate(const Options& o) {
     std::printf("resumed from %s: t = %.4f s, %d frames done\n", o.resume.c_str(), solver.time(), done);
   }
   const int to_run = o.frames ? *o.frames : std::max(0, scene.frames - done);
-  auto save = [&] {
-    saveSnapshot(solver, o.save_state);
-  };
+  auto save = [&] { saveSnapshot(solver, o.save_state); };
 
   StrandSet strand_set;
   if (strands) strand_set = strands->rest();
@@ -436,15 +435,13 @@ int simulate(const Options& o) {
     deform_seconds += writeFrame(o, solver, strands ? &*strands : nullptr, strand_set, f);
     if (o.save_every > 0 && k % o.save_every == 0 && k < to_run) save();
     if (tty) {
-      const double elapsed =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       drawProgress(k, to_run, elapsed);
     }
   }
   if (!o.save_state.empty()) {
     save();
-    std::printf("state saved: %s (t = %.4f s, %d frames)\n", o.save_state.c_str(), solver.time(),
-                done + to_run);
+    std::printf("state saved: %s (t = %.4f s, %d frames)\n", o.save_state.c_str(), solver.time(), done + to_run);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -463,7 +460,7 @@ loosehair::render::RenderSettings defaultRenderSettings() {
 }
 
 struct RenderOptions {
-  bool light_given = false;  // --light; otherwise the camera's key light
+  bool light_given = false;     // --light; otherwise the camera's key light
   bool strands_on_gpu = false;  // --strand-carry gpu
   std::optional<double> yaw, pitch, distance, fov;
   std::string scene, out_dir = "render-out", video, camera = "three-quarter", style, motion;
@@ -487,46 +484,66 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
       return args[++k];
     };
     try {
-      if (a == "--frames") o.frames = static_cast<int>(parseInteger(a, value(), 1, 10000000));
-      else if (a == "--threads") o.threads = static_cast<int>(parseInteger(a, value(), 1, 1024));
-      else if (a == "--seed") o.seed = static_cast<std::uint64_t>(parseInteger(a, value(), 0, INT64_MAX));
-      else if (a == "--out") o.out_dir = value();
-      else if (a == "--overwrite") o.overwrite = true;
-      else if (a == "--allow-expensive") o.allow_expensive = true;
-      else if (a == "--video") o.video = value();
-      else if (a == "--style") o.style = value();
-      else if (a == "--no-shape-keeping") o.no_shape_keeping = true;
+      if (a == "--frames")
+        o.frames = static_cast<int>(parseInteger(a, value(), 1, 10000000));
+      else if (a == "--threads")
+        o.threads = static_cast<int>(parseInteger(a, value(), 1, 1024));
+      else if (a == "--seed")
+        o.seed = static_cast<std::uint64_t>(parseInteger(a, value(), 0, INT64_MAX));
+      else if (a == "--out")
+        o.out_dir = value();
+      else if (a == "--overwrite")
+        o.overwrite = true;
+      else if (a == "--allow-expensive")
+        o.allow_expensive = true;
+      else if (a == "--video")
+        o.video = value();
+      else if (a == "--style")
+        o.style = value();
+      else if (a == "--no-shape-keeping")
+        o.no_shape_keeping = true;
       else if (a == "--camera") {
         o.camera = value();
         (void)loosehair::render::Camera::preset(o.camera);
-      } else if (a == "--color") o.settings.color = loosehair::render::parseHairColor(value());
-      else if (a == "--debug") o.settings.debug = loosehair::render::parseDebugView(value());
-      else if (a == "--no-shadows") o.settings.shadows = false;
+      } else if (a == "--color")
+        o.settings.color = loosehair::render::parseHairColor(value());
+      else if (a == "--debug")
+        o.settings.debug = loosehair::render::parseDebugView(value());
+      else if (a == "--no-shadows")
+        o.settings.shadows = false;
       else if (a == "--gl") {
         try {
           o.gl = loosehair::app::parseGLProvider(value());
         } catch (const std::invalid_argument& e) {
           throw UsageError{std::string("--gl: ") + e.what(), kRenderUsage};
         }
-      } else if (a == "--hair") o.settings.hair = loosehair::render::parseHairGeometry(value());
-      else if (a == "--shading") o.settings.shading = loosehair::render::parseHairShading(value());
+      } else if (a == "--hair")
+        o.settings.hair = loosehair::render::parseHairGeometry(value());
+      else if (a == "--shading")
+        o.settings.shading = loosehair::render::parseHairShading(value());
       else if (a == "--supersample") {
         o.settings.supersample = static_cast<int>(parseInteger(a, value(), 1, 4));
         o.supersample_given = true;
-      }
-      else if (a == "--strands") o.strand_count = static_cast<std::size_t>(parseInteger(a, value(), 1, 2000000));
-      else if (a == "--strand-points") o.strand_points = static_cast<int>(parseInteger(a, value(), 2, 256));
-      else if (a == "--yaw") o.yaw = parseReal(a, value(), -360, 360);
-      else if (a == "--pitch") o.pitch = parseReal(a, value(), -89, 89);
-      else if (a == "--distance") o.distance = parseReal(a, value(), 0.05, 100);
-      else if (a == "--fov") o.fov = parseReal(a, value(), 5, 150);
-      else if (a == "--no-lod") o.settings.strand_lod = false;
+      } else if (a == "--strands")
+        o.strand_count = static_cast<std::size_t>(parseInteger(a, value(), 1, 2000000));
+      else if (a == "--strand-points")
+        o.strand_points = static_cast<int>(parseInteger(a, value(), 2, 256));
+      else if (a == "--yaw")
+        o.yaw = parseReal(a, value(), -360, 360);
+      else if (a == "--pitch")
+        o.pitch = parseReal(a, value(), -89, 89);
+      else if (a == "--distance")
+        o.distance = parseReal(a, value(), 0.05, 100);
+      else if (a == "--fov")
+        o.fov = parseReal(a, value(), 5, 150);
+      else if (a == "--no-lod")
+        o.settings.strand_lod = false;
       else if (a == "--strand-carry") {
         const std::string v = value();
-        if (v != "cpu" && v != "gpu") throw UsageError{"--strand-carry must be cpu or gpu, got '" + v + "'", kRenderUsage};
+        if (v != "cpu" && v != "gpu")
+          throw UsageError{"--strand-carry must be cpu or gpu, got '" + v + "'", kRenderUsage};
         o.strands_on_gpu = v == "gpu";
-      }
-      else if (a == "--light") {
+      } else if (a == "--light") {
         const std::string v = value();
         float c[3];
         if (std::sscanf(v.c_str(), "%f,%f,%f", &c[0], &c[1], &c[2]) != 3 || !std::isfinite(c[0] + c[1] + c[2]) ||
@@ -534,17 +551,20 @@ RenderOptions parseRender(const std::vector<std::string>& args) {
           throw UsageError{"--light needs a non-zero direction x,y,z, got '" + v + "'"};
         o.settings.light_direction = glm::vec3(c[0], c[1], c[2]);
         o.light_given = true;
-      }
-      else if (a == "--size") {
+      } else if (a == "--size") {
         const std::string v = value();
         const auto x = v.find('x');
         if (x == std::string::npos) throw UsageError{"--size needs WxH, got '" + v + "'"};
         o.width = static_cast<int>(parseInteger("--size width", v.substr(0, x), 16, 8192));
         o.height = static_cast<int>(parseInteger("--size height", v.substr(x + 1), 16, 8192));
-      } else if (a == "--motion") o.motion = value();
-      else if (!a.empty() && a[0] == '-') throw loosehair::app::unknownOption(a, kRenderUsage);
-      else if (o.scene.empty()) o.scene = a;
-      else throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'", kRenderUsage};
+      } else if (a == "--motion")
+        o.motion = value();
+      else if (!a.empty() && a[0] == '-')
+        throw loosehair::app::unknownOption(a, kRenderUsage);
+      else if (o.scene.empty())
+        o.scene = a;
+      else
+        throw UsageError{"more than one scene given: '" + o.scene + "' and '" + a + "'", kRenderUsage};
     } catch (const loosehair::render::RenderError& e) {
       throw UsageError{a + ": " + e.what(), kRenderUsage};
     }
@@ -617,8 +637,7 @@ int renderScene(const RenderOptions& o) {
                 o.settings.shading == render::HairShading::Marschner ? "Marschner" : "Kajiya-Kay",
                 o.settings.supersample, o.settings.supersample);
   else
-    std::printf("hair: a billboard a particle, %dx%d supersampling\n", o.settings.supersample,
-                o.settings.supersample);
+    std::printf("hair: a billboard a particle, %dx%d supersampling\n", o.settings.supersample, o.settings.supersample);
 
   const bool tty = isatty(fileno(stderr)) != 0;
   const auto t0 = std::chrono::steady_clock::now();
@@ -655,18 +674,18 @@ int renderScene(const RenderOptions& o) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05d.png", f);
     app::writePng((std::filesystem::path(o.out_dir) / name).string(), gl.pixels(), o.width, o.height);
-    if (tty)
-      drawProgress(f, frames, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    if (tty) drawProgress(f, frames, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("rendered %d frames in %.2f s (%.1f frames/s); per frame: simulation %.1f ms, strands %.1f ms, "
-              "sort %.2f ms, upload %.1f ms, light pass %.1f ms, camera pass %.1f ms, resolve %.1f ms\n",
-              frames, wall, frames / wall, 1e3 * sim_seconds / frames, 1e3 * deform_seconds / frames,
-              1e3 * sum.sort / frames, 1e3 * sum.upload / frames, 1e3 * sum.light_pass / frames,
-              1e3 * sum.camera_pass / frames, 1e3 * sum.resolve / frames);
+  std::printf(
+      "rendered %d frames in %.2f s (%.1f frames/s); per frame: simulation %.1f ms, strands %.1f ms, "
+      "sort %.2f ms, upload %.1f ms, light pass %.1f ms, camera pass %.1f ms, resolve %.1f ms\n",
+      frames, wall, frames / wall, 1e3 * sim_seconds / frames, 1e3 * deform_seconds / frames, 1e3 * sum.sort / frames,
+      1e3 * sum.upload / frames, 1e3 * sum.light_pass / frames, 1e3 * sum.camera_pass / frames,
+      1e3 * sum.resolve / frames);
   if (strands)
-    std::printf("strands: %zu of %zu drawn from the camera in the last frame (level of detail%s)\n",
-                sum.strands_drawn, strands->strandCount(), settings.strand_lod ? "" : " off");
+    std::printf("strands: %zu of %zu drawn from the camera in the last frame (level of detail%s)\n", sum.strands_drawn,
+                strands->strandCount(), settings.strand_lod ? "" : " off");
   std::printf("frames: %s/frame_00001.png ... frame_%05d.png\n", o.out_dir.c_str(), frames);
   if (!o.video.empty()) {
     loosehair::app::encodeVideo(ffmpeg, o.out_dir, o.video, scene.frame_rate);

@@ -199,16 +199,16 @@ void saveFrameImages(viewer::Controller& controller, viewer::ViewState& v, const
   if (v.screenshot || !final_shot.empty()) {
     char name[40];
     std::snprintf(name, sizeof name, "loosehair-%05d.png", ++shots);
-    paths.push_back(!final_shot.empty() ? final_shot
-                    : !v.screenshot_path.empty()   ? v.screenshot_path
-                                                   : std::string(name));
+    paths.push_back(!final_shot.empty()          ? final_shot
+                    : !v.screenshot_path.empty() ? v.screenshot_path
+                                                 : std::string(name));
   }
   for (const std::string& path : paths) {
     try {
       app::writePng(path, pixels, width, height);
       if (path != record)
-        std::printf("screenshot: %s (%dx%d, %.0f%% of the picture drawn over the background)\n", path.c_str(),
-                    width, height, 100.0 * drawnFraction(pixels, v.settings.background));
+        std::printf("screenshot: %s (%dx%d, %.0f%% of the picture drawn over the background)\n", path.c_str(), width,
+                    height, 100.0 * drawnFraction(pixels, v.settings.background));
     } catch (const std::exception& e) {
       controller.fail(e.what());
       if (path == record) controller.stopRecording();
@@ -220,19 +220,18 @@ void saveFrameImages(viewer::Controller& controller, viewer::ViewState& v, const
 
 // What the window drew and how fast (--seconds, scripts).
 struct Measures {
-  int shown = 0;                   // frames drawn
+  int shown = 0;  // frames drawn
   int carried_shown = 0, strand_frames = 0;
   double carry_ms_sum = 0, strand_lag_sum = 0;
-  render::FrameTimes pass_sum;     // the renderer's passes, summed over the frames drawn
+  render::FrameTimes pass_sum;  // the renderer's passes, summed over the frames drawn
   std::size_t strands_drawn_sum = 0;
-  int latency_count = 0;           // input to picture (Window::input_at)
+  int latency_count = 0;  // input to picture (Window::input_at)
   double latency_sum = 0, latency_max = 0;
   /// The frame on screen shows hair simulated from `shown_frame`: a head
   /// move before it (Window::input_at) is on screen now.
   void headMoveShown(Window& w, std::int64_t shown_frame) {
     if (!w.input_at || shown_frame <= w.input_frame) return;
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *w.input_at).count();
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *w.input_at).count();
     ++latency_count;
     latency_sum += ms;
     latency_max = std::max(latency_max, ms);
@@ -244,18 +243,22 @@ void printMeasures(const Measures& m, const Window& w, double wall, double simul
   std::printf("measured: %d frames drawn in %.2f s = %.1f frames/s (%dx%d), simulation %.2fx real time\n", m.shown,
               wall, m.shown / wall, w.width, w.height, simulated / wall);
   if (m.strand_frames > 0)
-    std::printf("strands: %d simulated frames carried and shown (%.0f ms a carry), drawn %.1f frames behind the "
-                "simulation on average\n",
-                m.carried_shown, m.carry_ms_sum / std::max(1, m.carried_shown), m.strand_lag_sum / m.strand_frames);
+    std::printf(
+        "strands: %d simulated frames carried and shown (%.0f ms a carry), drawn %.1f frames behind the "
+        "simulation on average\n",
+        m.carried_shown, m.carry_ms_sum / std::max(1, m.carried_shown), m.strand_lag_sum / m.strand_frames);
   if (m.shown > 0)
-    std::printf("a frame drawn: light pass %.0f ms, camera pass %.0f ms, resolve %.0f ms, sort and upload %.0f "
-                "ms; %.0f strands drawn on average\n",
-                1e3 * m.pass_sum.light_pass / m.shown, 1e3 * m.pass_sum.camera_pass / m.shown, 1e3 * m.pass_sum.resolve / m.shown,
-                1e3 * m.pass_sum.upload / m.shown, static_cast<double>(m.strands_drawn_sum) / m.shown);
+    std::printf(
+        "a frame drawn: light pass %.0f ms, camera pass %.0f ms, resolve %.0f ms, sort and upload %.0f "
+        "ms; %.0f strands drawn on average\n",
+        1e3 * m.pass_sum.light_pass / m.shown, 1e3 * m.pass_sum.camera_pass / m.shown,
+        1e3 * m.pass_sum.resolve / m.shown, 1e3 * m.pass_sum.upload / m.shown,
+        static_cast<double>(m.strands_drawn_sum) / m.shown);
   if (m.latency_count > 0)
-    std::printf("input to picture: %d head moves, %.0f ms on average, %.0f ms at most (from a move to the "
-                "first frame drawn with hair simulated after it)\n",
-                m.latency_count, m.latency_sum / m.latency_count, m.latency_max);
+    std::printf(
+        "input to picture: %d head moves, %.0f ms on average, %.0f ms at most (from a move to the "
+        "first frame drawn with hair simulated after it)\n",
+        m.latency_count, m.latency_sum / m.latency_count, m.latency_max);
 }
 
 using WindowHandle = std::unique_ptr<GLFWwindow, void (*)(GLFWwindow*)>;
@@ -364,7 +367,8 @@ void drawHair(render::Renderer& renderer, viewer::Controller& controller, const 
       styling_bodies.bodies = std::make_unique<app::DrawableBodies>(app::drawableBodies(sd));
       styling_bodies.of = controller.styling();
     }
-    renderer.setBodies(&styling_bodies.bodies->head, styling_bodies.bodies->torso ? &*styling_bodies.bodies->torso : nullptr);
+    renderer.setBodies(&styling_bodies.bodies->head,
+                       styling_bodies.bodies->torso ? &*styling_bodies.bodies->torso : nullptr);
     render::FrameInput empty;
     empty.spacing = frame.input.spacing;
     renderer.render(empty, v.camera, v.settings, width, height);
@@ -484,8 +488,7 @@ int run(const ViewOptions& o) {
   if (script) script->start = sim.latest()->input.position;
 
   std::printf("scene: %s, %zu particles, %d substeps a frame at %g frames/s, %s\n", scene.name.c_str(),
-              sim.latest()->particles, sim.buildReport().substeps, scene.frame_rate,
-              gl_renderer.c_str());
+              sim.latest()->particles, sim.buildReport().substeps, scene.frame_rate, gl_renderer.c_str());
   std::printf("press H in the window for the shortcuts\n");
 
   Measures m;
@@ -529,17 +532,16 @@ int run(const ViewOptions& o) {
     // fewer strands while the hair moves, where the view says so (software
     // OpenGL); all of them paused, recording, or for --frames' picture
     const bool full_detail = sim.paused() || o.frames || controller.recording();
-    view.settings.strand_budget =
-        full_detail ? 0 : static_cast<std::size_t>(std::max(0, view.playing_strand_budget));
-    if (const std::int64_t carried = addCarriedStrands(sim, *frame, view, window_strands, panel, last_carried, m,
-                                                       with_strands);
+    view.settings.strand_budget = full_detail ? 0 : static_cast<std::size_t>(std::max(0, view.playing_strand_budget));
+    if (const std::int64_t carried =
+            addCarriedStrands(sim, *frame, view, window_strands, panel, last_carried, m, with_strands);
         carried >= 0) {
       shown_frame = carried;
       input = &with_strands;
     }
     viewer::ViewState& v = view;
-    v.settings.light_direction = v.light_from_camera ? v.camera.keyLight()
-                                                     : viewer::directionFromAngles(v.light_yaw_deg, v.light_pitch_deg);
+    v.settings.light_direction =
+        v.light_from_camera ? v.camera.keyLight() : viewer::directionFromAngles(v.light_yaw_deg, v.light_pitch_deg);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window.get(), &width, &height);
     if (width <= 0 || height <= 0) continue;

@@ -14,8 +14,7 @@ void writePng(const std::string& path, const std::vector<std::uint8_t>& rgba, in
   std::string encoded;
   const int ok = stbi_write_png_to_func(
       [](void* context, void* data, int size) {
-        static_cast<std::string*>(context)->append(static_cast<const char*>(data),
-                                                   static_cast<std::size_t>(size));
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
       },
       &encoded, width, height, 4, rgba.data(), width * 4);
   if (!ok || encoded.empty()) throw std::runtime_error(path + ": cannot encode the PNG");

@@ -14,7 +14,8 @@ TriangleMesh sphereMesh(glm::vec3 centre, float radius) {
   for (int r = 0; r <= rings; ++r)
     for (int s = 0; s <= segments; ++s) {
       const float th = 3.14159265f * static_cast<float>(r) / rings, ph = 6.2831853f * static_cast<float>(s) / segments;
-      m.vertices.push_back(centre + radius * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
+      m.vertices.push_back(centre +
+                           radius * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
     }
   auto id = [&](int r, int s) { return static_cast<std::uint32_t>(r * (segments + 1) + s); };
   for (int r = 0; r < rings; ++r)

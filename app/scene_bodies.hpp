@@ -9,7 +9,7 @@
 namespace loosehair::app {
 
 struct DrawableBodies {
-  TriangleMesh head;                 // head frame
+  TriangleMesh head;                  // head frame
   std::optional<TriangleMesh> torso;  // world frame, if the scene has one
 };
 

@@ -56,17 +56,28 @@ StyleOptions parse(const std::vector<std::string>& args) {
       if (k + 1 >= args.size()) throw UsageError{a + " needs a value", kStyleUsage};
       return args[++k];
     };
-    if (a == "--strands") o.strands = value();
-    else if (a == "--spacing") o.spacing_mm = parseReal(a, value(), 0.1, 100.0, kStyleUsage);
-    else if (a == "--import") o.groom = value();
-    else if (a == "--allow-expensive") o.allow_expensive = true;
-    else if (a == "--head") o.head = value();
-    else if (a == "--out") o.out = value();
-    else if (a == "--scale") o.scale = parseReal(a, value(), 1e-6, 1e6, kStyleUsage);
-    else if (a == "--max-root-distance") o.max_root_mm = parseReal(a, value(), 0.01, 1000.0, kStyleUsage);
-    else if (!a.empty() && a[0] == '-') throw unknownOption(a, kStyleUsage);
-    else if (o.style.empty()) o.style = a;
-    else throw UsageError{"more than one style given: '" + o.style + "' and '" + a + "'", kStyleUsage};
+    if (a == "--strands")
+      o.strands = value();
+    else if (a == "--spacing")
+      o.spacing_mm = parseReal(a, value(), 0.1, 100.0, kStyleUsage);
+    else if (a == "--import")
+      o.groom = value();
+    else if (a == "--allow-expensive")
+      o.allow_expensive = true;
+    else if (a == "--head")
+      o.head = value();
+    else if (a == "--out")
+      o.out = value();
+    else if (a == "--scale")
+      o.scale = parseReal(a, value(), 1e-6, 1e6, kStyleUsage);
+    else if (a == "--max-root-distance")
+      o.max_root_mm = parseReal(a, value(), 0.01, 1000.0, kStyleUsage);
+    else if (!a.empty() && a[0] == '-')
+      throw unknownOption(a, kStyleUsage);
+    else if (o.style.empty())
+      o.style = a;
+    else
+      throw UsageError{"more than one style given: '" + o.style + "' and '" + a + "'", kStyleUsage};
   }
   if (!o.groom.empty()) {
     if (!o.style.empty())
@@ -92,8 +103,7 @@ HeadDesc headOf(const std::string& path) {
 void report(const Style& style, const StrandSet& strands, double seconds) {
   std::printf("style: %s (%s)\n", style.name.c_str(), style.source.c_str());
   std::printf("wisps: %zu, ties: %zu, strands: %zu, points: %zu (built in %.2f s)\n", style.wisps.size(),
-              style.ties.size(),
-              strands.size(), strands.points.size(), seconds);
+              style.ties.size(), strands.size(), strands.points.size(), seconds);
 }
 
 // Whether `a` and `b` name the same file (the same inode where both exist,
@@ -116,8 +126,9 @@ void checkOutputsAreNotInputs(const StyleOptions& o) {
   for (const auto& [oflag, out] : outputs)
     for (const auto& [iflag, in] : inputs)
       if (sameFile(out, in))
-        throw UsageError{oflag + " " + out + " is the file given to " + iflag + "; it would be overwritten. "
-                         "Choose another name for the output",
+        throw UsageError{oflag + " " + out + " is the file given to " + iflag +
+                             "; it would be overwritten. "
+                             "Choose another name for the output",
                          kStyleUsage};
   if (outputs.size() == 2 && sameFile(o.out, o.strands))
     throw UsageError{"--out and --strands name the same file (" + o.out + ")", kStyleUsage};

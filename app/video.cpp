@@ -38,17 +38,20 @@ std::string checkVideoName(const std::string& video, const char* flag) {
   // "scheme:" at the start (letters, digits, + - .): ffmpeg would open that
   // as a protocol; the user may have meant one.
   std::size_t k = 0;
-  while (k < video.size() && (std::isalnum(static_cast<unsigned char>(video[k])) || video[k] == '+' ||
-                              video[k] == '-' || video[k] == '.'))
+  while (k < video.size() &&
+         (std::isalnum(static_cast<unsigned char>(video[k])) || video[k] == '+' || video[k] == '-' || video[k] == '.'))
     ++k;
   if (k > 0 && k < video.size() && video[k] == ':' && std::isalpha(static_cast<unsigned char>(video[0])))
     throw std::runtime_error(video + ": " + f + " writes a local file, and this looks like a URL ('" +
                              video.substr(0, k + 1) + "'); for a file of that name write ./" + video);
   const std::string ext = lower(std::filesystem::path(video).extension().string());
   std::string container;
-  if (ext == ".mp4" || ext == ".m4v") container = "mp4";
-  else if (ext == ".mov") container = "mov";
-  else if (ext == ".mkv") container = "matroska";
+  if (ext == ".mp4" || ext == ".m4v")
+    container = "mp4";
+  else if (ext == ".mov")
+    container = "mov";
+  else if (ext == ".mkv")
+    container = "matroska";
   else
     throw std::runtime_error(video + ": " + f + " writes .mp4, .m4v, .mov or .mkv (H.264), and the name ends in '" +
                              ext + "'");
@@ -65,9 +68,23 @@ void encodeVideo(const std::string& ffmpeg, const std::string& frames_dir, const
   // it exists, empty) and a signal or a failure removes it.
   AtomicFile out(video, std::filesystem::path(video).extension().string());
   out.finish();
-  std::vector<std::string> argv = {ffmpeg, "-nostdin", "-y", "-loglevel", "error", "-f", "image2",
-                                   "-framerate", rate, "-i", framePattern(frames_dir), "-c:v", "libx264",
-                                   "-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"};
+  std::vector<std::string> argv = {ffmpeg,
+                                   "-nostdin",
+                                   "-y",
+                                   "-loglevel",
+                                   "error",
+                                   "-f",
+                                   "image2",
+                                   "-framerate",
+                                   rate,
+                                   "-i",
+                                   framePattern(frames_dir),
+                                   "-c:v",
+                                   "libx264",
+                                   "-pix_fmt",
+                                   "yuv420p",
+                                   "-vf",
+                                   "pad=ceil(iw/2)*2:ceil(ih/2)*2"};
   if (container == "mp4" || container == "mov") {
     argv.push_back("-movflags");
     argv.push_back("+faststart");
@@ -81,9 +98,8 @@ void encodeVideo(const std::string& ffmpeg, const std::string& frames_dir, const
   if (run.status != 0 || !run.error_output.empty() || !written) {
     std::string why = run.error_output.substr(0, 2000);
     while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
-    throw std::runtime_error(video + ": ffmpeg could not encode the video (exit status " +
-                             std::to_string(run.status) + (why.empty() ? "" : ": " + why) +
-                             "); no video was written");
+    throw std::runtime_error(video + ": ffmpeg could not encode the video (exit status " + std::to_string(run.status) +
+                             (why.empty() ? "" : ": " + why) + "); no video was written");
   }
   out.commit();
 }

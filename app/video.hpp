@@ -24,7 +24,6 @@ std::string checkVideoName(const std::string& video, const char* flag);
 /// is started without a shell, writes a temporary file beside `video` that a
 /// signal or a failure removes, and only a complete encoding is renamed to
 /// `video`. Any failure is an error and leaves no partial file.
-void encodeVideo(const std::string& ffmpeg, const std::string& frames_dir, const std::string& video,
-                 double frame_rate);
+void encodeVideo(const std::string& ffmpeg, const std::string& frames_dir, const std::string& video, double frame_rate);
 
 }  // namespace loosehair::app

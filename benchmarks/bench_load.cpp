@@ -104,9 +104,7 @@ void arguments(benchmark::internal::Benchmark* b) {
 // the same steps (the hair falls and bunches: later steps cost more), and
 // the automatic choice runs as it does in a real run, probes included.
 BENCHMARK_CAPTURE(BM_StepUnderLoad, hang, std::string("hang"))->Apply(arguments)->Iterations(400);
-BENCHMARK_CAPTURE(BM_StepUnderLoad, sphere_hang, std::string("sphere-hang"))
-    ->Apply(arguments)
-    ->Iterations(1000);
+BENCHMARK_CAPTURE(BM_StepUnderLoad, sphere_hang, std::string("sphere-hang"))->Apply(arguments)->Iterations(1000);
 
 }  // namespace
 

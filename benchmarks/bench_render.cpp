@@ -101,8 +101,8 @@ StrandScene& strandScene(std::size_t strands) {
     RenderStrandOptions so;
     so.strands = strands;
     so.points = 24;
-    slot->field = std::make_unique<StrandField>(
-        bindSceneStrands(slot->desc, slot->solver->particles(), slot->build, so, 2));
+    slot->field =
+        std::make_unique<StrandField>(bindSceneStrands(slot->desc, slot->solver->particles(), slot->build, so, 2));
     slot->solver->advance(30 * slot->build.substeps);
     slot->frame = render::frameFromSolver(*slot->solver, slot->build.mean_neighbor_distance);
     slot->frame.strand_points_each = so.points;
@@ -111,7 +111,6 @@ StrandScene& strandScene(std::size_t strands) {
   }
   return *slot;
 }
-
 
 // The strands carried by a compute shader (render::GpuStrandCarry) out of
 // the head and the torso, as the viewer does where it can: the particles'

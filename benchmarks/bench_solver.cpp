@@ -73,14 +73,12 @@ void BM_NeighborSearch(benchmark::State& state) {
   const auto& x = solver.particles().position;
   for (auto _ : state) {
     // as the solver searches: lists of positions in the search order
-    grid.build(x, 2.0f * solver.params().h2, static_cast<int>(state.range(1)),
-               NeighborGrid::ListIndex::SearchOrder);
+    grid.build(x, 2.0f * solver.params().h2, static_cast<int>(state.range(1)), NeighborGrid::ListIndex::SearchOrder);
     benchmark::DoNotOptimize(grid.pairCount());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(x.size()));
   state.counters["dense"] = grid.usedDenseLayout() ? 1 : 0;
-  state.counters["pairs/particle"] =
-      static_cast<double>(grid.pairCount()) / static_cast<double>(x.size());
+  state.counters["pairs/particle"] = static_cast<double>(grid.pairCount()) / static_cast<double>(x.size());
 }
 BENCHMARK(BM_NeighborSearch)->Apply(counts);
 
@@ -195,8 +193,7 @@ void BM_Step(benchmark::State& state) {
 }
 
 // Registered per particle count for the fixed iteration counts.
-benchmark::internal::Benchmark* cycled(const char* name, void (*fn)(benchmark::State&), int n,
-                                       int threads) {
+benchmark::internal::Benchmark* cycled(const char* name, void (*fn)(benchmark::State&), int n, int threads) {
   return benchmark::RegisterBenchmark(name, fn)
       ->Args({n, threads})
       ->ArgNames({"particles", "threads"})

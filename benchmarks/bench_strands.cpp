@@ -80,6 +80,9 @@ void BM_BindStyleStrands(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_BindStyleStrands)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
-BENCHMARK(BM_CarryStrands)->ArgsProduct({{10000, 50000}, {0, 1}})->ArgNames({"strands", "bodies"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CarryStrands)
+    ->ArgsProduct({{10000, 50000}, {0, 1}})
+    ->ArgNames({"strands", "bodies"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_MAIN();

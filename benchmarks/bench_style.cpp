@@ -77,7 +77,13 @@ void BM_SettleStyle(benchmark::State& state) {
   o.threads = static_cast<int>(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(settledKeyStrands(bob(), o));
 }
-BENCHMARK(BM_SettleStyle)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_SettleStyle)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 void BM_SeedParticles(benchmark::State& state) {
   static const StrandSet strands = buildMemberStrands(bob(), bobHead());

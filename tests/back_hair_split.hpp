@@ -33,22 +33,25 @@ inline SplitRun runSplit(bool hair_hair, std::uint64_t seed, int particles = 300
   scene.seed = seed;
   loosehair::Solver solver = loosehair::buildSolver(scene);
   SplitRun r;
-  r.watch = run(solver, 3.0, scene.hair.length, [&] {
-    const auto& p = solver.particles();
-    double back = 0, cross = 0, middle = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (p.is_root[i] || p.root_point[i].z > -0.03f || p.arc_length[i] < 0.02f) continue;
-      back += 1;
-      const float x = p.position[i].x, side = p.root_point[i].x;
-      if ((side < 0 && x > 0.005f) || (side > 0 && x < -0.005f)) cross += 1;
-      if (std::abs(x) < 0.01f && p.position[i].y < -0.12f && p.position[i].y > -0.26f) middle += 1;
-    }
-    r.t.push_back(solver.time());
-    r.cross.push_back(cross / back);
-    r.middle.push_back(middle);
-  }, check_every);
-  expectInvariants(r.watch, std::string(hair_hair ? "back-hair-split" : "back-hair-split without hair-hair") +
-                                ", " + std::to_string(particles) + " particles");
+  r.watch = run(
+      solver, 3.0, scene.hair.length,
+      [&] {
+        const auto& p = solver.particles();
+        double back = 0, cross = 0, middle = 0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+          if (p.is_root[i] || p.root_point[i].z > -0.03f || p.arc_length[i] < 0.02f) continue;
+          back += 1;
+          const float x = p.position[i].x, side = p.root_point[i].x;
+          if ((side < 0 && x > 0.005f) || (side > 0 && x < -0.005f)) cross += 1;
+          if (std::abs(x) < 0.01f && p.position[i].y < -0.12f && p.position[i].y > -0.26f) middle += 1;
+        }
+        r.t.push_back(solver.time());
+        r.cross.push_back(cross / back);
+        r.middle.push_back(middle);
+      },
+      check_every);
+  expectInvariants(r.watch, std::string(hair_hair ? "back-hair-split" : "back-hair-split without hair-hair") + ", " +
+                                std::to_string(particles) + " particles");
   return r;
 }
 

@@ -112,7 +112,8 @@ int checkDrags(const std::string& dir) {
   const glm::vec3 d3 = k3[1] - k2[1];
   if (!(glm::length(d3) > 0.005f)) fail("drag 3 did not move the strand");
   for (std::size_t j = 2; j < k0.size(); ++j)
-    if (glm::length((k3[j] - k2[j]) - d3) > 1e-4f) fail("drag 3 moved point " + std::to_string(j) + " by another offset");
+    if (glm::length((k3[j] - k2[j]) - d3) > 1e-4f)
+      fail("drag 3 moved point " + std::to_string(j) + " by another offset");
   // the settle: the strand's hair came to rest under gravity, lower
   const Style s4 = loadStyle(dir + "/drag-settled.json");
   const auto& k4 = s4.wisps.at(0).key_strand;
@@ -145,10 +146,11 @@ int checkDrags(const std::string& dir) {
       fail("the comb changed span " + std::to_string(j) + "'s length");
   }
   if (!(combed > 0.002f)) fail("the comb did not move the strand");
-  std::printf("drags: point 2 by %.1f mm (point %zu by %.1f mm), point 3 along its normal by %.1f mm, the strand by "
-              "%.1f mm; the settle lowered the tip by %.1f mm; mirrored; the comb moved a point by %.1f mm\n",
-              1e3f * moved(k0, k1, 2), k0.size() - 1, 1e3f * moved(k0, k1, k0.size() - 1), 1e3f * glm::length(d2),
-              1e3f * glm::length(d3), 1e3f * (k3.back().y - k4.back().y), 1e3f * combed);
+  std::printf(
+      "drags: point 2 by %.1f mm (point %zu by %.1f mm), point 3 along its normal by %.1f mm, the strand by "
+      "%.1f mm; the settle lowered the tip by %.1f mm; mirrored; the comb moved a point by %.1f mm\n",
+      1e3f * moved(k0, k1, 2), k0.size() - 1, 1e3f * moved(k0, k1, k0.size() - 1), 1e3f * glm::length(d2),
+      1e3f * glm::length(d3), 1e3f * (k3.back().y - k4.back().y), 1e3f * combed);
   return 0;
 }
 
@@ -215,12 +217,10 @@ float standOff(const HeadModel& head, const StrandSet& m) {
 
 // tests/viewer/styling-bob.json: a bob made with the mouse from an empty
 // style. The strands ending in front of the face (the fringe: within
-// 4.5 cm of the middle, 6 cm forward) end above the ears' top; of the others (the style has no level cut: a member follows
-// its key strand from its own root, so the ends spread with the roots'
-// heights) 90% end between 2 cm below the chin and the ears' bottom and
-// all above the shoulders (10 cm below the chin); nothing stands more than
-// 5 cm off the head; the hair covers 75% of the scalp (the script leaves
-// the very top and a band behind the ears bare).
+// 4.5 cm of the middle, 6 cm forward) end above the ears' top; of the others (the style has no level cut: a member
+// follows its key strand from its own root, so the ends spread with the roots' heights) 90% end between 2 cm below the
+// chin and the ears' bottom and all above the shoulders (10 cm below the chin); nothing stands more than 5 cm off the
+// head; the hair covers 75% of the scalp (the script leaves the very top and a band behind the ears bare).
 int checkBob(const std::string& path) {
   const Style s = loadStyle(path);
   const HeadModel head = HeadModel::build(s.head, s.source);
@@ -246,11 +246,12 @@ int checkBob(const std::string& path) {
   const double in_line = share(at.chin - 0.02f, at.ear_bottom);
   const float off = standOff(head, m);
   const float covered = coveredShare(head, m);
-  std::printf("bob: %zu wisps, %zu strands (%zu of the fringe, %zu of them below the ears' top); the others end at "
-              "%.3f..%.3f m, %.1f%% between %.3f (2 cm below the chin) and %.3f (the ears' bottom); at most %.1f mm "
-              "off the head; scalp covered %.1f%%\n",
-              s.wisps.size(), m.size(), fringe.size(), fringe_low, ends.front(), ends.back(), 100 * in_line,
-              at.chin - 0.02f, at.ear_bottom, 1e3f * off, 100.0f * covered);
+  std::printf(
+      "bob: %zu wisps, %zu strands (%zu of the fringe, %zu of them below the ears' top); the others end at "
+      "%.3f..%.3f m, %.1f%% between %.3f (2 cm below the chin) and %.3f (the ears' bottom); at most %.1f mm "
+      "off the head; scalp covered %.1f%%\n",
+      s.wisps.size(), m.size(), fringe.size(), fringe_low, ends.front(), ends.back(), 100 * in_line, at.chin - 0.02f,
+      at.ear_bottom, 1e3f * off, 100.0f * covered);
   if (fringe_low > 0) fail("the fringe reaches below the ears' top");
   if (in_line < 0.9) fail("fewer than 90% of the ends lie between the chin and the ears");
   if (ends.front() < at.chin - 0.1f) fail("ends reach the shoulders");
@@ -274,9 +275,10 @@ int checkPonytail(const std::string& path) {
   for (std::size_t w = 0; w < missed.size(); ++w)
     if (missed[w] > 0) std::printf("  wisp %zu: %zu member strands miss the ring\n", w, missed[w]);
   const float covered = coveredShare(head, m);
-  std::printf("ponytail: %zu wisps; the tie (centre %.3f %.3f %.3f, radius %.1f mm) holds %zu of %zu member strands; "
-              "scalp covered %.1f%%\n",
-              s.wisps.size(), t.center.x, t.center.y, t.center.z, 1e3f * t.radius, held, m.size(), 100.0f * covered);
+  std::printf(
+      "ponytail: %zu wisps; the tie (centre %.3f %.3f %.3f, radius %.1f mm) holds %zu of %zu member strands; "
+      "scalp covered %.1f%%\n",
+      s.wisps.size(), t.center.x, t.center.y, t.center.z, 1e3f * t.radius, held, m.size(), 100.0f * covered);
   if (held != m.size()) fail("the tie does not hold every member strand");
   if (!(t.center.z < -0.05f)) fail("the tie is not behind the head");
   if (covered < 0.75f) fail("the hair covers less than 75% of the scalp");

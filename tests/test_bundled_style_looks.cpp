@@ -33,14 +33,15 @@ namespace {
 using lhtest::Image;
 
 glm::ivec2 toPixel(const Camera& cam, int w, int h, glm::vec3 p) {
-  const glm::vec4 clip = cam.projection(static_cast<float>(w) / static_cast<float>(h)) * cam.view() * glm::vec4(p, 1.0f);
+  const glm::vec4 clip =
+      cam.projection(static_cast<float>(w) / static_cast<float>(h)) * cam.view() * glm::vec4(p, 1.0f);
   return {static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * static_cast<float>(w)),
           static_cast<int>((0.5f - clip.y / clip.w * 0.5f) * static_cast<float>(h))};
 }
 
 struct Looks {
-  double scalp_bare = 0;            // share of the scalp with no root within 5 mm
-  double shows[3] = {0, 0, 0};      // front, three-quarter, back
+  double scalp_bare = 0;        // share of the scalp with no root within 5 mm
+  double shows[3] = {0, 0, 0};  // front, three-quarter, back
 };
 
 Looks measure(const std::string& style) {
@@ -101,9 +102,10 @@ Looks measure(const std::string& style) {
       }
     out.shows[c] = head_px > 0 ? static_cast<double>(showing) / head_px : 1.0;
   }
-  std::printf("%-14s scalp with no root within 5 mm %5.1f%%; head above the brows showing: front %5.1f%%, "
-              "three-quarter %5.1f%%, back %5.1f%%\n",
-              style.c_str(), 100 * out.scalp_bare, 100 * out.shows[0], 100 * out.shows[1], 100 * out.shows[2]);
+  std::printf(
+      "%-14s scalp with no root within 5 mm %5.1f%%; head above the brows showing: front %5.1f%%, "
+      "three-quarter %5.1f%%, back %5.1f%%\n",
+      style.c_str(), 100 * out.scalp_bare, 100 * out.shows[0], 100 * out.shows[1], 100 * out.shows[2]);
   return out;
 }
 

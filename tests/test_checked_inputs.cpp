@@ -133,9 +133,10 @@ std::string writeFile(const std::filesystem::path& p, const std::string& bytes) 
 
 TEST(GroomFiles, HeadersThatPromiseMoreThanTheFileHoldsAreRefusedAtOnce) {
   const auto dir = groomDir();
-  const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 500000000\nproperty float x\n"
-                             "property float y\nproperty float z\nelement edge 400000000\nproperty int vertex1\n"
-                             "property int vertex2\nend_header\n";
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 500000000\nproperty float x\n"
+      "property float y\nproperty float z\nelement edge 400000000\nproperty int vertex1\n"
+      "property int vertex2\nend_header\n";
   const std::string huge = writeFile(dir / "huge.ply", header + std::string(24, '\0'));
   const auto t0 = std::chrono::steady_clock::now();
   std::string m = errorOf<FileError>([&] { (void)readPolylines(huge); });
@@ -162,9 +163,10 @@ TEST(GroomFiles, HeadersThatPromiseMoreThanTheFileHoldsAreRefusedAtOnce) {
 
 TEST(GroomFiles, APlyHeaderWithoutItsNewlineIsNotReadFromByteZero) {
   const auto dir = groomDir();
-  const std::string text = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                           "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
-                           "end_header";
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+      "end_header";
   std::string m = errorOf<FileError>([&] { (void)readPolylines(writeFile(dir / "nonewline.ply", text)); });
   EXPECT_NE(m.find("nonewline.ply: the header's last line must be \"end_header\" followed by a newline"),
             std::string::npos)

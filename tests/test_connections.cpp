@@ -26,8 +26,7 @@ TEST(Alignment, HandMadeConfigurations) {
   EXPECT_NEAR(alignment(down, down, glm::vec3(0.01f, -0.01f, 0)), std::sqrt(0.5f), 1e-6f);
   // one hair tilted: |cos a + cos b| / 2
   const glm::vec3 tilted = glm::normalize(glm::vec3(1, -1, 0));
-  EXPECT_NEAR(alignment(down, tilted, glm::vec3(0, -0.01f, 0)), (1.0f + std::sqrt(0.5f)) / 2,
-              1e-6f);
+  EXPECT_NEAR(alignment(down, tilted, glm::vec3(0, -0.01f, 0)), (1.0f + std::sqrt(0.5f)) / 2, 1e-6f);
   // degenerate pair vector
   EXPECT_EQ(alignment(down, down, glm::vec3(0)), 0.0f);
 }
@@ -50,8 +49,7 @@ Block hairBlock(std::uint64_t seed) {
       for (int j = -1; j < 20; ++j) {
         b.x.emplace_back(i * a + rng.uniform(-0.2, 0.2) * a, -j * a + rng.uniform(-0.2, 0.2) * a,
                          k * a + rng.uniform(-0.2, 0.2) * a);
-        b.t.push_back(
-            glm::normalize(glm::vec3(rng.uniform(-0.1, 0.1), -1, rng.uniform(-0.1, 0.1))));
+        b.t.push_back(glm::normalize(glm::vec3(rng.uniform(-0.1, 0.1), -1, rng.uniform(-0.1, 0.1))));
         b.s.push_back(j * a);
         b.root.push_back(j < 0 ? 1 : 0);
       }
@@ -175,8 +173,7 @@ TEST(ConnectionSlices, HoldEveryEntryOnceInListOrder) {
   for (std::size_t i = 0; i < n; ++i) {
     const auto degree = static_cast<std::uint32_t>(rng.uniform() * 21.0);  // 0..20
     const auto roots = static_cast<std::uint32_t>(rng.uniform() * (degree + 1));
-    for (std::uint32_t e = 0; e < degree; ++e)
-      c.partner.push_back(static_cast<std::uint32_t>(rng.uniform() * n) % n);
+    for (std::uint32_t e = 0; e < degree; ++e) c.partner.push_back(static_cast<std::uint32_t>(rng.uniform() * n) % n);
     c.tip_offset.push_back(c.offset.back() + std::min(roots, degree));
     c.offset.push_back(c.offset.back() + degree);
   }
@@ -225,8 +222,7 @@ TEST(ConnectionSlices, HoldEveryEntryOnceInListOrder) {
   for (std::size_t e = 0; e < value.size(); ++e) value[e] = static_cast<float>(e);
   const std::vector<float> arranged = s.arrange(value, -1.0f);
   for (std::size_t k = 0; k < arranged.size(); ++k)
-    EXPECT_EQ(arranged[k],
-              s.entry[k] == ConnectionSlices::kPadding ? -1.0f : static_cast<float>(s.entry[k]));
+    EXPECT_EQ(arranged[k], s.entry[k] == ConnectionSlices::kPadding ? -1.0f : static_cast<float>(s.entry[k]));
 }
 
 // The gathers copy every partner's record whether they prefetch ahead or
@@ -245,19 +241,15 @@ TEST(ConnectionSlices, GathersCopyEveryRecordWithAnyLookAhead) {
     gatherRows3(rec.data(), idx.data(), count, readable, &out[0], &out[count], &out[2 * count]);
     for (std::size_t k = 0; k < count; ++k)
       for (std::size_t c = 0; c < 3; ++c)
-        ASSERT_EQ(out[c * count + k], rec[3 * idx[k] + c])
-            << "rows3 entry " << k << " readable " << readable;
-    gatherRecords(rec.data(), idx.data(), count, readable, &out[0], &out[count], &out[2 * count],
-                  &out[3 * count]);
+        ASSERT_EQ(out[c * count + k], rec[3 * idx[k] + c]) << "rows3 entry " << k << " readable " << readable;
+    gatherRecords(rec.data(), idx.data(), count, readable, &out[0], &out[count], &out[2 * count], &out[3 * count]);
     for (std::size_t k = 0; k < count; ++k)
       for (std::size_t c = 0; c < 4; ++c)
-        ASSERT_EQ(out[c * count + k], rec[4 * idx[k] + c])
-            << "records entry " << k << " readable " << readable;
+        ASSERT_EQ(out[c * count + k], rec[4 * idx[k] + c]) << "records entry " << k << " readable " << readable;
     gatherRecordPairs(rec.data(), idx.data(), count, readable, out.data(), count);
     for (std::size_t k = 0; k < count; ++k)
       for (std::size_t c = 0; c < 8; ++c)
-        ASSERT_EQ(out[c * count + k], rec[8 * idx[k] + c])
-            << "pairs entry " << k << " readable " << readable;
+        ASSERT_EQ(out[c * count + k], rec[8 * idx[k] + c]) << "pairs entry " << k << " readable " << readable;
   }
 }
 
@@ -267,8 +259,8 @@ TEST(ConnectionSlices, GathersCopyEveryRecordWithAnyLookAhead) {
 // first-level cache (with 1024 floats between them, all 17 hair-hair
 // columns shared one set and that pass ran 1.7x slower).
 TEST(PairColumns, ColumnsHoldEveryPairAndNeverAlignOnOneCacheSet) {
-  for (const std::size_t pairs : {std::size_t{1}, std::size_t{16}, std::size_t{1000},
-                                  std::size_t{1024}, std::size_t{2048}, std::size_t{4093}}) {
+  for (const std::size_t pairs :
+       {std::size_t{1}, std::size_t{16}, std::size_t{1000}, std::size_t{1024}, std::size_t{2048}, std::size_t{4093}}) {
     PairColumns col;
     col.reserve(pairs, 17);
     const std::size_t stride = col.stride();

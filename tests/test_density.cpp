@@ -43,8 +43,8 @@ TEST(Density, RegularLatticeMatchesAnalyticValue) {
   int checked = 0;
   for (std::size_t q = 0; q < p.size(); ++q) {
     const glm::vec3 x = p.position[q] / a;
-    const bool interior = x.x >= 2.5f && x.x <= nx - 3.5f && x.y >= 2.5f && x.y <= ny - 3.5f &&
-                          x.z >= 2.5f && x.z <= nz - 3.5f;
+    const bool interior =
+        x.x >= 2.5f && x.x <= nx - 3.5f && x.y >= 2.5f && x.y <= ny - 3.5f && x.z >= 2.5f && x.z <= nz - 3.5f;
     if (!interior) continue;
     ++checked;
     EXPECT_NEAR(rho[q], lattice_sum, 1e-4 * lattice_sum);

@@ -78,8 +78,7 @@ TEST(Golden, FirstHundredStepsOfTheTinyScene) {
     GTEST_SKIP() << "golden file renewed: " << path;
   }
   std::ifstream in(path);
-  ASSERT_TRUE(in) << "missing " << path
-                  << " (create it with LOOSEHAIR_UPDATE_GOLDEN=1, see this file's header)";
+  ASSERT_TRUE(in) << "missing " << path << " (create it with LOOSEHAIR_UPDATE_GOLDEN=1, see this file's header)";
   std::vector<std::string> want;
   std::string line;
   while (std::getline(in, line))

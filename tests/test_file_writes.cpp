@@ -24,8 +24,8 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path freshDir(const char* name) {
-  const fs::path d = fs::temp_directory_path() / (std::string("loosehair-writes-") + name + "-" +
-                                                  std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / (std::string("loosehair-writes-") + name + "-" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

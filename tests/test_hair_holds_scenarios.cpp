@@ -46,21 +46,21 @@ float largestNearestNeighbour(const std::vector<glm::vec3>& x) {
 
 struct After {
   std::size_t loose;
-  float nearest;     // the largest nearest-neighbour distance (m)
-  std::size_t fast;  // particles above 5 cm/s
-  float fastest;     // m/s
-  float region_gap;  // the farthest from other hair of its root region (m)
+  float nearest;               // the largest nearest-neighbour distance (m)
+  std::size_t fast;            // particles above 5 cm/s
+  float fastest;               // m/s
+  float region_gap;            // the farthest from other hair of its root region (m)
   std::size_t loops, strands;  // render strands turning back 1.5 cm over the crown, of
-  float support;     // 2 h1 (m)
+  float support;               // 2 h1 (m)
 };
 
 After runScene(const std::string& motion_json, double seconds, std::uint64_t seed = 1) {
   SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
   scene.seed = seed;
-  scene.motion = parseScene(R"({"head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "motion": )" +
-                                motion_json + "}",
-                            "motion")
-                     .motion;
+  scene.motion =
+      parseScene(R"({"head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "motion": )" + motion_json + "}",
+                 "motion")
+          .motion;
   BuildReport build;
   Solver solver = buildSolver(scene, &build);
   RenderStrandOptions ro;
@@ -76,17 +76,22 @@ After runScene(const std::string& motion_json, double seconds, std::uint64_t see
   field.deform(solver, pts, 2);
   std::size_t looped = 0;
   for (float l : crownLoops(field.rest(), pts, scene.head_center.y)) looped += l > 0.015f;
-  return {looseParticles(p.position, p.is_root, 2.0f * solver.params().h1), largestNearestNeighbour(p.position),
-          fasterThan(p, 0.05f), lhtest::fastest(p), farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); }), looped, field.strandCount(),
+  return {looseParticles(p.position, p.is_root, 2.0f * solver.params().h1),
+          largestNearestNeighbour(p.position),
+          fasterThan(p, 0.05f),
+          lhtest::fastest(p),
+          farthestFromItsRegion(p, [&](std::size_t i, std::size_t j) { return chain.inRegion(i, j); }),
+          looped,
+          field.strandCount(),
           2.0f * solver.params().h1};
 }
 
 void print(const char* name, const After& a) {
-  std::printf("%s: %zu loose, largest nearest neighbour %.1f mm, farthest from its root region's hair %.1f mm "
-              "(2 h1 = %.1f), %zu of %zu strands turn back 1.5 cm over the crown, %zu above 5 cm/s, "
-              "fastest %.3f m/s\n",
-              name, a.loose, 1e3 * a.nearest, 1e3 * a.region_gap, 1e3 * a.support, a.loops, a.strands, a.fast,
-              a.fastest);
+  std::printf(
+      "%s: %zu loose, largest nearest neighbour %.1f mm, farthest from its root region's hair %.1f mm "
+      "(2 h1 = %.1f), %zu of %zu strands turn back 1.5 cm over the crown, %zu above 5 cm/s, "
+      "fastest %.3f m/s\n",
+      name, a.loose, 1e3 * a.nearest, 1e3 * a.region_gap, 1e3 * a.support, a.loops, a.strands, a.fast, a.fastest);
 }
 
 }  // namespace

@@ -34,13 +34,13 @@ TriangleMesh turned(glm::vec3 (*turn)(glm::vec3)) {
 // `h` written to an OBJ and loaded by a scene with the given head options;
 // if it builds, `steps` steps are run, after which no hair may be inside
 // the head, non-finite or unable to reach a root.
-Built buildHead(const TriangleMesh& h, const std::string& name, const std::string& head_options = "",
-                int steps = 0) {
+Built buildHead(const TriangleMesh& h, const std::string& name, const std::string& head_options = "", int steps = 0) {
   const std::string dir = ::testing::TempDir() + "loosehair-" + name;
   std::filesystem::create_directories(dir);
   writeObj(h, dir + "/head.obj");
   const std::string text = R"({"name": ")" + name + R"(", "substeps": 4,
-    "head": {"type": "mesh", "mesh": "head.obj")" + head_options + R"(},
+    "head": {"type": "mesh", "mesh": "head.obj")" +
+                           head_options + R"(},
     "hair": {"particles": 800, "length": 0.2}})";
   std::ofstream(dir + "/scene.json") << text;
   Built b;
@@ -97,7 +97,7 @@ TEST(HeadMeshes, AHeadLyingOnItsSideIsNamed) {
   EXPECT_TRUE(mentions(b, "on its side")) << b.error;
   // told its axes, the same file is clean
   const Built ok = buildHead(turned([](glm::vec3 p) { return glm::vec3(p.x, -p.z, p.y); }), "side-told",
-                                   R"(, "up": "+z", "front": "-y")");
+                             R"(, "up": "+z", "front": "-y")");
   EXPECT_TRUE(ok.error.empty()) << ok.error;
   EXPECT_TRUE(ok.warnings.empty()) << ok.warnings[0];
 }
@@ -107,7 +107,7 @@ TEST(HeadMeshes, AnUpsideDownHeadIsNamed) {
   EXPECT_TRUE(mentions(b, "upside down")) << b.error;
   EXPECT_TRUE(mentions(b, "head.up")) << b.error;
   const Built ok = buildHead(turned([](glm::vec3 p) { return glm::vec3(p.x, -p.y, -p.z); }), "upside-down-told",
-                                   R"(, "up": "-y", "front": "-z")");
+                             R"(, "up": "-y", "front": "-z")");
   EXPECT_TRUE(ok.error.empty()) << ok.error;
   EXPECT_TRUE(ok.warnings.empty()) << ok.warnings[0];
 }
@@ -188,7 +188,6 @@ void addOpenHemisphere(TriangleMesh& m, glm::vec3 centre, float radius) {
     }
 }
 
-
 }  // namespace
 
 TEST(HeadMeshes, OpenShellsForEyesAreDroppedAndTheHeadIsUsed) {
@@ -256,8 +255,7 @@ TEST(HeadMeshes, AWholeBodyInMetresIsAHeadWithABodyBelowIt) {
   append(torso);
   TriangleMesh legs;
   const glm::vec3 lo(-0.16f, -1.6f, -0.1f), hi(0.16f, -0.55f, 0.08f);
-  for (int k = 0; k < 8; ++k)
-    legs.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+  for (int k = 0; k < 8; ++k) legs.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
   legs.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
                     {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
   append(legs);
@@ -290,7 +288,8 @@ TEST(HeadMeshes, ABustWithArmsIsNotTakenForAHeadInAnotherUnit) {
 TEST(HeadMeshes, HeightsOfBrowsEarsAndChinAreFoundOnTheMesh) {
   TriangleMesh head = loadMesh(lhtest::sourceDir() + "/data/meshes/head.ply");
   const HeadHeights at = measureHeadHeights(head);
-  std::printf("top %.3f brows %.3f ears %.3f..%.3f chin %.3f m\n", at.top, at.brows, at.ear_top, at.ear_bottom, at.chin);
+  std::printf("top %.3f brows %.3f ears %.3f..%.3f chin %.3f m\n", at.top, at.brows, at.ear_top, at.ear_bottom,
+              at.chin);
   EXPECT_GT(at.top, at.brows);
   EXPECT_GT(at.brows, at.ear_top);
   EXPECT_GT(at.ear_top, at.ear_bottom);

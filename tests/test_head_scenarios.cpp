@@ -22,14 +22,13 @@ namespace {
 using lhtest::bundled;
 using lhtest::expectInvariants;
 using lhtest::kInsideTolerance;
-using lhtest::run;
-using lhtest::Watch;
 using lhtest::meanOver;
+using lhtest::run;
 using lhtest::runSplit;
 using lhtest::SplitRun;
+using lhtest::Watch;
 
 float maxLength(const SceneDesc& s) { return s.hair.length; }  // the length map peaks at 1
-
 
 }  // namespace
 
@@ -49,7 +48,6 @@ TEST(HeadScenario, HangSettlesOnHeadAndShoulders) {
   EXPECT_LT(lowest, -0.15f);
   EXPECT_LT(speed / static_cast<float>(solver.particles().size()), 0.05f);
 }
-
 
 TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
   const SplitRun on = runSplit(true, 1);
@@ -90,8 +88,8 @@ TEST(HeadScenario, BackHairSplitsAndMergesAndInteractionsKeepTheWispsApart) {
     cross_off += b / kSeeds;
     if (seed == 1) cross_default = meanOver(on, on.cross, 1.5, 3.0);
   }
-  std::printf("mean interpenetration while merging: %.4f with, %.4f without (seed 1 with the chain: %.4f)\n",
-              cross_on, cross_off, cross_default);
+  std::printf("mean interpenetration while merging: %.4f with, %.4f without (seed 1 with the chain: %.4f)\n", cross_on,
+              cross_off, cross_default);
   EXPECT_GE(shown, kSeeds - 1) << "samplings with less interpenetration with the interactions on";
   EXPECT_LT(cross_on, 0.9 * cross_off);
 }
@@ -176,8 +174,10 @@ TEST(HeadScenario, WindBlowsTheHairDownwindAndTheHairSlowsTheAir) {
   });
   expectInvariants(w, "wind");
   const double moved = hairAlong() - start;
-  std::printf("hair centre of mass moved %.1f mm downwind; air speed along the wind behind the head %.2f m/s, beside it %.2f m/s\n",
-              moved * 1e3, behind_sum / samples, beside_sum / samples);
+  std::printf(
+      "hair centre of mass moved %.1f mm downwind; air speed along the wind behind the head %.2f m/s, beside it %.2f "
+      "m/s\n",
+      moved * 1e3, behind_sum / samples, beside_sum / samples);
   EXPECT_GT(moved, 0.005) << "the hair's centre of mass moves downwind";
   ASSERT_GT(samples, 30);
   EXPECT_LT(behind_sum / samples, 0.5 * beside_sum / samples) << "air behind the hair is slower than beside it";
@@ -266,7 +266,8 @@ TEST(HeadScenario, HairUnderTheFlatBottomOfABustKeepsTheStretchBound) {
   });
   writeObj(torso, dir + "/bust.obj");
   const SceneDesc scene = parseScene(R"({"name": "bust", "substeps": "auto",
-    "head": {"type": "mesh", "mesh": ")" + lhtest::sourceDir() + R"(/data/meshes/head.ply"},
+    "head": {"type": "mesh", "mesh": ")" +
+                                         lhtest::sourceDir() + R"(/data/meshes/head.ply"},
     "torso": {"mesh": ")" + dir + R"(/bust.obj"},
     "hair": {"particles": 3000, "length": 0.45, "mass": 0.08, "whorl": [0, 0.85, -0.5],
              "w_t": 1.0, "w_n": 0.6, "bending_stiffness": 5e-4},

@@ -75,11 +75,9 @@ TEST(HostileJson, LongValuesAreCutInMessages) {
 }
 
 TEST(HostileJson, DuplicateKeysAreAnError) {
-  expectError<SceneError>(
-      [] { (void)parseScene(R"({"hair": {"particles": 100, "particles": 200}})", "dup.json"); },
-      {"dup.json", "hair.particles", "twice"});
-  expectError<SceneError>([] { (void)parseScene(R"({"frames": 1, "frames": 2})", "dup.json"); },
-                          {"frames", "twice"});
+  expectError<SceneError>([] { (void)parseScene(R"({"hair": {"particles": 100, "particles": 200}})", "dup.json"); },
+                          {"dup.json", "hair.particles", "twice"});
+  expectError<SceneError>([] { (void)parseScene(R"({"frames": 1, "frames": 2})", "dup.json"); }, {"frames", "twice"});
 }
 
 TEST(HostileJson, IntegersWrittenWithAnExponentAreIntegers) {
@@ -88,12 +86,12 @@ TEST(HostileJson, IntegersWrittenWithAnExponentAreIntegers) {
   expectError<SceneError>([&] { (void)parseScene(head + R"("frames": 1.5})", "e.json"); },
                           {"frames", "whole number", "1.5"});
   expectError<SceneError>([&] { (void)parseScene(head + R"("seed": 1e300})", "e.json"); }, {"seed"});
-  expectError<SceneError>([&] { (void)parseScene(head + R"("seed": 18446744073709551615})", "e.json"); },
-                          {"seed"});
+  expectError<SceneError>([&] { (void)parseScene(head + R"("seed": 18446744073709551615})", "e.json"); }, {"seed"});
 }
 
 TEST(HostileJson, TruncatedJsonSaysWhere) {
-  expectError<SceneError>([] { (void)parseScene(R"({"frames": 3)", "t.json"); }, {"t.json", "invalid JSON at line 1, column"});
+  expectError<SceneError>([] { (void)parseScene(R"({"frames": 3)", "t.json"); },
+                          {"t.json", "invalid JSON at line 1, column"});
 }
 
 // ---- files that are not regular files -------------------------------------------
@@ -138,8 +136,7 @@ TEST(HostileMeshes, AbsurdCountsAreRefusedBeforeAllocating) {
       "property list uchar int vertex_indices\nend_header\n0 0 0\n";
   expectError<MeshError>([&] { (void)loadMesh(write("big.ply", ply_head + "2000000000" + ply_tail)); },
                          {"big.ply", "2000000000 vertices"});
-  expectError<MeshError>([&] { (void)loadMesh(write("neg.ply", ply_head + "-5" + ply_tail)); },
-                         {"neg.ply", "-5"});
+  expectError<MeshError>([&] { (void)loadMesh(write("neg.ply", ply_head + "-5" + ply_tail)); }, {"neg.ply", "-5"});
   expectError<MeshError>([&] { (void)loadMesh(write("big.off", "OFF\n100000000 1 0\n0 0 0\n")); },
                          {"big.off", "100000000 vertices"});
 }
@@ -150,8 +147,7 @@ TEST(HostileMeshes, MeshesOfTooManyTrianglesAreRefusedUnlessAllowed) {
   SceneDesc scene = loadScene(lhtest::sourceDir() + "/data/scenes/hang.json");
   scene.limits.mesh.max_triangles = 50000;
   expectError<SceneError>([&] { (void)HeadModel::build(scene, scene.source, scene.limits.mesh); },
-                          {"hang.json", "head.mesh", "head.ply", "81920 faces", "limit of 50000",
-                           "--allow-expensive"});
+                          {"hang.json", "head.mesh", "head.ply", "81920 faces", "limit of 50000", "--allow-expensive"});
   scene.limits.mesh.max_triangles = 81920;
   EXPECT_NO_THROW((void)HeadModel::build(scene, scene.source, scene.limits.mesh));
 
@@ -265,16 +261,15 @@ TEST(HostileScenes, HairOnNothingIsRefused) {
 TEST(HostileScenes, TinyValuesNameTheirField) {
   expectSceneRejected(R"({"head": {"type": "sphere", "radius": 0.1}, "hair": {"mass": 1e-300}})",
                       {"hair.mass", "1e-300"});
-  expectSceneRejected(std::string(kSphere) + R"("solver": {"material_density": 1e-3}})",
-                      {"solver.material_density"});
+  expectSceneRejected(std::string(kSphere) + R"("solver": {"material_density": 1e-3}})", {"solver.material_density"});
 }
 
 // Too few substeps for a damping rate: the error names the rate, the step
 // and where the step comes from (the scene's substeps, not a solver field).
 TEST(HostileScenes, TooFewSubstepsNameTheSubsteps) {
-  expectSceneRejected(std::string(kSphere) + R"("substeps": 1})",
-                      {"bad.json", "solver.collision_rate", "time_step = 0.0333333",
-                       "1 / (30 x 1)", "\"substeps\": \"auto\""});
+  expectSceneRejected(
+      std::string(kSphere) + R"("substeps": 1})",
+      {"bad.json", "solver.collision_rate", "time_step = 0.0333333", "1 / (30 x 1)", "\"substeps\": \"auto\""});
 }
 
 TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
@@ -283,25 +278,25 @@ TEST(HostileScenes, ExpensiveSettingsAreRefusedUnlessAllowed) {
                       {"bad.json", "steps", "limit", "youngs_modulus", "--allow-expensive"});
   {  // implicit springs: the same stiffness at the steps accuracy asks for
     BuildReport report;
-    (void)buildSolver(parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": true}})",
-                                 "stiff.json"),
-                      &report);
+    (void)buildSolver(
+        parseScene(std::string(kSphere) + R"("solver": {"youngs_modulus": 1e12, "implicit_springs": true}})",
+                   "stiff.json"),
+        &report);
     EXPECT_LE(report.substeps, 4);
   }
   expectSceneRejected(std::string(kSphere) + R"("wind": {"spacing": 0.002}})",
                       {"bad.json", "wind.spacing", "grid cells"});
   // a long frame: the message names what bounds the step and the frame, not
   // the stiffness (which does not bound the implicit springs)
-  expectSceneRejected(std::string(kSphere) + R"("frame_rate": 0.01})",
-                      {"bad.json", "implicit springs' accuracy", "1/0.01 s", "9000 steps", "frame_rate",
-                       "--allow-expensive"});
+  expectSceneRejected(
+      std::string(kSphere) + R"("frame_rate": 0.01})",
+      {"bad.json", "implicit springs' accuracy", "1/0.01 s", "9000 steps", "frame_rate", "--allow-expensive"});
   expectSceneRejected(std::string(kSphere) + R"("frame_rate": 0.1, "solver": {"collision_rate": 100}})",
                       {"bad.json", "solver.collision_rate = 100", "4000 steps", "lower solver.collision_rate"});
   {  // a high damping rate with "auto" takes the steps it needs (it was
      // refused by a check against a 1 ms step)
     BuildReport report;
-    (void)buildSolver(parseScene(std::string(kSphere) + R"("solver": {"collision_rate": 400}})", "rate.json"),
-                      &report);
+    (void)buildSolver(parseScene(std::string(kSphere) + R"("solver": {"collision_rate": 400}})", "rate.json"), &report);
     EXPECT_EQ(report.substeps, 54);  // ceil(1/30 s / (0.25 / 400 1/s))
     EXPECT_LE(400.0 * report.time_step, 0.25 + 1e-6);
   }

@@ -53,8 +53,8 @@ TEST(ImplicitSprings, StableAtStepsFarBeyondTheExplicitLimit) {
   ASSERT_TRUE(runFinite(im, steps)) << "the implicit springs blew up at dt = " << dt;
   // without the tether and the strain limit the springs alone hold the hair
   const float stretch = lhtest::maxStretch(im, 0.2f);
-  std::printf("dt %.1f ms = %.1fx the explicit limit: explicit %s, implicit stretch %.4f\n", dt * 1e3,
-              dt / stable, ex_finite ? "finite" : "blew up", stretch);
+  std::printf("dt %.1f ms = %.1fx the explicit limit: explicit %s, implicit stretch %.4f\n", dt * 1e3, dt / stable,
+              ex_finite ? "finite" : "blew up", stretch);
   EXPECT_FALSE(ex_finite && lhtest::maxStretch(ex, 0.2f) < 0.1f) << "the explicit step should fail here";
   EXPECT_LT(stretch, 0.1f);
 }

@@ -28,8 +28,7 @@ TEST(Kernel, IntegratesToOneInThreeDimensions) {
     for (int ix = 0; ix < m; ++ix)
       for (int iy = 0; iy < m; ++iy)
         for (int iz = 0; iz < m; ++iz) {
-          const glm::vec3 d(static_cast<float>((ix + 0.37) * a - 2 * h),
-                            static_cast<float>((iy + 0.61) * a - 2 * h),
+          const glm::vec3 d(static_cast<float>((ix + 0.37) * a - 2 * h), static_cast<float>((iy + 0.61) * a - 2 * h),
                             static_cast<float>((iz + 0.13) * a - 2 * h));
           const float r = glm::length(d);
           lattice += k.W(r) * a * a * a;
@@ -75,9 +74,8 @@ TEST(Kernel, GradientMatchesFiniteDifferences) {
         glm::dvec3 xp(x), xm(x);
         xp[a] += eps;
         xm[a] -= eps;
-        const double fd = (k.W(static_cast<float>(glm::length(xp))) -
-                           k.W(static_cast<float>(glm::length(xm)))) /
-                          (2 * eps);
+        const double fd =
+            (k.W(static_cast<float>(glm::length(xp))) - k.W(static_cast<float>(glm::length(xm)))) / (2 * eps);
         EXPECT_NEAR(g[a], fd, 2e-3 * std::abs(k.dWdr(0.1f))) << "r = " << r << " axis " << a;
       }
     }

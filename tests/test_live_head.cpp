@@ -21,7 +21,11 @@ namespace {
 // held, and brought back.
 HeadKeyframe dragAt(std::int64_t frame) {
   const double t = static_cast<double>(frame) / 30.0;
-  const double yaw = t < 0.2 ? 0.0 : t < 0.7 ? 70.0 * (t - 0.2) : t < 1.0 ? 35.0 : t < 1.5 ? 35.0 - 70.0 * (t - 1.0) : 0.0;
+  const double yaw = t < 0.2   ? 0.0
+                     : t < 0.7 ? 70.0 * (t - 0.2)
+                     : t < 1.0 ? 35.0
+                     : t < 1.5 ? 35.0 - 70.0 * (t - 1.0)
+                               : 0.0;
   return turnAbout(glm::dvec3(0, -0.12, 0), glm::dvec3(yaw, 0, 0), glm::dvec3(0.0));
 }
 

@@ -35,7 +35,7 @@ TEST(ParamTable, EveryEntryReadsWritesAndItsRangeIsValid) {
       p.set(q, v);
       const double want = p.kind == ParamInfo::Kind::Switch ? (v != 0 ? 1.0 : 0.0) : v;
       EXPECT_NEAR(p.get(q), want, 1e-6 * std::abs(want)) << p.name;  // float fields round
-      if (std::string(p.name) == "h2") q.h1 = 0.08f;  // h2 < h1
+      if (std::string(p.name) == "h2") q.h1 = 0.08f;                 // h2 < h1
       if (std::string(p.name) == "h1") q.h2 = 0.001f;
       if (std::string(p.name) == "shape_keeping") q.time_step = 1e-3;
       // a rate at the top of its range is refused with this step (rate * dt);
@@ -73,9 +73,10 @@ std::uint64_t run(int steps, const std::function<void(Solver&, int)>& at, bool i
 TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
   const auto none = [](Solver&, int) {};
   const std::uint64_t base_explicit = run(60, none);
-  EXPECT_EQ(run(60, [](Solver& s, int k) {
-              if (k == 20) s.setParams(s.params());
-            }),
+  EXPECT_EQ(run(60,
+                [](Solver& s, int k) {
+                  if (k == 20) s.setParams(s.params());
+                }),
             base_explicit)
       << "setting the same parameters changes nothing";
   const std::uint64_t base_implicit = run(60, none, true);
@@ -106,34 +107,41 @@ TEST(LiveParams, AChangeTakesEffectAndSettingItBackGivesTheSameBits) {
       if (validate(q).empty()) break;
       v = 0.5 * (v + p.lo);
     }
-    const std::uint64_t changed = run(60, [&](Solver& s, int k) {
-      if (k == 20) {
-        SimParams q = s.params();
-        p.set(q, v);
-        s.setParams(q);
-      }
-    }, implicit);
+    const std::uint64_t changed = run(
+        60,
+        [&](Solver& s, int k) {
+          if (k == 20) {
+            SimParams q = s.params();
+            p.set(q, v);
+            s.setParams(q);
+          }
+        },
+        implicit);
     EXPECT_NE(changed, base) << p.name << " changed live has no effect";
-    const std::uint64_t restored = run(60, [&](Solver& s, int k) {
-      if (k == 20) {
-        SimParams q = s.params();
-        const double was = p.get(q);
-        p.set(q, v);
-        s.setParams(q);
-        p.set(q, was);
-        s.setParams(q);
-      }
-    }, implicit);
+    const std::uint64_t restored = run(
+        60,
+        [&](Solver& s, int k) {
+          if (k == 20) {
+            SimParams q = s.params();
+            const double was = p.get(q);
+            p.set(q, v);
+            s.setParams(q);
+            p.set(q, was);
+            s.setParams(q);
+          }
+        },
+        implicit);
     EXPECT_EQ(restored, base) << p.name << " set and set back does not give the same bits";
   }
   // the thread count is live and changes no bits
-  EXPECT_EQ(run(60, [](Solver& s, int k) {
-              if (k == 30) {
-                SimParams q = s.params();
-                q.threads = 1;
-                s.setParams(q);
-              }
-            }),
+  EXPECT_EQ(run(60,
+                [](Solver& s, int k) {
+                  if (k == 30) {
+                    SimParams q = s.params();
+                    q.threads = 1;
+                    s.setParams(q);
+                  }
+                }),
             base_explicit);
 }
 
@@ -233,7 +241,8 @@ TEST(ParamTable, TheSceneReferenceIsTheTable) {
 TEST(ParamTable, ValidateAndTheSceneFileKeepTheTablesRange) {
   for (const ParamInfo& p : paramTable()) {
     if (p.kind == ParamInfo::Kind::Switch) continue;
-    const double below = p.lo_open ? p.lo : p.lo - (p.kind == ParamInfo::Kind::Integer ? 1.0 : 1e-3 * (1.0 + std::abs(p.lo)));
+    const double below =
+        p.lo_open ? p.lo : p.lo - (p.kind == ParamInfo::Kind::Integer ? 1.0 : 1e-3 * (1.0 + std::abs(p.lo)));
     const double above = p.hi + (p.kind == ParamInfo::Kind::Integer ? 1.0 : 1e-3 * (1.0 + std::abs(p.hi)));
     for (double bad : {below, above}) {
       EXPECT_FALSE(p.check(bad).empty()) << p.name << " " << bad;
@@ -246,8 +255,9 @@ TEST(ParamTable, ValidateAndTheSceneFileKeepTheTablesRange) {
       if (p.in_scene && std::string(p.name) != "h1" && std::string(p.name) != "h2") {
         char value[64];
         std::snprintf(value, sizeof value, "%.17g", bad);
-        const std::string scene = std::string(R"({"head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "solver": {")") +
-                                  p.name + "\": " + value + "}}";
+        const std::string scene =
+            std::string(R"({"head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1}, "solver": {")") + p.name +
+            "\": " + value + "}}";
         try {
           (void)parseScene(scene, "range.json");
           ADD_FAILURE() << p.name << " = " << value << " read from a scene file";

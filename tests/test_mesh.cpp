@@ -49,9 +49,7 @@ TriangleMesh sphereMesh(float radius, int levels, glm::vec3 centre = glm::vec3(0
   return m;
 }
 
-void writeText(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::binary) << text;
-}
+void writeText(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 // A unit cube [0,1]^3, outward triangles, in the given format.
 const char* kCubeObj =
@@ -77,9 +75,10 @@ std::string cubeStl() {
   auto tri = [&](int a, int b, int c) {
     const glm::vec3 n = glm::normalize(glm::cross(v[b] - v[a], v[c] - v[a]));
     char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "facet normal %g %g %g\nouter loop\nvertex %g %g %g\nvertex %g %g %g\nvertex %g %g %g\nendloop\nendfacet\n",
-                  n.x, n.y, n.z, v[a].x, v[a].y, v[a].z, v[b].x, v[b].y, v[b].z, v[c].x, v[c].y, v[c].z);
+    std::snprintf(
+        buf, sizeof buf,
+        "facet normal %g %g %g\nouter loop\nvertex %g %g %g\nvertex %g %g %g\nvertex %g %g %g\nendloop\nendfacet\n",
+        n.x, n.y, n.z, v[a].x, v[a].y, v[a].z, v[b].x, v[b].y, v[b].z, v[c].x, v[c].y, v[c].z);
     s += buf;
   };
   for (const auto& f : q) {
@@ -422,8 +421,11 @@ TEST(Sdf, SphereMeshDistanceAndNormal) {
   opt.voxel_size = 0.003f;
   const auto body = GridSdfBody::bake(s, opt);
   const glm::vec3 centre(0.02f, -0.01f, 0.0f);
-  const glm::vec3 pts[] = {centre, centre + glm::vec3(0.05f, 0, 0), centre + glm::vec3(0, 0.099f, 0),
-                           centre + glm::vec3(0, 0, 0.12f), centre + glm::vec3(0.1f, 0.1f, 0.0f),
+  const glm::vec3 pts[] = {centre,
+                           centre + glm::vec3(0.05f, 0, 0),
+                           centre + glm::vec3(0, 0.099f, 0),
+                           centre + glm::vec3(0, 0, 0.12f),
+                           centre + glm::vec3(0.1f, 0.1f, 0.0f),
                            centre + glm::vec3(0.5f, 0, 0)};
   for (const auto& p : pts) {
     float phi;

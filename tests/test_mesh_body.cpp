@@ -57,20 +57,17 @@ TriangleMesh bumpySphere(float radius, int levels, float bump) {
 // A box: 6 faces of 2 triangles, counter-clockwise from outside.
 TriangleMesh box(glm::vec3 lo, glm::vec3 hi) {
   TriangleMesh m;
-  for (int k = 0; k < 8; ++k)
-    m.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+  for (int k = 0; k < 8; ++k) m.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
   m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                  {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   return m;
 }
 
-double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
-                             const glm::dvec3& c) {
+double pointTriangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   // Inside the prism over the triangle: the plane's distance; else the edges'.
   const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
   const glm::dvec3 q = p - glm::dot(p - a, n) * n;
-  const bool in = glm::dot(glm::cross(b - a, q - a), n) >= 0 &&
-                  glm::dot(glm::cross(c - b, q - b), n) >= 0 &&
+  const bool in = glm::dot(glm::cross(b - a, q - a), n) >= 0 && glm::dot(glm::cross(c - b, q - b), n) >= 0 &&
                   glm::dot(glm::cross(a - c, q - c), n) >= 0;
   if (in) return std::abs(glm::dot(p - a, n));
   auto segment = [&](const glm::dvec3& u, const glm::dvec3& v) {
@@ -173,8 +170,8 @@ TEST(MeshBody, ExactDistanceOnSharpEdgesAndCreases) {
   };
   for (const Case& c : cases) {
     const Comparison r = compare(c.mesh, c.voxel, c.spread, 7);
-    std::printf("%s: %d points, worst error exact %.2e m, grid %.2e m, %d sign errors\n", c.name,
-                r.points, r.worst_exact, r.worst_grid, r.sign_errors);
+    std::printf("%s: %d points, worst error exact %.2e m, grid %.2e m, %d sign errors\n", c.name, r.points,
+                r.worst_exact, r.worst_grid, r.sign_errors);
     EXPECT_LT(r.worst_exact, 2e-6) << c.name;
     EXPECT_EQ(r.sign_errors, 0) << c.name;
     // the grid alone is visibly off on these meshes: the test measures something
@@ -292,7 +289,7 @@ TEST(MeshBody, HairStaysOutOfAWorldBodyMovingThroughIt) {
       {{1.0, glm::dvec3(0.0), glm::dvec3(-0.3, -0.17, -0.09)}, {1.2, glm::dvec3(0.0), glm::dvec3(0.3, -0.17, -0.09)}});
   solver.addWorldBody(ball, sweep, 0.0, 10.0);
   double deepest = 1;
-  int reached = 0;  // particles the ball pushed (within 1 mm of it)
+  int reached = 0;                // particles the ball pushed (within 1 mm of it)
   while (solver.time() < 1.25) {  // the hair hangs first; the sweep is 1.0-1.2 s
     solver.step();
     const HeadPose pose = sweep.pose(solver.time());
@@ -307,8 +304,7 @@ TEST(MeshBody, HairStaysOutOfAWorldBodyMovingThroughIt) {
       if (d < 1e-3) ++reached;
     }
   }
-  std::printf("deepest particle against the moving ball: %.2e m; %d particle-steps in contact\n", deepest,
-              reached);
+  std::printf("deepest particle against the moving ball: %.2e m; %d particle-steps in contact\n", deepest, reached);
   ASSERT_GT(reached, 30) << "the ball should sweep through the hair";
   EXPECT_GE(deepest, -2e-6) << "a particle ended a step inside the moving ball";
 }
@@ -460,7 +456,9 @@ TEST(MeshBody, CellsAndHierarchyGiveTheSameNearestTriangle) {
     // at vertices and edges, where neighbours tie
     const double u = rng.uniform(), v = rng.uniform() * (1.0 - u);
     const glm::vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
-    glm::vec3 p = k % 4 == 0 ? a : (k % 4 == 1 ? 0.5f * (a + b) : a + static_cast<float>(u) * (b - a) + static_cast<float>(v) * (c - a));
+    glm::vec3 p = k % 4 == 0 ? a
+                             : (k % 4 == 1 ? 0.5f * (a + b)
+                                           : a + static_cast<float>(u) * (b - a) + static_cast<float>(v) * (c - a));
     const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
     p += static_cast<float>(rng.uniform(-1.0, 1.0) * (k % 3 == 0 ? 1e-6 : 3e-3)) * n;
     ExactDistance::Nearest whole{}, seeded{}, beside{};

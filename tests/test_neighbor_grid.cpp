@@ -57,16 +57,15 @@ bool expectMatchesBruteForce(const std::vector<glm::vec3>& x, float radius) {
       for (std::uint32_t q : list) named.push_back(order[q]);
       mismatched += std::equal(named.begin(), named.end(), want.begin(), want.end()) ? 0 : 1;
     }
-    EXPECT_EQ(mismatched, 0u) << "search-order lists that name other points (wide test " << wide
-                              << ")";
+    EXPECT_EQ(mismatched, 0u) << "search-order lists that name other points (wide test " << wide << ")";
   }
   EXPECT_EQ(one.pointCount(), x.size());
   std::size_t total = 0, wrong = 0;
   for (std::size_t i = 0; i < x.size() && wrong < 5; ++i) {
     const auto a = one.neighbors(i), b = two.neighbors(i), c = three.neighbors(i);
     // same order for any thread count
-    const bool same_order = std::equal(a.begin(), a.end(), b.begin(), b.end()) &&
-                            std::equal(a.begin(), a.end(), c.begin(), c.end());
+    const bool same_order =
+        std::equal(a.begin(), a.end(), b.begin(), b.end()) && std::equal(a.begin(), a.end(), c.begin(), c.end());
     EXPECT_TRUE(same_order) << "point " << i;
     std::vector<std::uint32_t> got(a.begin(), a.end());
     std::sort(got.begin(), got.end());
@@ -87,8 +86,7 @@ TEST(NeighborGrid, RandomPoints) {
   RecordProperty("avx512_candidate_test", NeighborGrid::wideSearchAvailable() ? "yes" : "no");
   Random rng(1);
   std::vector<glm::vec3> x(3000);
-  for (auto& p : x)
-    p = glm::vec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.3, 0.1), rng.uniform(-0.2, 0.2));
+  for (auto& p : x) p = glm::vec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.3, 0.1), rng.uniform(-0.2, 0.2));
   EXPECT_TRUE(expectMatchesBruteForce(x, 0.03f)) << "a compact cloud uses the dense layout";
 }
 
@@ -98,8 +96,7 @@ TEST(NeighborGrid, ClusteredPoints) {
   for (int c = 0; c < 5; ++c) {
     const glm::vec3 centre(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     for (int k = 0; k < 300; ++k)
-      x.push_back(centre + glm::vec3(rng.uniform(-1e-3, 1e-3), rng.uniform(-1e-3, 1e-3),
-                                     rng.uniform(-1e-3, 1e-3)));
+      x.push_back(centre + glm::vec3(rng.uniform(-1e-3, 1e-3), rng.uniform(-1e-3, 1e-3), rng.uniform(-1e-3, 1e-3)));
   }
   // many exact duplicates too
   for (int k = 0; k < 50; ++k) x.push_back(x[static_cast<std::size_t>(k)]);
@@ -179,10 +176,8 @@ TEST(NeighborGrid, PairBalancedPartsCoverTheSearchOrderWithEqualPairs) {
     std::vector<glm::vec3> x;
     // a dense slab at low z (first in the search order) above a sparse block
     const float side = dense > 5000 ? 1.0f : 0.3f;
-    for (int k = 0; k < dense; ++k)
-      x.emplace_back(rng.uniform(0, side), rng.uniform(0, side), rng.uniform(0, 0.05));
-    for (int k = 0; k < sparse; ++k)
-      x.emplace_back(rng.uniform(0, side), rng.uniform(0, side), rng.uniform(0.5, 1.5));
+    for (int k = 0; k < dense; ++k) x.emplace_back(rng.uniform(0, side), rng.uniform(0, side), rng.uniform(0, 0.05));
+    for (int k = 0; k < sparse; ++k) x.emplace_back(rng.uniform(0, side), rng.uniform(0, side), rng.uniform(0.5, 1.5));
     NeighborGrid g;
     g.build(x, 0.03f, 2, NeighborGrid::ListIndex::SearchOrder);
     const std::size_t n = x.size(), total = g.pairCount();
@@ -190,8 +185,7 @@ TEST(NeighborGrid, PairBalancedPartsCoverTheSearchOrderWithEqualPairs) {
     std::size_t max_grain_pairs = 0;
     for (std::size_t c = 0; c * grain < n; ++c) {
       std::size_t pairs = 0;
-      for (std::size_t k = c * grain; k < std::min(n, (c + 1) * grain); ++k)
-        pairs += g.list(k).size();
+      for (std::size_t k = c * grain; k < std::min(n, (c + 1) * grain); ++k) pairs += g.list(k).size();
       max_grain_pairs = std::max(max_grain_pairs, pairs);
     }
     ASSERT_GT(total, 0u);
@@ -215,8 +209,7 @@ TEST(NeighborGrid, PairBalancedPartsCoverTheSearchOrderWithEqualPairs) {
     }
     // An equal split by points would not do: the dense half holds most pairs.
     std::size_t first_half = 0;
-    for (std::size_t k = 0; k < n / 2; ++k)
-      first_half += g.list(k).size();  // the dense points and more
+    for (std::size_t k = 0; k < n / 2; ++k) first_half += g.list(k).size();  // the dense points and more
     EXPECT_GT(first_half, 2 * (total - first_half));
   }
 }

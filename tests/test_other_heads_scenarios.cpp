@@ -58,9 +58,9 @@ TriangleMesh bustWithArms() {
 struct Settled {
   std::size_t dropped = 0, particles = 0, loose_start = 0, loose_still = 0, loose_nod = 0, fast = 0, loops = 0;
   std::size_t strands = 0, loops_rest = 0;
-  float fastest = 0;  // after 3 s still (m/s)
+  float fastest = 0;                                      // after 3 s still (m/s)
   float alone_start = 0, alone_still = 0, alone_nod = 0;  // largest nearest-neighbour distance (m)
-  float region_still = 0, region_nod = 0;  // farthest from the hair of its root region (m)
+  float region_still = 0, region_nod = 0;                 // farthest from the hair of its root region (m)
   float support = 0;                                      // 2 h1
 };
 
@@ -92,7 +92,8 @@ SceneDesc sceneFor(const TriangleMesh& head, const std::string& name, const std:
     "hair": {"particles": 3000, "length": 0.35, "mass": 0.08, "whorl": [0, 0.85, -0.5],
              "w_t": 1.0, "w_n": 0.6, "bending_stiffness": 5e-4},
     "solver": {"youngs_modulus": 1e3, "hair_hair": true},
-    "motion": )" + motion + "}",
+    "motion": )" + motion +
+                        "}",
                     dir + "/scene.json");
 }
 
@@ -113,7 +114,8 @@ Settled settle(const TriangleMesh& head, const std::string& name, bool nod = tru
     // the initial strands (the cantilever's), before any step
     for (float l : lhtest::crownLoops(field.rest(), field.rest().points, scene.head_center.y))
       r.loops_rest += l > 0.015f;
-    const lhtest::Watch w = lhtest::run(solver, 3.0, scene.hair.length, [] {}, 3);
+    const lhtest::Watch w = lhtest::run(
+        solver, 3.0, scene.hair.length, [] {}, 3);
     lhtest::expectInvariants(w, name + ", still");
     r.alone_still = largestNearest(solver.particles());
     r.region_still = regionGap(solver);
@@ -123,26 +125,28 @@ Settled settle(const TriangleMesh& head, const std::string& name, bool nod = tru
     std::vector<glm::vec3> pts;
     field.deform(solver, pts, 2);
     r.strands = field.strandCount();
-    for (float l : lhtest::crownLoops(field.rest(), pts, scene.head_center.y))
-      r.loops += l > 0.015f;
+    for (float l : lhtest::crownLoops(field.rest(), pts, scene.head_center.y)) r.loops += l > 0.015f;
   }
   if (nod) {
     const SceneDesc scene =
         sceneFor(head, name, R"({"type": "nod", "amplitude_deg": 40, "frequency_hz": 2, "cycles": 2})");
     Solver solver = buildSolver(scene);
-    const lhtest::Watch w = lhtest::run(solver, 2.0, scene.hair.length, [] {}, 3);
+    const lhtest::Watch w = lhtest::run(
+        solver, 2.0, scene.hair.length, [] {}, 3);
     lhtest::expectInvariants(w, name + ", 2 Hz nod");
     r.alone_nod = largestNearest(solver.particles());
     r.region_nod = regionGap(solver);
     r.loose_nod = lhtest::looseParticles(solver.particles().position, solver.particles().is_root, r.support);
   }
-  std::printf("%s: %zu particles, %zu dropped at the start; largest nearest-neighbour distance %.1f mm at the "
-              "start, %.1f still, %.1f after the nod (2 h1 = %.1f mm); from its root region's hair %.1f still, "
-              "%.1f after the nod; loose %zu/%zu/%zu; %zu above 5 cm/s after 3 s (fastest %.3f m/s); %zu of %zu strands turn back 1.5 cm "
-              "over the crown\n",
-              name.c_str(), r.particles, r.dropped, 1e3 * r.alone_start, 1e3 * r.alone_still, 1e3 * r.alone_nod,
-              1e3 * r.support, 1e3 * r.region_still, 1e3 * r.region_nod, r.loose_start, r.loose_still, r.loose_nod,
-              r.fast, r.fastest, r.loops, r.strands);
+  std::printf(
+      "%s: %zu particles, %zu dropped at the start; largest nearest-neighbour distance %.1f mm at the "
+      "start, %.1f still, %.1f after the nod (2 h1 = %.1f mm); from its root region's hair %.1f still, "
+      "%.1f after the nod; loose %zu/%zu/%zu; %zu above 5 cm/s after 3 s (fastest %.3f m/s); %zu of %zu strands turn "
+      "back 1.5 cm "
+      "over the crown\n",
+      name.c_str(), r.particles, r.dropped, 1e3 * r.alone_start, 1e3 * r.alone_still, 1e3 * r.alone_nod,
+      1e3 * r.support, 1e3 * r.region_still, 1e3 * r.region_nod, r.loose_start, r.loose_still, r.loose_nod, r.fast,
+      r.fastest, r.loops, r.strands);
   return r;
 }
 

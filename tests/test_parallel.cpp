@@ -66,9 +66,10 @@ TEST(Parallel, NestedRunsGoSerialAndExceptionsReachTheCaller) {
     EXPECT_EQ(parallel::threadCount(), 2);  // the outer team is back
   });
   EXPECT_EQ(inner_runs.load(), 2);
-  EXPECT_THROW(parallel::run(2, [] {
-                 if (parallel::threadIndex() == 1) throw std::runtime_error("worker");
-               }),
+  EXPECT_THROW(parallel::run(2,
+                             [] {
+                               if (parallel::threadIndex() == 1) throw std::runtime_error("worker");
+                             }),
                std::runtime_error);
   // the team is still usable
   std::atomic<int> after{0};
@@ -143,7 +144,7 @@ TEST(ThreadChoice, GoesToOneThreadOnABusyMachineAndBackWhenItIsIdle) {
   // few hundred steps
   const double idle = shareOnOne(choice, 1.0e-3, 1.7e-3, 2000);
   EXPECT_LT(idle, 0.25);
-  EXPECT_EQ(shareOnOne(choice, 1.0e-3, 1.7e-3, 1) , 0.0);
+  EXPECT_EQ(shareOnOne(choice, 1.0e-3, 1.7e-3, 1), 0.0);
 }
 
 TEST(ThreadChoice, OneThreadAvailableMeansOne) {

@@ -45,5 +45,6 @@ TEST(RayPick, TheBrushGathersTheScalpTrianglesAroundThePoint) {
   EXPECT_TRUE(scalpTrianglesWithin(head, glm::vec3(0, -scene.head_radius, 0), 0.01f).empty())
       << "no scalp under the chin";
   EXPECT_NEAR(distanceToRay(glm::vec3(1, 1, 0), glm::vec3(0.0f), glm::vec3(2, 0, 0)), 1.0f, 1e-6f);
-  EXPECT_NEAR(distanceToRay(glm::vec3(-1, 0, 0), glm::vec3(0.0f), glm::vec3(1, 0, 0)), 1.0f, 1e-6f) << "behind the origin";
+  EXPECT_NEAR(distanceToRay(glm::vec3(-1, 0, 0), glm::vec3(0.0f), glm::vec3(1, 0, 0)), 1.0f, 1e-6f)
+      << "behind the origin";
 }

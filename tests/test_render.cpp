@@ -126,7 +126,8 @@ TEST(Render, DefaultSceneShowsHairOverTheHead) {
   const Image img = draw(gl, r, in, cam, st);
   // Where the crown is on screen.
   const glm::vec4 clip = cam.projection(200.0f / 150.0f) * cam.view() * glm::vec4(0, 0.12f, 0, 1);
-  const int cx = static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * 200), cy = static_cast<int>((0.5f - clip.y / clip.w * 0.5f) * 150);
+  const int cx = static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * 200),
+            cy = static_cast<int>((0.5f - clip.y / clip.w * 0.5f) * 150);
   int hair = 0, skin = 0, near_crown = 0;
   for (int y = 0; y < img.h; ++y)
     for (int x = 0; x < img.w; ++x) {
@@ -202,16 +203,15 @@ TEST(Render, ShadowDeepensWithEveryWallOfHairTowardsTheLight) {
     FrameInput in;
     in.spacing = 0.003f;
     for (int k = 0; k < 40; ++k) {  // the probe
-      in.position.push_back({0.0005f * static_cast<float>(k % 5 - 2),
-                             0.002f * static_cast<float>(k % 3 - 1),
+      in.position.push_back({0.0005f * static_cast<float>(k % 5 - 2), 0.002f * static_cast<float>(k % 3 - 1),
                              -0.02f + 0.04f * static_cast<float>(k) / 39.0f});
       in.direction.push_back({0, 1, 0});
     }
     for (int w = 1; w <= walls; ++w)
       for (int iy = -2; iy <= 2; ++iy)
         for (int iz = -3; iz <= 3; ++iz) {
-          in.position.push_back({0.015f * static_cast<float>(w), 0.01f * static_cast<float>(iy),
-                                 0.01f * static_cast<float>(iz)});
+          in.position.push_back(
+              {0.015f * static_cast<float>(w), 0.01f * static_cast<float>(iy), 0.01f * static_cast<float>(iz)});
           in.direction.push_back({0, 1, 0});
         }
     const Image a = draw(gl, r, in, cam, on), b = draw(gl, r, in, cam, off);
@@ -223,14 +223,12 @@ TEST(Render, ShadowDeepensWithEveryWallOfHairTowardsTheLight) {
         sum_off += cb.r + cb.g + cb.b;
       }
     darkening[walls] = static_cast<float>((sum_off - sum_on) / sum_off);
-    std::cout << "probe behind " << walls << " walls: " << 100.0f * darkening[walls]
-              << "% darker with shadows\n";
+    std::cout << "probe behind " << walls << " walls: " << 100.0f * darkening[walls] << "% darker with shadows\n";
   }
   // alone, the tuft shadows only itself a little
   EXPECT_LT(darkening[0], 0.5f * darkening[1]) << "nothing but the tuft between it and the light";
   for (int w = 1; w < 5; ++w)
-    EXPECT_GT(darkening[w], darkening[w - 1] + 0.005f)
-        << "behind " << w << " walls, one more than before";
+    EXPECT_GT(darkening[w], darkening[w - 1] + 0.005f) << "behind " << w << " walls, one more than before";
 }
 
 TEST(Render, TheSameSceneRendersTheSameImageTwice) {

@@ -90,7 +90,8 @@ std::vector<Drawn> drawEach(int w, int h, const std::vector<RenderSettings>& set
 }
 
 glm::ivec2 toPixel(const Camera& cam, int w, int h, glm::vec3 p) {
-  const glm::vec4 clip = cam.projection(static_cast<float>(w) / static_cast<float>(h)) * cam.view() * glm::vec4(p, 1.0f);
+  const glm::vec4 clip =
+      cam.projection(static_cast<float>(w) / static_cast<float>(h)) * cam.view() * glm::vec4(p, 1.0f);
   return {static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * static_cast<float>(w)),
           static_cast<int>((0.5f - clip.y / clip.w * 0.5f) * static_cast<float>(h))};
 }
@@ -217,9 +218,12 @@ TEST(RenderStrands, MarschnerGivesTheSameHairColourAsKajiyaKay) {
     const float mx = std::max({c.r, c.g, c.b}), mn = std::min({c.r, c.g, c.b}), d = mx - mn;
     float h = 0.0f;
     if (d > 0.0f) {
-      if (mx == c.r) h = 60.0f * std::fmod((c.g - c.b) / d, 6.0f);
-      else if (mx == c.g) h = 60.0f * ((c.b - c.r) / d + 2.0f);
-      else h = 60.0f * ((c.r - c.g) / d + 4.0f);
+      if (mx == c.r)
+        h = 60.0f * std::fmod((c.g - c.b) / d, 6.0f);
+      else if (mx == c.g)
+        h = 60.0f * ((c.b - c.r) / d + 2.0f);
+      else
+        h = 60.0f * ((c.r - c.g) / d + 4.0f);
     }
     if (h < 0.0f) h += 360.0f;
     return glm::vec3(h, mx > 0.0f ? d / mx : 0.0f, mx);

@@ -32,7 +32,8 @@ int checkEvery(int particles) { return particles > 20000 ? 3 : 1; }
 double tipSag(int particles) {
   const SceneDesc scene = bundled("hang", particles);
   Solver solver = buildSolver(scene);
-  const lhtest::Watch w = lhtest::run(solver, 3.0, scene.hair.length, [] {}, checkEvery(particles));
+  const lhtest::Watch w = lhtest::run(
+      solver, 3.0, scene.hair.length, [] {}, checkEvery(particles));
   lhtest::expectInvariants(w, "hang, " + std::to_string(particles) + " particles");
   const auto& p = solver.particles();
   float longest = 0;
@@ -54,11 +55,14 @@ lhtest::GainLag shake(int particles, bool implicit) {
   std::vector<glm::vec3> start;
   solver.worldPositions(start);
   std::vector<double> t, head, hair;
-  const lhtest::Watch w = lhtest::run(solver, 3.5, scene.hair.length, [&] {
-    t.push_back(solver.time());
-    head.push_back(lhtest::headYaw(solver));
-    hair.push_back(lhtest::hairYaw(solver, start, 0.12f));
-  }, checkEvery(particles));
+  const lhtest::Watch w = lhtest::run(
+      solver, 3.5, scene.hair.length,
+      [&] {
+        t.push_back(solver.time());
+        head.push_back(lhtest::headYaw(solver));
+        hair.push_back(lhtest::hairYaw(solver, start, 0.12f));
+      },
+      checkEvery(particles));
   lhtest::expectInvariants(w, std::string("head-shake, ") + std::to_string(particles) + " particles, " +
                                   (implicit ? "implicit" : "explicit") + " springs");
   const lhtest::GainLag gl = lhtest::fitGainAndLag(t, head, hair, 0.6, 2.5);
@@ -90,8 +94,10 @@ TEST(Resolution, SplitWispsAt50kInterpenetrateLessWithHairHairInteractions) {
   const double before = lhtest::meanOver(with, with.middle, 0.1, 0.3);
   const double split = lhtest::meanOver(with, with.middle, 1.3, 1.5);
   const double a = lhtest::meanOver(with, with.cross, 1.5, 3.0), b = lhtest::meanOver(without, without.cross, 1.5, 3.0);
-  std::printf("50k: particles in the parting before %.0f, split %.0f; interpenetration while merging %.4f with "
-              "hair-hair interactions, %.4f without\n", before, split, a, b);
+  std::printf(
+      "50k: particles in the parting before %.0f, split %.0f; interpenetration while merging %.4f with "
+      "hair-hair interactions, %.4f without\n",
+      before, split, a, b);
   EXPECT_LT(split, 0.3 * before) << "the back hair splits into two wisps";
   EXPECT_LT(a, b);
 }

@@ -25,7 +25,9 @@ namespace {
 // the same underneath and a strip of tall quads around the rim.
 TriangleMesh pillbox(float a, float height, int n) {
   TriangleMesh m;
-  auto index = [n](int layer, int i, int j) { return static_cast<unsigned>(layer * (n + 1) * (n + 1) + j * (n + 1) + i); };
+  auto index = [n](int layer, int i, int j) {
+    return static_cast<unsigned>(layer * (n + 1) * (n + 1) + j * (n + 1) + i);
+  };
   for (int layer = 0; layer < 2; ++layer)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i)
@@ -34,8 +36,10 @@ TriangleMesh pillbox(float a, float height, int n) {
   auto add = [&](unsigned p, unsigned q, unsigned r) {
     const glm::vec3 nrm = glm::cross(m.vertices[q] - m.vertices[p], m.vertices[r] - m.vertices[p]);
     const glm::vec3 mid = (m.vertices[p] + m.vertices[q] + m.vertices[r]) / 3.0f;
-    if (glm::dot(nrm, mid - centre) > 0) m.triangles.emplace_back(p, q, r);
-    else m.triangles.emplace_back(p, r, q);
+    if (glm::dot(nrm, mid - centre) > 0)
+      m.triangles.emplace_back(p, q, r);
+    else
+      m.triangles.emplace_back(p, r, q);
   };
   for (int layer = 0; layer < 2; ++layer)
     for (int j = 0; j < n; ++j)
@@ -271,8 +275,8 @@ TEST(Cantilever, LongerOrSofterHairHangsLower) {
 TEST(Cantilever, StrandsStayOutOfTheBody) {
   const SphereBody head(glm::vec3(0), 0.1f);
   // Rooted on top, leaving sideways: the strand must wrap around the sphere.
-  const CantileverStrand s(glm::vec3(0, 0.1f, 0), glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), 0.3f, 2e-4f, &head,
-                           0.002f, 0.0f, 120);
+  const CantileverStrand s(glm::vec3(0, 0.1f, 0), glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), 0.3f, 2e-4f, &head, 0.002f,
+                           0.0f, 120);
   for (float a = 0.005f; a <= 0.3f; a += 0.005f) EXPECT_GE(glm::length(s.position(a)), 0.1f + 0.0015f) << a;
 }
 

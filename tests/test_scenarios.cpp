@@ -63,8 +63,7 @@ struct ShakeRun {
 
 ShakeRun runShake(const std::string& solver_json) {
   const auto scene = lhtest::sphereScene(
-      1500, solver_json,
-      R"({"type": "shake", "amplitude_deg": 40, "frequency_hz": 1, "cycles": 2, "start": 0.5})");
+      1500, solver_json, R"({"type": "shake", "amplitude_deg": 40, "frequency_hz": 1, "cycles": 2, "start": 0.5})");
   Solver solver = buildSolver(scene);
   // whole steps up to t (the step need not divide 1/60 s)
   const auto advanceTo = [&](double t) {

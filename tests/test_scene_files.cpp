@@ -59,22 +59,26 @@ TEST(SceneFiles, BadScenesNameTheFieldAndTheProblem) {
   expectRejected("{ \"head\": ", "invalid JSON");
   expectRejected("[1, 2]", "must be a JSON object");
   expectRejected(replaced("\"length\": 0.2", "\"lenght\": 0.2"), "hair.lenght: unknown field");
-  expectRejected(replaced("\"length\": 0.2", "\"length\": -0.2"), "hair.length: must be a number in [0.01, 10], got -0.2");
-  expectRejected(replaced("\"particles\": 300", "\"particles\": \"many\""), "hair.particles: must be an integer, got \"many\"");
+  expectRejected(replaced("\"length\": 0.2", "\"length\": -0.2"),
+                 "hair.length: must be a number in [0.01, 10], got -0.2");
+  expectRejected(replaced("\"particles\": 300", "\"particles\": \"many\""),
+                 "hair.particles: must be an integer, got \"many\"");
   expectRejected(replaced("\"particles\": 300", "\"particles\": 3"), "hair.particles: must be an integer in [10,");
   expectRejected(replaced("\"radius\": 0.1", "\"radius\": 0"), "head.radius: must be a number in (0, 10], got 0");
   expectRejected(replaced("\"type\": \"sphere\"", "\"type\": \"cube\""), "head.type");
   expectRejected(replaced("\"youngs_modulus\": 5e4", "\"youngs_modulus\": 1e999"), "number overflow parsing '1e999'");
-  expectRejected(replaced("\"youngs_modulus\": 5e4", "\"youngs_modulus\": -5"), "solver.youngs_modulus: must be a number in (0");
+  expectRejected(replaced("\"youngs_modulus\": 5e4", "\"youngs_modulus\": -5"),
+                 "solver.youngs_modulus: must be a number in (0");
   expectRejected(replaced("\"h1\": \"auto\"", "\"h1\": \"big\""), "solver.h1: must be a number or \"auto\"");
   expectRejected(replaced("\"h1\": \"auto\"", "\"h1\": 0.01, \"h2\": 0.02"), "h2 = 0.02");
-  expectRejected(replaced("\"youngs_modulus\": 5e4", "\"gravity\": [0, -9.8]"), "solver.gravity: must be an array of three numbers");
+  expectRejected(replaced("\"youngs_modulus\": 5e4", "\"gravity\": [0, -9.8]"),
+                 "solver.gravity: must be an array of three numbers");
   expectRejected(replaced("\"youngs_modulus\": 5e4", "\"collision_rate\": 1e5"), "collision_rate = 100000");
-  expectRejected(replaced("\"substeps\": 20", "\"substeps\": \"lots\""), "substeps: must be a positive integer or \"auto\"");
+  expectRejected(replaced("\"substeps\": 20", "\"substeps\": \"lots\""),
+                 "substeps: must be a positive integer or \"auto\"");
   expectRejected(replaced("\"substeps\": 20", "\"substeps\": 0"), "substeps: must be an integer in [1,");
   expectRejected(replaced("\"type\": \"still\"", "\"type\": \"wobble\""), "motion.type: must be");
-  expectRejected(replaced("{\"type\": \"still\"}",
-                          R"({"type": "keyframes", "keys": [{"time": 1}, {"time": 0.5}]})"),
+  expectRejected(replaced("{\"type\": \"still\"}", R"({"type": "keyframes", "keys": [{"time": 1}, {"time": 0.5}]})"),
                  "motion.keys[1].time: keyframe times must increase");
   expectRejected(replaced("{\"type\": \"still\"}",
                           R"({"type": "keyframes", "keys": [{"time": 0}, {"time": 1, "euler": [1,2,3]}]})"),
@@ -87,9 +91,10 @@ namespace {
 std::string meshScene(const std::string& head_extra, const std::string& rest = "") {
   const std::string data = lhtest::sourceDir() + "/data";
   return R"({"name": "m", "substeps": 5,
-    "head": {"type": "mesh", "mesh": ")" + data + R"(/meshes/head.ply")" + head_extra + R"(},
-    "hair": {"particles": 300, "length": 0.2, "mass": 0.03, "length_map": ")" + data +
-         R"(/maps/hair_length.png"})" + rest + "}";
+    "head": {"type": "mesh", "mesh": ")" +
+         data + R"(/meshes/head.ply")" + head_extra + R"(},
+    "hair": {"particles": 300, "length": 0.2, "mass": 0.03, "length_map": ")" +
+         data + R"(/maps/hair_length.png"})" + rest + "}";
 }
 
 }  // namespace
@@ -108,12 +113,16 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   expectRejected(meshScene(R"(, "up": "+z", "front": "-z")"), "head.front: must be a different axis from up");
   expectRejected(meshScene(R"(, "scale": 0)"), "head.scale: must be a number in (0,");
   expectRejected(meshScene(R"(, "sdf_voxel": -1)"), "head.sdf_voxel");
-  expectRejected(R"({"head": {"type": "mesh", "mesh": "nowhere/head.obj"}})", "head.mesh: nowhere/head.obj: cannot open: No such file");
+  expectRejected(R"({"head": {"type": "mesh", "mesh": "nowhere/head.obj"}})",
+                 "head.mesh: nowhere/head.obj: cannot open: No such file");
   expectRejected(R"({"head": {"type": "mesh"}})", "head.mesh: is required");
-  expectRejected(meshScene("", R"(, "scalp": {"type": "sphere-cap"})"), R"(scalp.type: "sphere-cap" needs a sphere head)");
-  expectRejected(meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0,0],[1,1,1]]})"), "scalp.right: is required");
-  expectRejected(meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0]], "right": [], "back": [], "left": []})"),
-                 "scalp.front: must be an array of at least 2 points");
+  expectRejected(meshScene("", R"(, "scalp": {"type": "sphere-cap"})"),
+                 R"(scalp.type: "sphere-cap" needs a sphere head)");
+  expectRejected(meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0,0],[1,1,1]]})"),
+                 "scalp.right: is required");
+  expectRejected(
+      meshScene("", R"(, "scalp": {"type": "curves", "front": [[0,0]], "right": [], "back": [], "left": []})"),
+      "scalp.front: must be an array of at least 2 points");
   // Curves far from each other's ends.
   expectRejected(meshScene("", R"(, "scalp": {"type": "curves",
       "front": [[-0.06,0.08,0.06],[0.06,0.08,0.06]], "right": [[0.07,0.0,0.0],[0.06,0.0,-0.08]],
@@ -126,10 +135,13 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   missing_map.replace(missing_map.find("hair_length.png"), 15, "no_such_map.png");
   expectRejected(missing_map, "hair.length_map:");
   // Torso, obstacles and wind.
-  expectRejected(meshScene("", R"(, "torso": {"mesh": "none.obj"})"), "torso.mesh: none.obj: cannot open: No such file");
+  expectRejected(meshScene("", R"(, "torso": {"mesh": "none.obj"})"),
+                 "torso.mesh: none.obj: cannot open: No such file");
   expectRejected(meshScene("", R"(, "obstacles": [{"type": "cone"}])"), "obstacles[0].type: must be");
-  expectRejected(meshScene("", R"(, "obstacles": [{"type": "capsule", "a": [0,0,0]}])"), "obstacles[0].a: a capsule needs both");
-  expectRejected(meshScene("", R"(, "obstacles": [{"radius": 0.1, "begin": 2, "end": 1}])"), "obstacles[0].end: must be later");
+  expectRejected(meshScene("", R"(, "obstacles": [{"type": "capsule", "a": [0,0,0]}])"),
+                 "obstacles[0].a: a capsule needs both");
+  expectRejected(meshScene("", R"(, "obstacles": [{"radius": 0.1, "begin": 2, "end": 1}])"),
+                 "obstacles[0].end: must be later");
   expectRejected(meshScene("", R"(, "wind": {"speed": -3})"), "wind.speed: must be a number in [0, 100]");
   expectRejected(meshScene("", R"(, "wind": {"direction": [0, 0, 0]})"), "wind.direction: must be a non-zero");
   expectRejected(meshScene("", R"(, "wind": {"profile": [[1, 1], [0.5, 1]]})"), "wind.profile[1]: times must increase");
@@ -137,7 +149,8 @@ TEST(SceneFiles, MeshScenesLoadAndBadMeshFieldsAreNamed) {
   expectRejected(meshScene("", R"(, "wind": {"model": "particles", "spacing": 0.0001})"),
                  "more than 20 million air particles");
   expectRejected(meshScene("", R"(, "wind": {"gust": 1})"), "wind.gust: unknown field");
-  expectRejected(meshScene("", R"(, "wind": {"model": "foam"})"), "wind.model: must be \"grid\" or \"particles\", got \"foam\"");
+  expectRejected(meshScene("", R"(, "wind": {"model": "foam"})"),
+                 "wind.model: must be \"grid\" or \"particles\", got \"foam\"");
   expectRejected(meshScene("", R"(, "wind": {"model": 3})"), "wind.model");
   expectRejected(meshScene("", R"(, "wind": {"projection_iterations": 99})"), "wind.projection_iterations");
   expectRejected(meshScene("", R"(, "wind": {"projection_iterations": 1.5})"), "wind.projection_iterations");

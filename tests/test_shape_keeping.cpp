@@ -19,7 +19,8 @@ using namespace lhtest::styles;
 
 namespace {
 
-constexpr const char* kShake = R"({"type": "shake", "amplitude_deg": 40, "frequency_hz": 1.0, "cycles": 1, "start": 0.1})";
+constexpr const char* kShake =
+    R"({"type": "shake", "amplitude_deg": 40, "frequency_hz": 1.0, "cycles": 1, "start": 0.1})";
 
 SceneDesc styledSphere(const Style& style, int particles, const std::string& solver_json = "{}",
                        const std::string& motion_json = R"({"type": "still"})") {
@@ -58,9 +59,10 @@ TEST(ShapeKeeping, TheStyledStateIsAtRestAndTheHoldIsWhatKeepsIt) {
   stepTo(plain, 1.0);
   ASSERT_TRUE(lhtest::allFinite(kept));
   const std::vector<float> d_kept = drift(kept, x0), d_plain = drift(plain, x0);
-  std::printf("1 s on a still head: drift median %.3f mm, p99 %.3f mm with shape keeping; "
-              "median %.1f mm without\n", quantile(d_kept, 0.5) * 1e3, quantile(d_kept, 0.99) * 1e3,
-              quantile(d_plain, 0.5) * 1e3);
+  std::printf(
+      "1 s on a still head: drift median %.3f mm, p99 %.3f mm with shape keeping; "
+      "median %.1f mm without\n",
+      quantile(d_kept, 0.5) * 1e3, quantile(d_kept, 0.99) * 1e3, quantile(d_plain, 0.5) * 1e3);
   EXPECT_LT(quantile(d_kept, 0.99), 1e-3f) << "the styled state is an equilibrium";
   EXPECT_GT(quantile(d_plain, 0.5), 5e-3f) << "without the hold a styled shape sags";
 }
@@ -97,9 +99,10 @@ TEST(ShapeKeeping, ATiesHoldKeepsTheHairAboveItWhileTheTailSwings) {
     return f;
   };
   const Figures held = run(8.0f), loose = run(0.0f);
-  std::printf("head turn: the hair above the tie moves at most %.1f mm held at 8 Hz, %.1f mm at the style's "
-              "1 Hz; the tail %.1f / %.1f mm\n", held.above * 1e3, loose.above * 1e3, held.tail * 1e3,
-              loose.tail * 1e3);
+  std::printf(
+      "head turn: the hair above the tie moves at most %.1f mm held at 8 Hz, %.1f mm at the style's "
+      "1 Hz; the tail %.1f / %.1f mm\n",
+      held.above * 1e3, loose.above * 1e3, held.tail * 1e3, loose.tail * 1e3);
   EXPECT_LT(held.above, 0.5f * loose.above) << "the tie's hold keeps the hair between scalp and ring";
   EXPECT_GT(held.tail, 0.02f) << "while the tail swings";
   EXPECT_GT(held.tail, 3.0f * held.above);
@@ -110,7 +113,8 @@ TEST(ShapeKeeping, HoldsTheStepCannotIntegrateAreRefused) {
   p.time_step = 0.01;
   p.shape_keeping = 10.0f;  // 2 pi 10 Hz 0.01 s = 0.63
   bool named = false;
-  for (const std::string& problem : validate(p)) named = named || problem.find("shape_keeping = 10") != std::string::npos;
+  for (const std::string& problem : validate(p))
+    named = named || problem.find("shape_keeping = 10") != std::string::npos;
   EXPECT_TRUE(named) << "a hold too strong for the step is named";
   p.shape_keeping = 5.0f;  // 0.31
   EXPECT_TRUE(validate(p).empty());

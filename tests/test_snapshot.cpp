@@ -15,9 +15,7 @@ using namespace loosehair;
 
 namespace {
 
-SceneDesc tiny(const char* file = "tiny.json") {
-  return loadScene(lhtest::sourceDir() + "/tests/data/" + file);
-}
+SceneDesc tiny(const char* file = "tiny.json") { return loadScene(lhtest::sourceDir() + "/tests/data/" + file); }
 
 // Runs `first` steps, snapshots, resumes the snapshot on a fresh solver
 // built from the same scene, and compares with the uninterrupted run after
@@ -194,7 +192,7 @@ struct Crafted {
   std::string header;  // magic, version, fingerprint (the length is recomputed)
   double time = 0, dt = 0;
   std::uint64_t steps = 0;
-  std::string hair;     // positions .. the spring solve's last change, as bytes
+  std::string hair;  // positions .. the spring solve's last change, as bytes
   std::uint8_t air_kind = 0;
   std::vector<std::vector<float>> grid;  // u, v, w, pressure
   double pending = 0;

@@ -12,8 +12,7 @@ using namespace loosehair;
 
 TEST(SnapshotScenes, EveryBundledSceneResumesBitIdentically) {
   int scenes = 0;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(lhtest::sourceDir() + "/data/scenes")) {
+  for (const auto& entry : std::filesystem::directory_iterator(lhtest::sourceDir() + "/data/scenes")) {
     if (entry.path().extension() != ".json") continue;
     SCOPED_TRACE(entry.path().filename().string());
     const SceneDesc scene = loadScene(entry.path().string());

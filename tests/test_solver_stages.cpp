@@ -159,8 +159,7 @@ TEST(DirectionStage, TurnsAStrayDirectionBackAlongTheHairAndMeasuresTheNextSprin
   const std::vector<glm::vec3> v(n, glm::vec3(0.0f));
   std::vector<float> weight(h.sliced.layout.entryCount(), 1.0f);
   std::vector<float> sum_root(n, -1.0f), sum_tip(n, -1.0f);
-  const DirectionPassResult r =
-      updateDirections(0.012f, h.sliced, weight, h.root, h.x, v, dir, sum_root, sum_tip, 2);
+  const DirectionPassResult r = updateDirections(0.012f, h.sliced, weight, h.root, h.x, v, dir, sum_root, sum_tip, 2);
   EXPECT_EQ(r.broken, 0u);
   EXPECT_EQ(r.active_entries, 2 * h.c.pairCount());
   EXPECT_NEAR(dir[2].x, 0.0f, 1e-6f);
@@ -230,7 +229,8 @@ TEST(HairHairPairStage, ActsOppositelyOnTheTwoAndOnlyOnApproach) {
     const glm::vec3 d = 0.012f * glm::vec3(u(rng), u(rng), u(rng)), v(u(rng), u(rng), u(rng));
     glm::vec3 ti = unit(), tj = trial % 4 == 0 ? ti : unit();  // parallel hairs too
     const float mm = 1e-8f, pp = trial % 2 ? 5.0f : 0.0f;
-    const PairForce a = hairHairPairForce(terms, d.x, d.y, d.z, v.x, v.y, v.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z, mm, pp);
+    const PairForce a =
+        hairHairPairForce(terms, d.x, d.y, d.z, v.x, v.y, v.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z, mm, pp);
     const PairForce b =
         hairHairPairForce(terms, -d.x, -d.y, -d.z, -v.x, -v.y, -v.z, tj.x, tj.y, tj.z, ti.x, ti.y, ti.z, mm, pp);
     ASSERT_TRUE(std::isfinite(a.x + a.y + a.z)) << trial;
@@ -240,8 +240,8 @@ TEST(HairHairPairStage, ActsOppositelyOnTheTwoAndOnlyOnApproach) {
   }
   const glm::vec3 ti(1.0f, 0.0f, 0.0f), tj(0.0f, 0.0f, 1.0f);  // crossing: n = t_i x t_j = -y
   auto force = [&](glm::vec3 d, glm::vec3 v, float pp) {
-    const PairForce f = hairHairPairForce(terms, d.x, d.y, d.z, v.x, v.y, v.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z,
-                                          1e-8f, pp);
+    const PairForce f =
+        hairHairPairForce(terms, d.x, d.y, d.z, v.x, v.y, v.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z, 1e-8f, pp);
     return glm::vec3(f.x, f.y, f.z);
   };
   EXPECT_EQ(force({0.0f, 0.021f, 0.0f}, {0.0f, -1.0f, 0.0f}, 5.0f), glm::vec3(0.0f)) << "beyond 2 h";
@@ -330,8 +330,8 @@ namespace {
 
 // The ground y = 0, still: the body integrate asks.
 struct Ground final : BodyQuery {
-  void nearest(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal, glm::vec3* surface_velocity,
-               float, bool) const override {
+  void nearest(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal, glm::vec3* surface_velocity, float,
+               bool) const override {
     for (std::size_t i = 0; i < n; ++i) {
       phi[i] = x[i].y;
       normal[i] = {0.0f, 1.0f, 0.0f};

@@ -59,9 +59,8 @@ TEST(Springs, TensileModulusIsKeptWhileHairMovesAndLoosens) {
   // factor alpha_ij averages the factors of i and j (eq. 14), so T_i is E up
   // to the spread of neighbouring factors; what the rescaling guarantees is
   // that each particle keeps its T_i while its springs loosen.
-  const auto scene = lhtest::sphereScene(
-      1500, R"({"stiffness_clamp": 50, "youngs_modulus": 5e4})",
-      R"({"type": "shake", "amplitude_deg": 50, "frequency_hz": 1.5, "cycles": 3})");
+  const auto scene = lhtest::sphereScene(1500, R"({"stiffness_clamp": 50, "youngs_modulus": 5e4})",
+                                         R"({"type": "shake", "amplitude_deg": 50, "frequency_hz": 1.5, "cycles": 3})");
   Solver solver = buildSolver(scene);
   const float young = solver.params().youngs_modulus;
   const auto rest = solver.tensileModulus(Side::Root);
@@ -131,8 +130,8 @@ TEST(Springs, StiffnessClampBoundsTheRescaling) {
 }
 
 TEST(Springs, PairForcesSumToZero) {
-  const auto scene = lhtest::sphereScene(
-      1500, "{}", R"({"type": "shake", "amplitude_deg": 40, "frequency_hz": 2, "cycles": 2})");
+  const auto scene =
+      lhtest::sphereScene(1500, "{}", R"({"type": "shake", "amplitude_deg": 40, "frequency_hz": 2, "cycles": 2})");
   Solver solver = buildSolver(scene);
   solver.advance(150);
   // random relative velocities exercise damping, collision and friction
@@ -202,8 +201,8 @@ TEST(Directions, TurnWithARigidRotationOfTheWholeHair) {
   // rotation invariant: a rotated start gives the rotated result.
   // Tethers pull towards the fixed root points, which a rotated state does
   // not move: they are off here.
-  const auto scene = lhtest::sphereScene(1000, R"({"gravity": [0, 0, 0], "tether": false})",
-                                         R"({"type": "still"})", 40);
+  const auto scene =
+      lhtest::sphereScene(1000, R"({"gravity": [0, 0, 0], "tether": false})", R"({"type": "still"})", 40);
   Solver a = buildSolver(scene);
   Solver b = buildSolver(scene);
   const glm::mat3 rot(glm::rotate(glm::mat4(1.0f), 1.3f, glm::normalize(glm::vec3(0.3f, 1, 0.5f))));
@@ -211,8 +210,7 @@ TEST(Directions, TurnWithARigidRotationOfTheWholeHair) {
   const auto& p = a.particles();
   std::vector<glm::vec3> v(p.size()), rx(p.size()), rv(p.size()), rt(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
-    v[i] = p.is_root[i] ? glm::vec3(0.0f)
-                        : glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    v[i] = p.is_root[i] ? glm::vec3(0.0f) : glm::vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     rx[i] = rot * p.position[i];
     rv[i] = rot * v[i];
     rt[i] = glm::normalize(rot * p.direction[i]);

@@ -139,7 +139,8 @@ TEST(StrandBrushes, AMirroredWispFollowsItsPartnersEdits) {
   ASSERT_EQ(ed.mirrorPartner(m), std::optional<std::size_t>(0));
   EXPECT_FALSE(ed.mirrorPartner(1).has_value()) << "wisp 1 has no wisp at its mirror image";
   // a drag of wisp 0, mirrored onto its partner in the same edit
-  const std::vector<glm::vec3> moved = ed.dragged(ed.style().wisps[0].key_strand, 2, glm::vec3(0.0f, 0.02f, 0.01f), 0.05f);
+  const std::vector<glm::vec3> moved =
+      ed.dragged(ed.style().wisps[0].key_strand, 2, glm::vec3(0.0f, 0.02f, 0.01f), 0.05f);
   ed.setKeyStrandsOf({{0, moved}, {m, ed.mirroredOnto(moved, m)}});
   const float c = h.mirrorPlaneX();
   const auto& a = ed.style().wisps[0].key_strand;

@@ -53,7 +53,6 @@ const ShakenHang& shaken() {
   return s;
 }
 
-
 // mean absolute channel difference (0..255)
 double meanDifference(const lhtest::Image& a, const lhtest::Image& b) {
   double sum = 0.0;
@@ -131,7 +130,9 @@ TEST(StrandCarryGpu, WithBodiesItAgreesWithTheCpuCarryWithinTheStatedTolerance) 
   for (std::size_t q = 0; q < on_cpu.size(); ++q) gap[q] = glm::length(on_gpu[q] - on_cpu[q]);
   std::vector<float> sorted = gap;
   std::sort(sorted.begin(), sorted.end());
-  const auto at = [&](double f) { return sorted[static_cast<std::size_t>(f * static_cast<double>(sorted.size() - 1))]; };
+  const auto at = [&](double f) {
+    return sorted[static_cast<std::size_t>(f * static_cast<double>(sorted.size() - 1))];
+  };
   EXPECT_LT(at(0.5), 1e-5f);  // most points need no push: the same
   EXPECT_LT(at(0.9), 2e-3f);
   EXPECT_LT(at(0.99), 6e-3f);
@@ -168,10 +169,11 @@ TEST(StrandCarryGpu, WithBodiesItAgreesWithTheCpuCarryWithinTheStatedTolerance) 
   const auto pct = [](const std::vector<float>& v, double f) {
     return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1))];
   };
-  std::printf("GPU carry: worst length error %.4f (%zu of %zu strands beyond 1 %%), deepest %.2e m; extra turn "
-              "p99 %.1f / %.1f deg, p99.9 %.1f / %.1f deg (GPU / CPU)\n",
-              worst_length, over1, rest.size(), deepest, pct(turns_gpu, 0.99), pct(turns_cpu, 0.99),
-              pct(turns_gpu, 0.999), pct(turns_cpu, 0.999));
+  std::printf(
+      "GPU carry: worst length error %.4f (%zu of %zu strands beyond 1 %%), deepest %.2e m; extra turn "
+      "p99 %.1f / %.1f deg, p99.9 %.1f / %.1f deg (GPU / CPU)\n",
+      worst_length, over1, rest.size(), deepest, pct(turns_gpu, 0.99), pct(turns_cpu, 0.99), pct(turns_gpu, 0.999),
+      pct(turns_cpu, 0.999));
   EXPECT_LT(pct(turns_gpu, 0.99), 1.2f * pct(turns_cpu, 0.99) + 2.0f);
   EXPECT_LT(pct(turns_gpu, 0.999), 1.2f * pct(turns_cpu, 0.999) + 2.0f);
   EXPECT_GT(near_skin, 1000u) << "the test needs hair lying on the bodies";

@@ -40,8 +40,8 @@ Bound bindSphere(int particles, std::size_t strands, const std::string& motion =
   return Bound{std::move(scene), std::move(solver), build, std::move(field)};
 }
 
-using lhtest::strandLengthError;
 using lhtest::extraTurns;
+using lhtest::strandLengthError;
 
 }  // namespace
 
@@ -98,8 +98,8 @@ TEST(StrandField, HeadShakeKeepsLengthsSmoothnessAndTheHeadOut) {
   }
   std::sort(turns.begin(), turns.end());
   const float p99 = turns[turns.size() * 99 / 100], p999 = turns[turns.size() * 999 / 1000];
-  std::printf("strands: worst length error %.4f, extra turn p99 %.1f p99.9 %.1f deg, min distance %.2e m\n",
-              worst_len, p99, p999, min_phi);
+  std::printf("strands: worst length error %.4f, extra turn p99 %.1f p99.9 %.1f deg, min distance %.2e m\n", worst_len,
+              p99, p999, min_phi);
   EXPECT_LT(worst_len, 0.02f);
   EXPECT_GE(min_phi, 0.0f);
   // smooth: the bends a strand gets from the field, beyond its own

@@ -79,8 +79,8 @@ TEST(StyleFrames, NoFlipWhereTheCurvatureVanishes) {
   const glm::vec3 e = s.back();
   for (int k = 1; k <= 20; ++k) {
     const float t = 0.05f * static_cast<float>(k);
-    s.emplace_back(e.x + 0.1f * (std::cos(1.0f - t) - std::cos(1.0f)), e.y + 0.1f * (std::sin(1.0f) - std::sin(1.0f - t)),
-                   0);
+    s.emplace_back(e.x + 0.1f * (std::cos(1.0f - t) - std::cos(1.0f)),
+                   e.y + 0.1f * (std::sin(1.0f) - std::sin(1.0f - t)), 0);
   }
   const auto f = rotationMinimizingFrames(s, glm::vec3(0, 0, 1));
   for (std::size_t k = 1; k < f.size(); ++k) {
@@ -296,8 +296,8 @@ TEST(StyleFiles, SaveThenLoadGivesAnIdenticalStyle) {
   s.wisps[0].region.triangles = {3, 5, 8};
   s.wisps[1].params.curl_radius = 0.0031f;
   s.colour = glm::vec3(0.1f, 0.2f, 0.3f);
-  s.ties.push_back(HairTie{"tie", glm::vec3(0.01f, -0.15f, -0.12f), glm::normalize(glm::vec3(0.1f, -1, 0.2f)),
-                           0.0151f, 0.0123f, 2.75f});
+  s.ties.push_back(HairTie{"tie", glm::vec3(0.01f, -0.15f, -0.12f), glm::normalize(glm::vec3(0.1f, -1, 0.2f)), 0.0151f,
+                           0.0123f, 2.75f});
   const std::string path = (dir / "a.json").string();
   saveStyle(s, path);
   const Style back = loadStyle(path);

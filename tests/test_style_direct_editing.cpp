@@ -180,7 +180,8 @@ TEST(StyleDirectEditing, AStrandDraggedAcrossTheHeadGoesRoundItSoTheStyleStillLo
   ed.setKeyStrand(0, across);
   const std::vector<glm::vec3>& kept = ed.style().wisps[0].key_strand;
   EXPECT_GT(kept.size(), across.size()) << "control points were added";
-  for (const glm::vec3& p : across) EXPECT_NE(std::find(kept.begin(), kept.end(), p), kept.end()) << "the given points stay";
+  for (const glm::vec3& p : across)
+    EXPECT_NE(std::find(kept.begin(), kept.end(), p), kept.end()) << "the given points stay";
   Style s = ed.style();
   s.source = "dragged";
   EXPECT_NO_THROW(checkStyle(s, h)) << "what the editor holds passes the style file's check";

@@ -65,7 +65,8 @@ struct ShapeFigures {
 ShapeFigures holdStill(const std::string& style, bool keep_shape, Watch* watch = nullptr) {
   Solver solver = buildSolver(styled("hang", style, keep_shape));
   const std::vector<glm::vec3> start = solver.particles().position;
-  const Watch w = run(solver, 3.0, longestHair(solver), [] {}, 4);
+  const Watch w = run(
+      solver, 3.0, longestHair(solver), [] {}, 4);
   if (watch) *watch = w;
   const std::vector<float> e = shapeErrors(solver, start);
   return {quantile(e, 0.5), quantile(e, 0.95)};
@@ -95,14 +96,16 @@ lhtest::GainLag shake(const std::string& style, Watch* watch) {
   const float min_arc = std::min(0.12f, 0.5f * longestHair(solver));
   const std::vector<std::uint8_t> swinging = hangingFromTies(solver, loadStyle(scene.hair.style));
   std::vector<double> t, head, hair;
-  *watch = run(solver, 3.0, longestHair(solver), [&] {
-    t.push_back(solver.time());
-    head.push_back(lhtest::headYaw(solver));
-    hair.push_back(lhtest::hairYaw(solver, start, min_arc, swinging));
-  }, 4);
+  *watch = run(
+      solver, 3.0, longestHair(solver),
+      [&] {
+        t.push_back(solver.time());
+        head.push_back(lhtest::headYaw(solver));
+        hair.push_back(lhtest::hairYaw(solver, start, min_arc, swinging));
+      },
+      4);
   return lhtest::fitGainAndLag(t, head, hair, 0.6, 2.5);
 }
-
 
 class BundledStyle : public ::testing::TestWithParam<const char*> {};
 
@@ -117,11 +120,12 @@ TEST_P(BundledStyle, HoldsItsShapeStillAndSwingsWhenTheHeadShakes) {
   Watch moving;
   const lhtest::GainLag gl = shake(style, &moving);
   expectInvariants(moving, style + " shaking");
-  std::printf("%s: still 3 s, distance from the styled shape: median %.1f mm, p95 %.1f mm "
-              "(without shape keeping %.1f / %.1f mm); head shake: gain %.2f, lag %.0f ms; "
-              "stretch %.4f / %.4f, deepest %.1e / %.1e m\n",
-              style.c_str(), kept.median * 1e3, kept.p95 * 1e3, plain.median * 1e3, plain.p95 * 1e3, gl.gain,
-              gl.lag * 1e3, still.worst_stretch, moving.worst_stretch, still.deepest, moving.deepest);
+  std::printf(
+      "%s: still 3 s, distance from the styled shape: median %.1f mm, p95 %.1f mm "
+      "(without shape keeping %.1f / %.1f mm); head shake: gain %.2f, lag %.0f ms; "
+      "stretch %.4f / %.4f, deepest %.1e / %.1e m\n",
+      style.c_str(), kept.median * 1e3, kept.p95 * 1e3, plain.median * 1e3, plain.p95 * 1e3, gl.gain, gl.lag * 1e3,
+      still.worst_stretch, moving.worst_stretch, still.deepest, moving.deepest);
   EXPECT_LT(kept.median, 0.01f) << style;
   EXPECT_LT(kept.p95, 0.03f) << style;
   EXPECT_GT(plain.median, kept.median) << style << ": shape keeping must make a difference";
@@ -202,7 +206,8 @@ TEST_P(BundledStyle, LoadsOntoOtherHeadsByScalpCoordinates) {
     EXPECT_NEAR(here.down, original.down, 0.2f) << style << " on " << head;
     EXPECT_LT(here.off, 1.5f * original.off + 0.005f) << style << " on " << head;
     const std::vector<glm::vec3> start = p.position;
-    const Watch w = run(solver, 1.0, longestHair(solver), [] {}, 4);
+    const Watch w = run(
+        solver, 1.0, longestHair(solver), [] {}, 4);
     expectInvariants(w, style + " on another head");
     const std::vector<float> e = shapeErrors(solver, start);
     std::printf("%s on %s: %zu strands, %zu particles, 1 s still: median %.1f mm, p95 %.1f mm\n", style.c_str(),
@@ -237,8 +242,10 @@ TEST(StyleScenario, PonytailTailSwingsWhileTheHairAboveTheTieStaysOnTheHead) {
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.is_root[i]) continue;
     const float along = glm::dot(x0[i] - tie.center, tie.axis);
-    if (along > tie.width + 0.02f) tail.push_back(i);
-    else if (along < -tie.width) above.push_back(i);
+    if (along > tie.width + 0.02f)
+      tail.push_back(i);
+    else if (along < -tie.width)
+      above.push_back(i);
   }
   ASSERT_GT(tail.size(), 200u);
   ASSERT_GT(above.size(), 200u);
@@ -267,9 +274,10 @@ TEST(StyleScenario, PonytailTailSwingsWhileTheHairAboveTheTieStaysOnTheHead) {
   for (std::size_t k = 0; k < phi.size(); ++k) lifted.push_back(phi[k] - phi0[k]);
   std::sort(lifted.begin(), lifted.end());
   const float above_lifted = quantile(lifted, 0.95);
-  std::printf("ponytail: the tail moves %.1f mm on average in the head frame at most, the hair above the tie "
-              "%.1f mm (95th percentile), and ends %.1f mm further from the head than styled (95th percentile)\n",
-              tail_swing * 1e3, above_drift * 1e3, above_lifted * 1e3);
+  std::printf(
+      "ponytail: the tail moves %.1f mm on average in the head frame at most, the hair above the tie "
+      "%.1f mm (95th percentile), and ends %.1f mm further from the head than styled (95th percentile)\n",
+      tail_swing * 1e3, above_drift * 1e3, above_lifted * 1e3);
   EXPECT_GT(tail_swing, 0.03f) << "the tail swings";
   EXPECT_LT(above_drift, 0.015f) << "the hair between scalp and tie stays where it was styled";
   EXPECT_LT(above_lifted, 0.005f) << "and on the head";
@@ -300,15 +308,18 @@ TEST(StyleScenario, AnImportedHairGroomSimulatesAndKeepsItsShape) {
   still.motion = HeadTrajectory::still();
   Solver rest = buildSolver(still);
   const std::vector<glm::vec3> start = rest.particles().position;
-  const Watch w_still = run(rest, 2.0, longestHair(rest), [] {}, 4);
+  const Watch w_still = run(
+      rest, 2.0, longestHair(rest), [] {}, 4);
   expectInvariants(w_still, "imported groom still");
   const std::vector<float> e = shapeErrors(rest, start);
   Solver shaken = buildSolver(scene);
-  const Watch w_shake = run(shaken, 2.0, longestHair(shaken), [] {}, 4);
+  const Watch w_shake = run(
+      shaken, 2.0, longestHair(shaken), [] {}, 4);
   expectInvariants(w_shake, "imported groom shaking");
-  std::printf("imported groom: %zu strands, %zu particles; still 2 s: median %.1f mm, p95 %.1f mm from the "
-              "groom\n", groom.wisps.size(), rest.particles().size(), quantile(e, 0.5) * 1e3,
-              quantile(e, 0.95) * 1e3);
+  std::printf(
+      "imported groom: %zu strands, %zu particles; still 2 s: median %.1f mm, p95 %.1f mm from the "
+      "groom\n",
+      groom.wisps.size(), rest.particles().size(), quantile(e, 0.5) * 1e3, quantile(e, 0.95) * 1e3);
   EXPECT_LT(quantile(e, 0.5), 0.01f);
   EXPECT_LT(quantile(e, 0.95), 0.03f);
 }

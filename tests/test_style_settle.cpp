@@ -85,9 +85,10 @@ TEST(StyleSettle, TheSettledStyleLiesWhereGravityPutsIt) {
   EXPECT_GT(fell, 0.03f) << "the level sketch's tips fell";
   const float raw_plain = medianMove(raw, false, 1.0), settled_plain = medianMove(settled, false, 1.0);
   const float settled_kept = medianMove(settled, true, 1.0), raw_kept = medianMove(raw, true, 1.0);
-  std::printf("median move in 1 s: sketch %.1f mm, settled %.1f mm (no shape keeping); with shape keeping: sketch "
-              "%.1f mm, settled %.1f mm; the tips fell %.0f mm\n",
-              1e3f * raw_plain, 1e3f * settled_plain, 1e3f * raw_kept, 1e3f * settled_kept, 1e3f * fell);
+  std::printf(
+      "median move in 1 s: sketch %.1f mm, settled %.1f mm (no shape keeping); with shape keeping: sketch "
+      "%.1f mm, settled %.1f mm; the tips fell %.0f mm\n",
+      1e3f * raw_plain, 1e3f * settled_plain, 1e3f * raw_kept, 1e3f * settled_kept, 1e3f * fell);
   // The figure: under 5 mm median in the first second with shape
   // keeping. Shape keeping starts a style pre-stressed at rest, so the
   // sketch passes it too (printed above); what shows the settle is the

@@ -9,18 +9,21 @@
 
 namespace lhtest {
 
-loosehair::SceneDesc sphereScene(int particles, const std::string& solver_json,
-                                 const std::string& motion_json, int substeps) {
+loosehair::SceneDesc sphereScene(int particles, const std::string& solver_json, const std::string& motion_json,
+                                 int substeps) {
   const std::string text = R"({
     "name": "test-sphere", "seed": 3, "frame_rate": 30, "substeps": )" +
                            (substeps > 0 ? std::to_string(substeps) : std::string("\"auto\"")) +
                            R"(,
     "head": {"type": "sphere", "center": [0, 0, 0], "radius": 0.1},
     "scalp": {"type": "sphere-cap", "cap_angle_deg": 100},
-    "hair": {"particles": )" + std::to_string(particles) +
+    "hair": {"particles": )" +
+                           std::to_string(particles) +
                            R"(, "length": 0.25, "mass": 0.06},
-    "solver": )" + solver_json + R"(,
-    "motion": )" + motion_json + "}";
+    "solver": )" + solver_json +
+                           R"(,
+    "motion": )" + motion_json +
+                           "}";
   return loosehair::parseScene(text, "test-scene");
 }
 
@@ -49,8 +52,7 @@ bool allFinite(const loosehair::Solver& solver) {
   const auto& p = solver.particles();
   for (std::size_t i = 0; i < p.size(); ++i)
     for (int a = 0; a < 3; ++a)
-      if (!std::isfinite(p.position[i][a]) || !std::isfinite(p.velocity[i][a]) ||
-          !std::isfinite(p.direction[i][a]))
+      if (!std::isfinite(p.position[i][a]) || !std::isfinite(p.velocity[i][a]) || !std::isfinite(p.direction[i][a]))
         return false;
   return true;
 }
@@ -79,8 +81,8 @@ double hairYaw(const loosehair::Solver& s, const std::vector<glm::vec3>& start, 
   return sum / weight;
 }
 
-GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& head,
-                      const std::vector<double>& hair, double from, double to) {
+GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& head, const std::vector<double>& hair,
+                      double from, double to) {
   double shh = 0, shd = 0, sdd = 0, syh = 0, syd = 0;
   for (std::size_t k = 1; k + 1 < t.size(); ++k) {
     if (t[k] < from || t[k] > to) continue;
@@ -109,8 +111,7 @@ float strandLengthError(const loosehair::StrandField& field, const std::vector<g
   return worst;
 }
 
-void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points,
-                std::vector<float>& out) {
+void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points, std::vector<float>& out) {
   const loosehair::StrandSet& r = field.rest();
   auto turn = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     const float d = glm::dot(glm::normalize(b - a), glm::normalize(c - b));

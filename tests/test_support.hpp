@@ -15,8 +15,7 @@ namespace lhtest {
 /// The sphere-hang scene with `particles` particles; `solver_json` and
 /// `motion_json` are the whole "solver" and "motion" objects; substeps 0 = auto.
 loosehair::SceneDesc sphereScene(int particles, const std::string& solver_json = "{}",
-                                 const std::string& motion_json = R"({"type": "still"})",
-                                 int substeps = 0);
+                                 const std::string& motion_json = R"({"type": "still"})", int substeps = 0);
 
 /// max over non-root particles of (|x_i - r_i| - s_i) / L (head frame).
 float maxStretch(const loosehair::Solver& solver, float hair_length);
@@ -32,15 +31,15 @@ double headYaw(const loosehair::Solver& solver);
 /// >= min_arc_length (the part near the scalp turns with it), relative to
 /// `start` (world positions), weighted by the distance from the axis (rad).
 /// Only the particles i with only[i] != 0 when `only` is not empty.
-double hairYaw(const loosehair::Solver& solver, const std::vector<glm::vec3>& start,
-               float min_arc_length, const std::vector<std::uint8_t>& only = {});
+double hairYaw(const loosehair::Solver& solver, const std::vector<glm::vec3>& start, float min_arc_length,
+               const std::vector<std::uint8_t>& only = {});
 /// Least-squares fit hair(t) ~ gain head(t) - lag head'(t) over samples with
 /// from <= t <= to: a follower delayed by lag is head(t - lag) ~ head - lag head'.
 struct GainLag {
   double gain, lag;
 };
-GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& head,
-                      const std::vector<double>& hair, double from, double to);
+GainLag fitGainAndLag(const std::vector<double>& t, const std::vector<double>& head, const std::vector<double>& hair,
+                      double from, double to);
 
 std::string sourceDir();
 
@@ -49,8 +48,7 @@ std::string sourceDir();
 float strandLengthError(const loosehair::StrandField& field, const std::vector<glm::vec3>& points);
 /// Appends, for every inner strand point, how much more the strand turns
 /// there (degrees, between its two segments) than at rest.
-void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points,
-                std::vector<float>& out);
+void extraTurns(const loosehair::StrandField& field, const std::vector<glm::vec3>& points, std::vector<float>& out);
 
 /// Appends a closed box [lo, hi] to `mesh` as a part of its own (12
 /// triangles, counter-clockwise seen from outside).

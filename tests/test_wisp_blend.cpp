@@ -85,7 +85,8 @@ TEST(WispBlend, MembersAtTheBorderBlendTheNeighboursShapesSoTheGapCloses) {
     float worst = 0.0f;
     const std::size_t n = std::min(blended.pointCount(first), copies.pointCount(first));
     for (std::size_t j = 0; j < n; ++j)
-      worst = std::max(worst, glm::length(blended.points[blended.first[first] + j] - copies.points[copies.first[first] + j]));
+      worst = std::max(worst,
+                       glm::length(blended.points[blended.first[first] + j] - copies.points[copies.first[first] + j]));
     EXPECT_LT(worst, 0.01f) << "wisp " << w << "'s central member";
   }
   // a style file without the field grows the translated copies, as before
@@ -124,7 +125,8 @@ TEST(ScalpCoverageMeasure, ShareOfTheScalpNearARoot) {
   std::printf("covered: one small wisp %.1f %%, the whole scalp %.1f %%\n", 100 * small.covered, 100 * all.covered);
   EXPECT_GT(small.covered, 0.0);
   EXPECT_LT(small.covered, 0.2);
-  EXPECT_EQ(small.bare.size(), small.samples - static_cast<std::size_t>(std::lround(small.covered * static_cast<double>(small.samples))));
+  EXPECT_EQ(small.bare.size(),
+            small.samples - static_cast<std::size_t>(std::lround(small.covered * static_cast<double>(small.samples))));
   EXPECT_GT(all.covered, 0.97);
   EXPECT_THROW(scalpCoverage(h, {}, 0.0f), std::invalid_argument);
   EXPECT_THROW(scalpCoverage(h, {}, 0.005f, 0), std::invalid_argument);
@@ -156,8 +158,8 @@ TEST(WispHairline, MembersThinOutTowardsTheEdgeOfTheHairNotBetweenWisps) {
   };
   const auto [edge0, border0] = count(grown(0.0f));
   const auto [edge1, border1] = count(grown(0.01f));
-  std::printf("roots near the hair's edge: %zu without the ramp, %zu with; along the wisps' border: %zu, %zu\n",
-              edge0, edge1, border0, border1);
+  std::printf("roots near the hair's edge: %zu without the ramp, %zu with; along the wisps' border: %zu, %zu\n", edge0,
+              edge1, border0, border1);
   ASSERT_GT(edge0, 20u);
   ASSERT_GT(border0, 20u);
   EXPECT_LT(static_cast<double>(edge1), 0.6 * static_cast<double>(edge0)) << "the hairline thins out";

@@ -132,7 +132,8 @@ bool Controller::setParam(const std::string& name, double value_in, const std::s
 
 void Controller::setHair(render::HairGeometry hair) {
   view_.settings.hair = hair;
-  sim_.setPublishStrands(hair == render::HairGeometry::Strands ? static_cast<std::size_t>(std::max(1, view_.strands)) : 0);
+  sim_.setPublishStrands(hair == render::HairGeometry::Strands ? static_cast<std::size_t>(std::max(1, view_.strands))
+                                                               : 0);
 }
 
 void Controller::setWind(bool on) {
@@ -150,8 +151,8 @@ void Controller::shake(double amplitude_deg, double frequency_hz, bool nod) {
   // two periods from the next frame, smoothly in and out (as the scenes'
   // shake and nod), about the neck, from where the head is
   const double start = sim_.latest()->time;
-  const HeadTrajectory wave = (nod ? HeadTrajectory::nod : HeadTrajectory::shake)(glm::radians(amplitude_deg),
-                                                                                 frequency_hz, 2.0, start);
+  const HeadTrajectory wave =
+      (nod ? HeadTrajectory::nod : HeadTrajectory::shake)(glm::radians(amplitude_deg), frequency_hz, 2.0, start);
   const glm::dvec3 pivot = head_.pivot(), base = head_.eulerDeg();
   sim_.setHeadScript([wave, pivot, base](double t) -> std::optional<HeadKeyframe> {
     if (t > wave.endTime()) return std::nullopt;

@@ -114,8 +114,8 @@ void Panel::statusWindow(ViewState& view, ImVec2 display) {
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
   remember(view);
-  ImGui::PushStyleColor(ImGuiCol_Text, view.message_is_error ? ImVec4(0.75f, 0.1f, 0.1f, 1.0f)
-                                                             : ImVec4(0.1f, 0.4f, 0.15f, 1.0f));
+  ImGui::PushStyleColor(ImGuiCol_Text,
+                        view.message_is_error ? ImVec4(0.75f, 0.1f, 0.1f, 1.0f) : ImVec4(0.1f, 0.4f, 0.15f, 1.0f));
   ImGui::PushTextWrapPos(std::max(200.0f, std::min(900.0f, display.x - left - 40)));
   ImGui::TextUnformatted(view.message.c_str());
   ImGui::PopTextWrapPos();
@@ -142,7 +142,8 @@ void Panel::legendWindow(ViewState& view, ImVec2 display) {
   for (int k = 0; k < kSteps; ++k) {
     const float t0 = static_cast<float>(k) / kSteps, t1 = static_cast<float>(k + 1) / kSteps;
     const glm::vec3 a = render::debugRamp(t0), b = render::debugRamp(t1);
-    const ImU32 ca = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f)), cb = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
+    const ImU32 ca = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f)),
+                cb = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
     draw->AddRectFilledMultiColor(ImVec2(at.x + w * t0, at.y), ImVec2(at.x + w * t1, at.y + h), ca, cb, cb, ca);
   }
   ImGui::Dummy(ImVec2(w, h));
@@ -245,7 +246,7 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   if (const auto strands = c_.sim().latestStrands()) {
     const bool gpu = strands->field != nullptr;
     ImGui::TextWrapped("strands of frame %" PRId64 ", carried %s (%.1f ms a carry)", strands->frame,
-                gpu ? "by a compute shader" : "on the CPU", gpu ? gpu_carry_ms : strands->carry_ms);
+                       gpu ? "by a compute shader" : "on the CPU", gpu ? gpu_carry_ms : strands->carry_ms);
     if (strands_bound > 0 && strands_drawn < strands_bound)
       ImGui::Text("%zu of %zu strands drawn (%s)", strands_drawn, strands_bound,
                   c_.view().settings.strand_budget > 0 ? "while playing" : "level of detail");
@@ -253,18 +254,19 @@ void Panel::simulation(const PublishedFrame& frame, double fps) {
   ImGui::Text("%zu particles, %zu connections", frame.particles, frame.connections);
   ImGui::Text("%zu body contacts, %zu neighbour pairs", frame.contacts, frame.neighbor_pairs);
   ImGui::Text("state hash %016" PRIx64, frame.state_hash);
-  static const char* stages[] = {"whole frame", "step: all stages", "neighbours", "density", "springs",
-                                  "hair-hair",   "external",         "integrate",  "strain limit", "tethers",
-                                  "body contacts", "directions", "air"};
+  static const char* stages[] = {"whole frame",   "step: all stages", "neighbours", "density",      "springs",
+                                 "hair-hair",     "external",         "integrate",  "strain limit", "tethers",
+                                 "body contacts", "directions",       "air"};
   ImGui::Combo("plot", &plot_stage_, stages, IM_ARRAYSIZE(stages));
   tooltip("the last five seconds of one stage's time (ms)");
   if (!stage_ms_.empty()) {
     std::vector<float> ms;
     for (const auto& [frame_ms, st] : stage_ms_) {
-      const double v[] = {frame_ms,     1e3 * st.total(),     1e3 * st.neighbors, 1e3 * st.density,
-                          1e3 * st.springs, 1e3 * st.hair_hair, 1e3 * st.external, 1e3 * st.integrate,
-                          1e3 * st.strain_limit, 1e3 * st.tethers, 1e3 * st.body_contacts,
-                          1e3 * st.directions, 1e3 * st.air};
+      const double v[] = {frame_ms,          1e3 * st.total(),       1e3 * st.neighbors,
+                          1e3 * st.density,  1e3 * st.springs,       1e3 * st.hair_hair,
+                          1e3 * st.external, 1e3 * st.integrate,     1e3 * st.strain_limit,
+                          1e3 * st.tethers,  1e3 * st.body_contacts, 1e3 * st.directions,
+                          1e3 * st.air};
       ms.push_back(static_cast<float>(v[plot_stage_]));
     }
     char label[64];
@@ -360,7 +362,8 @@ void Panel::wind() {
   ViewState& v = c_.view();
   bool on = p.has_wind;
   bool changed = ImGui::Checkbox("wind", &on);
-  tooltip("air blown through the hair (a grid, or SPH particles with wind.model \"particles\"); off applies on restart");
+  tooltip(
+      "air blown through the hair (a grid, or SPH particles with wind.model \"particles\"); off applies on restart");
   glm::vec3 d = glm::normalize(p.wind.direction);
   float yaw = glm::degrees(std::atan2(d.x, d.z)), pitch = glm::degrees(std::asin(std::clamp(d.y, -1.0f, 1.0f)));
   changed |= ImGui::SliderFloat("towards, yaw", &yaw, -180.0f, 180.0f, "%.0f deg", kClamp);
@@ -424,8 +427,9 @@ void Panel::rendering() {
     tooltip("level of detail: every k-th strand, k times as opaque, where they overlap more than 8 deep");
     ImGui::SliderInt("strands while playing", &view.playing_strand_budget, 0, 100000,
                      view.playing_strand_budget == 0 ? "all" : "%d", kClamp);
-    tooltip("at most this many strands drawn while the hair moves, each standing for several (0: all); "
-            "all of them when paused or recording");
+    tooltip(
+        "at most this many strands drawn while the hair moves, each standing for several (0: all); "
+        "all of them when paused or recording");
   }
   ImGui::SliderFloat("billboard width", &view.settings.billboard_width, 0.5f, 8.0f, "%.1f x spacing", kClamp);
   ImGui::SliderFloat("billboard length", &view.settings.billboard_length, 2.0f, 20.0f, "%.1f x spacing", kClamp);
@@ -478,19 +482,21 @@ void Panel::styling() {
     shown_preview_error_ = s->preview_error;
     if (!shown_preview_error_.empty()) c_.fail("the preview cannot be grown: " + shown_preview_error_);
   }
-  ImGui::TextWrapped("Left drag on the scalp brushes a region. Drag a control point to move it (the points "
-                     "after it follow), an arrow of the selected point to move along it, or a key strand "
-                     "between its points to move it whole; each drag is one undo.");
+  ImGui::TextWrapped(
+      "Left drag on the scalp brushes a region. Drag a control point to move it (the points "
+      "after it follow), an arrow of the selected point to move along it, or a key strand "
+      "between its points to move it whole; each drag is one undo.");
   ImGui::SliderFloat("drag falloff", &s->drag_falloff, 0.0f, 0.3f, "%.2f m", kClamp);
   tooltip("how far along the strand the points after a dragged one follow it (0: the point alone)");
   {
     static const char* tools[] = {"select and drag", "comb", "length", "puff", "smooth", "curl", "tie"};
     int t = static_cast<int>(s->tool);
     if (ImGui::Combo("tool", &t, tools, 7)) s->tool = static_cast<StylingSession::Tool>(t);
-    tooltip("what a left drag does: select and drag points (on the scalp: paint a region), or brush the key "
-            "strands: comb (pull along the drag, tips most), length (grow; with Shift: cut), puff (lift from the "
-            "scalp), smooth, curl (the curl below to the wisps touched), tie (click where key strands pass: "
-            "the key strands within the brush gathered into a ring off the head)");
+    tooltip(
+        "what a left drag does: select and drag points (on the scalp: paint a region), or brush the key "
+        "strands: comb (pull along the drag, tips most), length (grow; with Shift: cut), puff (lift from the "
+        "scalp), smooth, curl (the curl below to the wisps touched), tie (click where key strands pass: "
+        "the key strands within the brush gathered into a ring off the head)");
     if (s->tool != StylingSession::Tool::Select) {
       ImGui::SliderFloat("brush size", &s->brush_pixels, 5.0f, 300.0f, "%.0f px", kClamp);
       if (s->tool != StylingSession::Tool::Tie)
@@ -512,11 +518,13 @@ void Panel::styling() {
   tooltip("smooth (small) to fuzzy (large) wisps");
   ImGui::SliderFloat("length variation", &c_.new_wisp.length_variation, 0.0f, 0.9f, "%.2f", kClamp);
   ImGui::SliderFloat("blend", &c_.new_wisp.blend, 0.0f, 1.0f, "%.2f", kClamp);
-  tooltip("members near a wisp's border take the neighbouring wisps' shapes, so adjacent wisps meet without "
-          "a gap (0: translated copies of the own key strand; never across a parting)");
+  tooltip(
+      "members near a wisp's border take the neighbouring wisps' shapes, so adjacent wisps meet without "
+      "a gap (0: translated copies of the own key strand; never across a parting)");
   ImGui::SliderFloat("hairline ramp", &c_.new_wisp.edge_ramp, 0.0f, 0.05f, "%.3f m", kClamp);
-  tooltip("members within this distance of the edge of the hair thin out towards it, so the hairline is not "
-          "a row of bristles (0: none)");
+  tooltip(
+      "members within this distance of the edge of the hair thin out towards it, so the hairline is not "
+      "a row of bristles (0: none)");
   ImGui::SliderFloat("new wisp length", &s->new_wisp_length, 0.02f, 1.0f, "%.2f m", kClamp);
   tooltip("a new wisp's key strand hangs from the scalp under gravity, this long");
   if (ImGui::Button("Create wisp")) c_.attempt([&] { s->createWispFromBrush(c_.new_wisp); });
@@ -526,8 +534,7 @@ void Panel::styling() {
     ImGui::Separator();
     const std::string point = s->point ? std::to_string(*s->point) : std::string("none");
     ImGui::Text("wisp %zu (%s), control point %s", *s->wisp, st.wisps[*s->wisp].name.c_str(), point.c_str());
-    if (ImGui::Button("Apply density etc. to it"))
-      c_.attempt([&] { s->editor().setParams(*s->wisp, c_.new_wisp); });
+    if (ImGui::Button("Apply density etc. to it")) c_.attempt([&] { s->editor().setParams(*s->wisp, c_.new_wisp); });
     static const char* axes[] = {"tangent", "normal", "binormal"};
     int a = static_cast<int>(s->axis);
     if (ImGui::Combo("direction", &a, axes, 3)) s->axis = static_cast<StylingAxis>(a);
@@ -549,8 +556,9 @@ void Panel::styling() {
   }
   ImGui::Separator();
   ImGui::SliderFloat("settle time", &s->settle_seconds, 0.2f, 5.0f, "%.1f s", kClamp);
-  tooltip("Settle simulates the style on a still head for this long (gravity, the head, the other hair) and "
-          "puts the key strands where the hair came to rest; one undo step");
+  tooltip(
+      "Settle simulates the style on a still head for this long (gravity, the head, the other hair) and "
+      "puts the key strands where the hair came to rest; one undo step");
   if (s->settling()) {
     ImGui::Text("settling ...");
   } else if (ImGui::Button("Settle")) {
@@ -561,7 +569,8 @@ void Panel::styling() {
   if (ImGui::Button("Redo")) s->redo(), c_.clearError();
   ImGui::InputText("##style", style_path_, sizeof style_path_);
   ImGui::SameLine();
-  if (ImGui::Button("Save style")) c_.attempt([&] {
+  if (ImGui::Button("Save style"))
+    c_.attempt([&] {
       s->save(style_path_);
       c_.note(std::string("saved the style to ") + style_path_);
     });

@@ -28,7 +28,7 @@ class Panel {
   float move_step_mm = 10.0f;  // styling: one press of a move button
   /// What draws the window (GL_RENDERER), shown with the frame rate.
   std::string gl_renderer;
-  double gpu_carry_ms = 0.0;  // the window's last carry of the strands on the GPU (CPU side)
+  double gpu_carry_ms = 0.0;                         // the window's last carry of the strands on the GPU (CPU side)
   std::size_t strands_drawn = 0, strands_bound = 0;  // in the last frame drawn
 
  private:

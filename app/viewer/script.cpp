@@ -54,7 +54,8 @@ double number(const json& e, const char* field, const std::string& where, double
   if (!v.is_number()) bad(where, std::string(field) + " must be a number, got " + v.dump());
   const double x = v.get<double>();
   if (!(x >= lo && x <= hi))
-    bad(where, std::string(field) + " = " + v.dump() + " must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    bad(where, std::string(field) + " = " + v.dump() + " must lie in [" + std::to_string(lo) + ", " +
+                   std::to_string(hi) + "]");
   return x;
 }
 
@@ -109,7 +110,8 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
         bad(where, "unknown field \"" + k + "\" for \"" + what + "\"");
     const std::int64_t frame =
         e.contains("frame") ? static_cast<std::int64_t>(number(e, "frame", where, 0, 1e7)) : last;
-    if (frame < last) bad(where, "frame " + std::to_string(frame) + " comes before the previous event's " + std::to_string(last));
+    if (frame < last)
+      bad(where, "frame " + std::to_string(frame) + " comes before the previous event's " + std::to_string(last));
     last = frame;
     for (const char* f : {"path", "dir", "video", "name", "key", "label", "button"})  // a brush's path is points
       if (e.contains(f) && !(what == "brush" && f == std::string("path")) && !e[f].is_string())
@@ -149,8 +151,8 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       for (int k = 1; k <= steps; ++k) {
         const double t = static_cast<double>(k) / steps;
         const std::int64_t f = frame + (frames * k) / steps;
-        out.push_back({f, "mouse_move", event({a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)}),
-                       where});
+        out.push_back(
+            {f, "mouse_move", event({a.first + t * (b.first - a.first), a.second + t * (b.second - a.second)}), where});
       }
       out.push_back({frame + frames, "mouse_up", event(b), where});
     } else if (what == "brush" || what == "click") {
@@ -164,7 +166,8 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
       }
       const std::string button = what == "click" ? e.value("button", "left") : "left";
       out.push_back({frame, "mouse_down", mouse(button.c_str(), pts.front(), false), where});
-      for (std::size_t k = 1; k < pts.size(); ++k) out.push_back({frame, "mouse_move", mouse(button.c_str(), pts[k], false), where});
+      for (std::size_t k = 1; k < pts.size(); ++k)
+        out.push_back({frame, "mouse_move", mouse(button.c_str(), pts[k], false), where});
       out.push_back({frame, "mouse_up", mouse(button.c_str(), pts.back(), false), where});
     } else {
       if (what == "hover" || what == "scroll") (void)point(e["at"], where, "at");
@@ -175,7 +178,8 @@ std::deque<ScriptEvent> loadScript(const std::string& path) {
   }
   // a drag goes on over frames while later events happen: in frame order,
   // events of one frame in the order written
-  std::stable_sort(out.begin(), out.end(), [](const ScriptEvent& a, const ScriptEvent& b) { return a.frame < b.frame; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const ScriptEvent& a, const ScriptEvent& b) { return a.frame < b.frame; });
   return out;
 }
 

@@ -16,9 +16,9 @@ namespace loosehair::viewer {
 
 struct ScriptEvent {
   std::int64_t frame = 0;
-  std::string what;        // "do" of the file, or mouse_down / mouse_move / mouse_up
-  nlohmann::json args;     // the event's object
-  std::string where;       // "FILE: events[k]" for messages
+  std::string what;     // "do" of the file, or mouse_down / mouse_move / mouse_up
+  nlohmann::json args;  // the event's object
+  std::string where;    // "FILE: events[k]" for messages
 };
 
 /// The most input events a script may expand to (its drags' steps and its

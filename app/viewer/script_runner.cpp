@@ -54,9 +54,9 @@ namespace {
 
 int glfwKeyNamed(const std::string& name, const std::string& where) {
   static const std::pair<const char*, int> named[] = {
-      {"space", GLFW_KEY_SPACE}, {"right", GLFW_KEY_RIGHT}, {"left", GLFW_KEY_LEFT}, {"up", GLFW_KEY_UP},
-      {"down", GLFW_KEY_DOWN},   {"tab", GLFW_KEY_TAB},     {"escape", GLFW_KEY_ESCAPE}, {"delete", GLFW_KEY_DELETE},
-      {"f2", GLFW_KEY_F2}};
+      {"space", GLFW_KEY_SPACE},   {"right", GLFW_KEY_RIGHT},   {"left", GLFW_KEY_LEFT},
+      {"up", GLFW_KEY_UP},         {"down", GLFW_KEY_DOWN},     {"tab", GLFW_KEY_TAB},
+      {"escape", GLFW_KEY_ESCAPE}, {"delete", GLFW_KEY_DELETE}, {"f2", GLFW_KEY_F2}};
   for (const auto& [n, k] : named)
     if (name == n) return k;
   if (name.size() == 1 && std::isalnum(static_cast<unsigned char>(name[0])))
@@ -122,8 +122,10 @@ void runViewPointerEvent(const ScriptEvent& e, Window& w) {
         } else if (on == "strand") {
           p = st->strandPoint(wi, k);
         } else {
-          p = st->handlePoint(wi, k, on == "tangent" ? StylingAxis::Tangent : on == "normal" ? StylingAxis::Normal
-                                                                                         : StylingAxis::Binormal);
+          p = st->handlePoint(wi, k,
+                              on == "tangent"  ? StylingAxis::Tangent
+                              : on == "normal" ? StylingAxis::Normal
+                                               : StylingAxis::Binormal);
         }
       } catch (const std::exception& err) {
         throw std::runtime_error(e.where + ": anchor: " + err.what());
@@ -147,7 +149,8 @@ void runSetEvent(const ScriptEvent& e, Controller& c, Panel& panel) {
   const nlohmann::json& a = e.args;
   auto text = [&](const char* f) { return a.at(f).get<std::string>(); };
   const std::string name = text("name");
-  if (!a["value"].is_number() && !a["value"].is_boolean()) throw std::runtime_error(e.where + ": value must be a number");
+  if (!a["value"].is_number() && !a["value"].is_boolean())
+    throw std::runtime_error(e.where + ": value must be a number");
   const double raw = a["value"].is_boolean() ? (a["value"].get<bool>() ? 1.0 : 0.0) : a["value"].get<double>();
   if (!isViewerValue(name)) {
     c.setParam(name, raw, e.where);  // a solver parameter, checked as the scene file's
@@ -156,18 +159,20 @@ void runSetEvent(const ScriptEvent& e, Controller& c, Panel& panel) {
     // wisps the brush creates, by their script names
     using Session = StylingSession;
     static const std::pair<const char*, float Session::*> session[] = {
-        {"styling.brush_radius", &Session::brush_radius},     {"styling.drag_falloff", &Session::drag_falloff},
-        {"styling.wisp_length", &Session::new_wisp_length},   {"styling.settle_seconds", &Session::settle_seconds},
-        {"styling.brush_pixels", &Session::brush_pixels},     {"styling.brush_strength", &Session::brush_strength},
-        {"styling.curl_radius", &Session::curl_radius},       {"styling.curl_period", &Session::curl_period}};
+        {"styling.brush_radius", &Session::brush_radius},   {"styling.drag_falloff", &Session::drag_falloff},
+        {"styling.wisp_length", &Session::new_wisp_length}, {"styling.settle_seconds", &Session::settle_seconds},
+        {"styling.brush_pixels", &Session::brush_pixels},   {"styling.brush_strength", &Session::brush_strength},
+        {"styling.curl_radius", &Session::curl_radius},     {"styling.curl_period", &Session::curl_period}};
     static const std::pair<const char*, float WispParams::*> new_wisp[] = {
-        {"styling.density", &WispParams::density},     {"styling.offset_radius", &WispParams::offset_radius},
-        {"styling.blend", &WispParams::blend},         {"styling.edge_ramp", &WispParams::edge_ramp},
+        {"styling.density", &WispParams::density},
+        {"styling.offset_radius", &WispParams::offset_radius},
+        {"styling.blend", &WispParams::blend},
+        {"styling.edge_ramp", &WispParams::edge_ramp},
         {"styling.length_variation", &WispParams::length_variation}};
-    const auto* in_session = std::find_if(std::begin(session), std::end(session),
-                                          [&](const auto& f) { return name == f.first; });
-    const auto* in_wisp = std::find_if(std::begin(new_wisp), std::end(new_wisp),
-                                       [&](const auto& f) { return name == f.first; });
+    const auto* in_session =
+        std::find_if(std::begin(session), std::end(session), [&](const auto& f) { return name == f.first; });
+    const auto* in_wisp =
+        std::find_if(std::begin(new_wisp), std::end(new_wisp), [&](const auto& f) { return name == f.first; });
     if (in_session != std::end(session) && !c.styling())
       throw std::runtime_error(e.where + ": " + name + " is set in styling mode");
     const double value = checkViewerValue(name, raw, e.where);
@@ -232,14 +237,15 @@ void runViewEvent(const ScriptEvent& e, Controller& c) {
     const std::string ax = val.get<std::string>();
     if (ax != "tangent" && ax != "normal" && ax != "binormal")
       throw std::runtime_error(e.where + ": axis must be tangent, normal or binormal");
-    c.styling()->axis = ax == "tangent" ? StylingAxis::Tangent : ax == "normal" ? StylingAxis::Normal : StylingAxis::Binormal;
+    c.styling()->axis = ax == "tangent"  ? StylingAxis::Tangent
+                        : ax == "normal" ? StylingAxis::Normal
+                                         : StylingAxis::Binormal;
   } else if (name == "tool" && c.styling()) {
     using Tool = StylingSession::Tool;
     const std::string t = val.is_string() ? val.get<std::string>() : std::string();
-    static const std::pair<const char*, Tool> tools[] = {{"select", Tool::Select}, {"comb", Tool::Comb},
-                                                         {"length", Tool::Length}, {"puff", Tool::Puff},
-                                                         {"smooth", Tool::Smooth}, {"curl", Tool::Curl},
-                                                         {"tie", Tool::Tie}};
+    static const std::pair<const char*, Tool> tools[] = {
+        {"select", Tool::Select}, {"comb", Tool::Comb}, {"length", Tool::Length}, {"puff", Tool::Puff},
+        {"smooth", Tool::Smooth}, {"curl", Tool::Curl}, {"tie", Tool::Tie}};
     const auto* found = std::find_if(std::begin(tools), std::end(tools), [&](const auto& e2) { return t == e2.first; });
     if (found == std::end(tools))
       throw std::runtime_error(e.where + ": tool must be select, comb, length, puff, smooth, curl or tie");
@@ -262,45 +268,73 @@ void runPressEvent(const ScriptEvent& e, Controller& c, Panel& panel) {
   const std::string name = text("name");
   StylingSession* st = c.styling();
   auto need = [&]() -> StylingSession& {
-    if (!st || c.mode() != Mode::Styling) throw std::runtime_error(e.where + ": \"" + name + "\" needs the styling mode");
+    if (!st || c.mode() != Mode::Styling)
+      throw std::runtime_error(e.where + ": \"" + name + "\" needs the styling mode");
     return *st;
   };
   const float step = 1e-3f * panel.move_step_mm;
-  if (name == "play") c.sim().setPaused(false);
-  else if (name == "pause") c.sim().setPaused(true);
-  else if (name == "step") c.sim().stepOnce();
-  else if (name == "restart") c.restart();
-  else if (name == "shake" || name == "nod") c.shake(panel.shake_amplitude_deg, panel.shake_frequency_hz, name == "nod");
-  else if (name == "centre_head") c.centreHead();
-  else if (name == "wind_on" || name == "wind_off") c.setWind(name == "wind_on");
-  else if (name == "stop_recording") c.stopRecording();
-  else if (name == "styling") c.enterStyling();
-  else if (name == "simulate") c.enterSimulate();
-  else if (name == "create_wisp") c.attempt([&] { need().createWispFromBrush(c.new_wisp); });
-  else if (name == "set_region") c.attempt([&] { need().setRegionFromBrush(); });
-  else if (name == "clear_brush") need().clearBrush();
-  else if (name == "move_plus") c.attempt([&] { need().moveSelected(step); });
-  else if (name == "move_minus") c.attempt([&] { need().moveSelected(-step); });
-  else if (name == "add_point") c.attempt([&] { need().addPointAfterSelected(); });
-  else if (name == "delete_point") c.attempt([&] { need().deleteSelectedPoint(); });
-  else if (name == "delete_wisp") c.attempt([&] { need().deleteSelectedWisp(); });
-  else if (name == "copy") c.attempt([&] { need().copySelected(); });
-  else if (name == "paste") c.attempt([&] { need().pasteOnSelected(); });
-  else if (name == "mirror") c.attempt([&] { need().mirrorSelected(); });
-  else if (name == "tie") c.attempt([&] { need().tieAtSelected(0.015f); });
-  else if (name == "apply_params") c.attempt([&] {
-    StylingSession& ss = need();
-    if (!ss.wisp) throw StyleError("select a wisp first to set its parameters");
-    ss.editor().setParams(*ss.wisp, c.new_wisp);
-  });
-  else if (name == "undo") need().undo(), c.clearError();
-  else if (name == "redo") need().redo(), c.clearError();
-  else if (name == "settle") c.attempt([&] {  // a script waits for it: the next event sees the settled style
-    StylingSession& ss = need();
-    ss.startSettle();
-    if (ss.finishSettle(true)) c.note("settled the style: the key strands lie where the hair came to rest");
-  });
-  else throw std::runtime_error(e.where + ": no panel action called \"" + name + "\"");
+  if (name == "play")
+    c.sim().setPaused(false);
+  else if (name == "pause")
+    c.sim().setPaused(true);
+  else if (name == "step")
+    c.sim().stepOnce();
+  else if (name == "restart")
+    c.restart();
+  else if (name == "shake" || name == "nod")
+    c.shake(panel.shake_amplitude_deg, panel.shake_frequency_hz, name == "nod");
+  else if (name == "centre_head")
+    c.centreHead();
+  else if (name == "wind_on" || name == "wind_off")
+    c.setWind(name == "wind_on");
+  else if (name == "stop_recording")
+    c.stopRecording();
+  else if (name == "styling")
+    c.enterStyling();
+  else if (name == "simulate")
+    c.enterSimulate();
+  else if (name == "create_wisp")
+    c.attempt([&] { need().createWispFromBrush(c.new_wisp); });
+  else if (name == "set_region")
+    c.attempt([&] { need().setRegionFromBrush(); });
+  else if (name == "clear_brush")
+    need().clearBrush();
+  else if (name == "move_plus")
+    c.attempt([&] { need().moveSelected(step); });
+  else if (name == "move_minus")
+    c.attempt([&] { need().moveSelected(-step); });
+  else if (name == "add_point")
+    c.attempt([&] { need().addPointAfterSelected(); });
+  else if (name == "delete_point")
+    c.attempt([&] { need().deleteSelectedPoint(); });
+  else if (name == "delete_wisp")
+    c.attempt([&] { need().deleteSelectedWisp(); });
+  else if (name == "copy")
+    c.attempt([&] { need().copySelected(); });
+  else if (name == "paste")
+    c.attempt([&] { need().pasteOnSelected(); });
+  else if (name == "mirror")
+    c.attempt([&] { need().mirrorSelected(); });
+  else if (name == "tie")
+    c.attempt([&] { need().tieAtSelected(0.015f); });
+  else if (name == "apply_params")
+    c.attempt([&] {
+      StylingSession& ss = need();
+      if (!ss.wisp) throw StyleError("select a wisp first to set its parameters");
+      ss.editor().setParams(*ss.wisp, c.new_wisp);
+    });
+  else if (name == "undo")
+    need().undo(), c.clearError();
+  else if (name == "redo")
+    need().redo(), c.clearError();
+  else if (name == "settle")
+    c.attempt([&] {  // a script waits for it: the next event sees the settled style
+      StylingSession& ss = need();
+      ss.startSettle();
+      if (ss.finishSettle(true)) c.note("settled the style: the key strands lie where the hair came to rest");
+    });
+  else
+    throw std::runtime_error(e.where + ": no panel action called \"" + name + "\"");
 }
 
 }  // namespace
@@ -316,8 +350,8 @@ bool runEvent(const ScriptEvent& e, Window& w, Panel& panel, ScriptRun& run) {
   } else if (what == "mouse_down" || what == "mouse_up" || what == "mouse_move") {
     runViewPointerEvent(e, w);
   } else if (what == "key") {
-    key(w, glfwKeyNamed(text("key"), e.where), (a.value("ctrl", false) ? GLFW_MOD_CONTROL : 0) |
-                                                (a.value("shift", false) ? GLFW_MOD_SHIFT : 0), true);
+    key(w, glfwKeyNamed(text("key"), e.where),
+        (a.value("ctrl", false) ? GLFW_MOD_CONTROL : 0) | (a.value("shift", false) ? GLFW_MOD_SHIFT : 0), true);
   } else if (what == "set") {
     runSetEvent(e, c, panel);
   } else if (what == "view") {

@@ -18,9 +18,7 @@
 namespace loosehair::viewer {
 namespace {
 
-double wallNow() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double wallNow() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 }  // namespace
 
@@ -436,7 +434,7 @@ void SimulationThread::publish(double frame_ms) {
   }
   if (air && f->wind) solver_->worldAirPositions(f->air);
   if (grid && f->grid_cell > 0) {
-    std::set<std::tuple<int, int, int>> cells;  // sorted: the same picture every time
+    std::set<std::tuple<int, int, int>> cells;                  // sorted: the same picture every time
     for (const glm::vec3& p : solver_->particles().position) {  // head frame, as the grid
       const glm::ivec3 c(glm::floor(p / f->grid_cell));
       cells.emplace(c.x, c.y, c.z);

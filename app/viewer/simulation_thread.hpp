@@ -29,21 +29,21 @@ namespace loosehair::viewer {
 
 /// A finished frame, as the window draws and reports it.
 struct PublishedFrame {
-  render::FrameInput input;       // world coordinates
-  std::int64_t frame = 0;         // frames simulated since the (re)start
-  double time = 0;                // simulated time (s)
+  render::FrameInput input;  // world coordinates
+  std::int64_t frame = 0;    // frames simulated since the (re)start
+  double time = 0;           // simulated time (s)
   std::uint64_t state_hash = 0;
-  StageTimes last_step;           // timings of the frame's last step
-  double frame_ms = 0;            // wall time the frame took to simulate
-  double real_time_factor = 0;    // simulated / wall time over the last second
+  StageTimes last_step;         // timings of the frame's last step
+  double frame_ms = 0;          // wall time the frame took to simulate
+  double real_time_factor = 0;  // simulated / wall time over the last second
   std::size_t particles = 0, connections = 0, contacts = 0, neighbor_pairs = 0;
   bool paused = false;
-  std::uint64_t generation = 0;   // counts restarts: a new scene may have a new head
-  bool wind = false;              // the solver has wind
-  std::vector<glm::vec3> air;     // its air particles (world), while their debug view is on
+  std::uint64_t generation = 0;  // counts restarts: a new scene may have a new head
+  bool wind = false;             // the solver has wind
+  std::vector<glm::vec3> air;    // its air particles (world), while their debug view is on
   float grid_cell = 0;
-  float shape_keeping = 0;        // the running solver's strength (Hz)
-  SimParams params;               // the running solver's parameters            // the neighbour grid's cell size, 2 h2 (m)
+  float shape_keeping = 0;  // the running solver's strength (Hz)
+  SimParams params;         // the running solver's parameters            // the neighbour grid's cell size, 2 h2 (m)
   std::vector<glm::vec3> neighbor_cells;  // lower corners of occupied grid cells (head frame), capped
 };
 

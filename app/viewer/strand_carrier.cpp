@@ -75,8 +75,8 @@ void StrandCarrier::loop() {
           field_.reset();
           RenderStrandOptions so;
           so.strands = job.strands;
-          field_ = std::make_shared<const StrandField>(
-              bindSceneStrands(*job.scene, *job.rest, *job.build, so, threads_));
+          field_ =
+              std::make_shared<const StrandField>(bindSceneStrands(*job.scene, *job.rest, *job.build, so, threads_));
           bound_strands_ = job.strands;
           bound_generation_ = job.generation;
         }
@@ -97,8 +97,7 @@ void StrandCarrier::loop() {
         carried->points_each = static_cast<int>(field_->rest().pointCount(0));
         carried->frame = job.frame;
         carried->generation = job.generation;
-        carried->carry_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        carried->carry_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       }
     } catch (const std::exception& e) {
       failure = std::string("strands: ") + e.what();
@@ -109,8 +108,10 @@ void StrandCarrier::loop() {
     lk.lock();
     busy_ = false;
     if (!failure.empty()) error_ = failure;
-    if (job.strands == 0 || !failure.empty()) latest_.reset();
-    else latest_ = std::move(carried);
+    if (job.strands == 0 || !failure.empty())
+      latest_.reset();
+    else
+      latest_ = std::move(carried);
     done_.notify_all();
   }
 }

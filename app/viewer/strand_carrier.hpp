@@ -55,7 +55,7 @@ struct CarryJob {
   std::shared_ptr<const Particles> rest;
   std::vector<glm::vec3> position, direction;  // head frame
   std::vector<BodyPlacement> bodies;           // placed at the frame's time (Solver::bodyPlacements)
-  glm::mat4 head_to_world{1.0f};  // render::headToWorld of the frame's head pose
+  glm::mat4 head_to_world{1.0f};               // render::headToWorld of the frame's head pose
 };
 
 class StrandCarrier {

@@ -17,7 +17,7 @@ namespace {
 
 // wisp colours of the preview, and the highlight of the selection
 const glm::vec4 kPalette[] = {{0.85f, 0.45f, 0.15f, 0.55f}, {0.2f, 0.55f, 0.9f, 0.55f}, {0.3f, 0.75f, 0.3f, 0.55f},
-                              {0.8f, 0.3f, 0.7f, 0.55f},   {0.7f, 0.7f, 0.2f, 0.55f}, {0.3f, 0.7f, 0.75f, 0.55f}};
+                              {0.8f, 0.3f, 0.7f, 0.55f},    {0.7f, 0.7f, 0.2f, 0.55f},  {0.3f, 0.7f, 0.75f, 0.55f}};
 const glm::vec4 kSelected{1.0f, 0.1f, 0.1f, 0.9f};
 const glm::vec4 kKey{0.1f, 0.1f, 0.1f, 1.0f};
 const glm::vec4 kBrush{0.9f, 0.1f, 0.6f, 0.9f};
@@ -225,7 +225,8 @@ void StylingSession::brushDab(const render::Camera& camera, int width, int heigh
       dab.weight[k] = f * f;
       touched[w] = true;
       // the pointer's move at the point's depth (in the plane through it facing the view)
-      const std::optional<glm::vec3> now = rayMeetsPlane(ray, key[k], facing), was = rayMeetsPlane(before, key[k], facing);
+      const std::optional<glm::vec3> now = rayMeetsPlane(ray, key[k], facing),
+                                     was = rayMeetsPlane(before, key[k], facing);
       if (now && was) dab.move[k] = *now - *was;
     }
     if (!touched[w]) continue;
@@ -381,8 +382,9 @@ std::size_t StylingSession::tieAt(const render::Ray& ray, float reach) {
                     glm::normalize(dense[*hit + 1] - dense[*hit - 1])});
   }
   if (hits.empty())
-    throw StyleError("no key strand passes there: click where the wisps' key strands (the dark lines) pass, and "
-                     "the tie goes round them");
+    throw StyleError(
+        "no key strand passes there: click where the wisps' key strands (the dark lines) pass, and "
+        "the tie goes round them");
   glm::vec3 centre(0.0f), axis_sum(0.0f);
   for (const Hit& h : hits) {
     centre += h.at;
@@ -449,7 +451,8 @@ void StylingSession::rebuildPreview() {
   Style thin = style();
   for (Wisp& w : thin.wisps) {
     w.params.density *= preview_density;
-    if (w.params.strands > 0) w.params.strands = std::max(1, static_cast<int>(static_cast<float>(w.params.strands) * preview_density));
+    if (w.params.strands > 0)
+      w.params.strands = std::max(1, static_cast<int>(static_cast<float>(w.params.strands) * preview_density));
   }
   preview_error.clear();
   try {
@@ -470,16 +473,16 @@ void StylingSession::overlay(render::OverlayLines& hidden, render::OverlayLines&
   std::vector<glm::vec3> line;
   for (std::size_t s = 0; s < preview_.size(); ++s) {
     const std::uint32_t w = preview_.wisp[s];
-    const glm::vec4 c = wisp && *wisp == w ? glm::vec4(kSelected.r, kSelected.g, kSelected.b, 0.6f)
-                                           : kPalette[w % std::size(kPalette)];
+    const glm::vec4 c =
+        wisp && *wisp == w ? glm::vec4(kSelected.r, kSelected.g, kSelected.b, 0.6f) : kPalette[w % std::size(kPalette)];
     line.assign(preview_.points.begin() + preview_.first[s], preview_.points.begin() + preview_.first[s + 1]);
     hidden.polyline(line, c);
   }
   // key strands and control points: the selected wisp's over everything,
   // the others hidden by the head as the hair is; what the pointer is over
   // highlighted (a point, an arrow, or a strand between its points)
-  const bool hover_valid = hover && hover->wisp < wisps.size() &&
-                           (!hover->point || *hover->point < wisps[hover->wisp].key_strand.size());
+  const bool hover_valid =
+      hover && hover->wisp < wisps.size() && (!hover->point || *hover->point < wisps[hover->wisp].key_strand.size());
   for (std::size_t w = 0; w < wisps.size(); ++w) {
     const bool sel = wisp && *wisp == w;
     const bool hover_strand = hover_valid && !drag_ && hover->wisp == w && !hover->point;
@@ -490,7 +493,9 @@ void StylingSession::overlay(render::OverlayLines& hidden, render::OverlayLines&
       const bool chosen = sel && point && *point == k;
       (hovered ? on_top : out)
           .cross(wisps[w].key_strand[k], hovered || chosen ? 0.006f : 0.003f,
-                 hovered ? kHover : chosen ? kSelected : kKey);
+                 hovered  ? kHover
+                 : chosen ? kSelected
+                          : kKey);
     }
   }
   // the three styling directions at the selected point, the active one bright

@@ -110,8 +110,7 @@ class StylingSession {
   /// brushedKeyStrand). All dabs of a stroke are one undo step; a curl
   /// stroke sets the touched wisps' curl when it ends. `invert` (Shift):
   /// the length brush cuts instead of growing.
-  void brushDab(const render::Camera& camera, int width, int height, glm::vec2 at, glm::vec2 from,
-                bool invert = false);
+  void brushDab(const render::Camera& camera, int width, int height, glm::vec2 at, glm::vec2 from, bool invert = false);
   void endStroke();
 
   // ---- letting the physics finish the style ------------------------------
@@ -175,14 +174,14 @@ class StylingSession {
   struct Drag {
     std::size_t wisp = 0, point = 1;  // the point moved (1 with an infinite falloff: the whole strand)
     bool whole = false;
-    std::vector<glm::vec3> start;    // the key strand when the drag began
-    glm::vec3 grab{0.0f};            // the point grabbed
+    std::vector<glm::vec3> start;  // the key strand when the drag began
+    glm::vec3 grab{0.0f};          // the point grabbed
     glm::vec3 plane_normal{0.0f, 0.0f, 1.0f};
-    std::optional<glm::vec3> axis;   // along a styling direction only
+    std::optional<glm::vec3> axis;  // along a styling direction only
     bool moved = false;
   };
   std::optional<Drag> drag_;
-  bool stroke_edited_ = false;            // the stroke made its undo step
+  bool stroke_edited_ = false;           // the stroke made its undo step
   std::set<std::size_t> stroke_curled_;  // the wisps the curl stroke touched
   std::future<std::vector<std::vector<glm::vec3>>> settle_;
   Style settle_of_;  // the style the running settle started from

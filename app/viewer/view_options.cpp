@@ -65,8 +65,8 @@ long long parseInteger(const std::string& what, const std::string& text, long lo
     used = 0;
   }
   if (used != text.size() || text.empty() || v < lo || v > hi)
-    throw UsageError{what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                     "], got '" + text + "'"};
+    throw UsageError{what + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
+                     text + "'"};
   return v;
 }
 

@@ -32,7 +32,7 @@ struct ViewOptions {
   std::optional<double> seconds;
   bool allow_expensive = false;
   std::string strand_carry = "auto";
-  bool hair_given = false;  // --hair
+  bool hair_given = false;           // --hair
   std::optional<int> strand_budget;  // --playing-strands
 };
 

@@ -29,7 +29,7 @@ struct ViewState {
   bool screenshot = false, quit = false;
   std::string message;  // shown in the status window (errors, what was saved)
   bool message_is_error = false;
-  std::string open_section;  // a panel section to open at the next frame (scripts)
+  std::string open_section;     // a panel section to open at the next frame (scripts)
   std::string screenshot_path;  // where the next screenshot goes ("" = a numbered file)
   // debug views the renderer does not draw itself (overlay lines)
   bool show_grid = false, show_air = false;

@@ -76,49 +76,85 @@ void key(Window& w, int key, int mods, bool scripted) {
           c.clearError();
         }
         return;
-      case GLFW_KEY_T: st->axis = StylingAxis::Tangent; return;
-      case GLFW_KEY_G: st->axis = StylingAxis::Normal; return;
-      case GLFW_KEY_B: st->axis = StylingAxis::Binormal; return;
-      case GLFW_KEY_UP: c.attempt([&] { st->moveSelected(0.005f); }); return;
-      case GLFW_KEY_DOWN: c.attempt([&] { st->moveSelected(-0.005f); }); return;
-      case GLFW_KEY_DELETE: c.attempt([&] { st->deleteSelectedPoint(); }); return;
-      default: break;
+      case GLFW_KEY_T:
+        st->axis = StylingAxis::Tangent;
+        return;
+      case GLFW_KEY_G:
+        st->axis = StylingAxis::Normal;
+        return;
+      case GLFW_KEY_B:
+        st->axis = StylingAxis::Binormal;
+        return;
+      case GLFW_KEY_UP:
+        c.attempt([&] { st->moveSelected(0.005f); });
+        return;
+      case GLFW_KEY_DOWN:
+        c.attempt([&] { st->moveSelected(-0.005f); });
+        return;
+      case GLFW_KEY_DELETE:
+        c.attempt([&] { st->deleteSelectedPoint(); });
+        return;
+      default:
+        break;
     }
   }
   switch (key) {
     case GLFW_KEY_ESCAPE:
-    case GLFW_KEY_Q: v.quit = true; break;
-    case GLFW_KEY_SPACE: c.sim().setPaused(!c.sim().paused()); break;
+    case GLFW_KEY_Q:
+      v.quit = true;
+      break;
+    case GLFW_KEY_SPACE:
+      c.sim().setPaused(!c.sim().paused());
+      break;
     case GLFW_KEY_N:
-    case GLFW_KEY_RIGHT: c.sim().stepOnce(); break;
-    case GLFW_KEY_R: c.restart(); break;
-    case GLFW_KEY_S: v.settings.shadows = !v.settings.shadows; break;
+    case GLFW_KEY_RIGHT:
+      c.sim().stepOnce();
+      break;
+    case GLFW_KEY_R:
+      c.restart();
+      break;
+    case GLFW_KEY_S:
+      v.settings.shadows = !v.settings.shadows;
+      break;
     case GLFW_KEY_C:
       v.settings.color = next(v.settings.color, render::HairColor::Red);
       v.settings.custom_color.reset();
       break;
-    case GLFW_KEY_D: v.settings.debug = next(v.settings.debug, render::DebugView::Directions); break;
-    case GLFW_KEY_L: v.light_from_camera = !v.light_from_camera; break;
-    case GLFW_KEY_P: v.screenshot = true; break;
-    case GLFW_KEY_TAB: v.show_panel = !v.show_panel; break;
-    case GLFW_KEY_H: v.show_help = !v.show_help; break;
+    case GLFW_KEY_D:
+      v.settings.debug = next(v.settings.debug, render::DebugView::Directions);
+      break;
+    case GLFW_KEY_L:
+      v.light_from_camera = !v.light_from_camera;
+      break;
+    case GLFW_KEY_P:
+      v.screenshot = true;
+      break;
+    case GLFW_KEY_TAB:
+      v.show_panel = !v.show_panel;
+      break;
+    case GLFW_KEY_H:
+      v.show_help = !v.show_help;
+      break;
     case GLFW_KEY_F2:
       if (c.mode() == Mode::Styling)
         c.enterSimulate();
       else
         c.enterStyling();
       break;
-    case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4: {
+    case GLFW_KEY_1:
+    case GLFW_KEY_2:
+    case GLFW_KEY_3:
+    case GLFW_KEY_4: {
       static const char* presets[] = {"front", "side", "back", "three-quarter"};
       const render::Camera p = render::Camera::preset(presets[key - GLFW_KEY_1]);
       v.camera.yaw_deg = p.yaw_deg;
       v.camera.pitch_deg = p.pitch_deg;
       break;
     }
-    default: break;
+    default:
+      break;
   }
 }
-
 
 // How near (m, at the depth of what is picked) the pointer must be to a
 // control point, an arrow or a key strand: about 8 pixels at 720 rows.
@@ -135,8 +171,8 @@ void mouseButton(Window& w, int button, bool press, bool shift, double x, double
       // the key strands within the brush circle (its radius in metres at
       // the camera's distance), or at least those picked at the click
       const render::Camera& cam = c.view().camera;
-      const float brush = st->brush_pixels * 2.0f * cam.distance *
-                          std::tan(0.5f * glm::radians(cam.fov_deg)) / static_cast<float>(std::max(1, w.height));
+      const float brush = st->brush_pixels * 2.0f * cam.distance * std::tan(0.5f * glm::radians(cam.fov_deg)) /
+                          static_cast<float>(std::max(1, w.height));
       c.attempt([&] {
         st->tieAt(r, std::max(3.0f * pickTolerance(c), brush));
         c.note("tied: the ring goes round the key strands there");
@@ -191,8 +227,7 @@ void cursor(Window& w, double x, double y) {
     cam.yaw_deg -= static_cast<float>(dx) * 0.4f;
     cam.pitch_deg = std::clamp(cam.pitch_deg + static_cast<float>(dy) * 0.4f, -85.0f, 85.0f);
   }
-  if (c.mode() == Mode::Styling && c.styling() && !w.styling_drag && !w.brushing && !w.orbiting &&
-      !w.stroking)
+  if (c.mode() == Mode::Styling && c.styling() && !w.styling_drag && !w.brushing && !w.orbiting && !w.stroking)
     c.styling()->hoverAt(rayAt(w, x, y), pickTolerance(c));
   if (w.turning) {
     c.head().drag(dx, dy, w.shift, cam);
@@ -241,7 +276,8 @@ void onCursor(GLFWwindow* window, double x, double y) {
   Window& w = of(window);
   int ww = 1, wh = 1;
   glfwGetWindowSize(window, &ww, &wh);
-  w.shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  w.shift =
+      glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
   cursor(w, x * w.width / std::max(ww, 1), y * w.height / std::max(wh, 1));
 }
 

@@ -35,7 +35,7 @@ class WindowStrands {
   std::int64_t frame_ = -1;
   std::uint64_t generation_ = 0;
   std::size_t stride_ = 0;  // of the last carry
-  bool failed_ = false;  // then on the CPU: strands handed over for the GPU are not drawn
+  bool failed_ = false;     // then on the CPU: strands handed over for the GPU are not drawn
 };
 
 }  // namespace loosehair::viewer

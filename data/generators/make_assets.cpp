@@ -67,55 +67,54 @@ double smax(double a, double b, double k) { return -smin(-a, -b, k); }
 // into the torso with the torso's own neck just inside it, so no seam
 // shows where they meet.
 double head(dvec3 p) {
-  double d = ellipsoid(p, {0, 0.045, -0.012}, {0.074, 0.088, 0.096});           // cranium
-  d = smin(d, ellipsoid(p, {0, 0.000, 0.030}, {0.062, 0.080, 0.068}), 0.025);     // face
+  double d = ellipsoid(p, {0, 0.045, -0.012}, {0.074, 0.088, 0.096});          // cranium
+  d = smin(d, ellipsoid(p, {0, 0.000, 0.030}, {0.062, 0.080, 0.068}), 0.025);  // face
   for (double s : {-1.0, 1.0}) {
     d = smin(d, capsule(p, {s * 0.047, -0.050, -0.004}, {s * 0.014, -0.088, 0.066}, 0.011), 0.022);  // jaw
-    d = smin(d, ellipsoid(p, {s * 0.046, 0.008, 0.066}, {0.016, 0.013, 0.014}), 0.015);             // cheekbones
-    d = smin(d, ellipsoid(p, {s * 0.038, -0.020, 0.064}, {0.018, 0.019, 0.015}), 0.018);            // cheeks
-    d = smin(d, ellipsoid(p, {s * 0.071, 0.000, -0.010}, {0.011, 0.030, 0.019}), 0.006);            // ears
+    d = smin(d, ellipsoid(p, {s * 0.046, 0.008, 0.066}, {0.016, 0.013, 0.014}), 0.015);              // cheekbones
+    d = smin(d, ellipsoid(p, {s * 0.038, -0.020, 0.064}, {0.018, 0.019, 0.015}), 0.018);             // cheeks
+    d = smin(d, ellipsoid(p, {s * 0.071, 0.000, -0.010}, {0.011, 0.030, 0.019}), 0.006);             // ears
   }
-  d = smin(d, ellipsoid(p, {0, -0.086, 0.072}, {0.021, 0.015, 0.016}), 0.015);    // chin
-  d = smin(d, ellipsoid(p, {0, 0.046, 0.078}, {0.054, 0.012, 0.016}), 0.015);     // brow
+  d = smin(d, ellipsoid(p, {0, -0.086, 0.072}, {0.021, 0.015, 0.016}), 0.015);  // chin
+  d = smin(d, ellipsoid(p, {0, 0.046, 0.078}, {0.054, 0.012, 0.016}), 0.015);   // brow
   for (double s : {-1.0, 1.0}) {
-    d = smax(d, -ellipsoid(p, {s * 0.031, 0.026, 0.095}, {0.017, 0.011, 0.012}), 0.006);  // eye sockets
+    d = smax(d, -ellipsoid(p, {s * 0.031, 0.026, 0.095}, {0.017, 0.011, 0.012}), 0.006);    // eye sockets
     d = smin(d, ellipsoid(p, {s * 0.031, 0.025, 0.077}, {0.0122, 0.0115, 0.0122}), 0.003);  // eyes, lids half shut
   }
   d = smin(d, capsule(p, {0, 0.032, 0.096}, {0, -0.010, 0.111}, 0.0075), 0.012);  // nose bridge
   d = smin(d, ellipsoid(p, {0, -0.015, 0.110}, {0.012, 0.010, 0.011}), 0.006);    // nose tip
   for (double s : {-1.0, 1.0})
     d = smin(d, ellipsoid(p, {s * 0.012, -0.019, 0.101}, {0.008, 0.007, 0.008}), 0.005);  // nostril wings
-  d = smin(d, ellipsoid(p, {0, -0.038, 0.066}, {0.032, 0.030, 0.024}), 0.02);    // between nose and chin
-  d = smin(d, ellipsoid(p, {0, -0.043, 0.090}, {0.020, 0.0060, 0.008}), 0.006);   // upper lip
-  d = smin(d, ellipsoid(p, {0, -0.0535, 0.088}, {0.017, 0.0065, 0.008}), 0.006);  // lower lip
-  d = smax(d, -ellipsoid(p, {0, -0.0485, 0.096}, {0.016, 0.0008, 0.006}), 0.0015); // mouth
+  d = smin(d, ellipsoid(p, {0, -0.038, 0.066}, {0.032, 0.030, 0.024}), 0.02);             // between nose and chin
+  d = smin(d, ellipsoid(p, {0, -0.043, 0.090}, {0.020, 0.0060, 0.008}), 0.006);           // upper lip
+  d = smin(d, ellipsoid(p, {0, -0.0535, 0.088}, {0.017, 0.0065, 0.008}), 0.006);          // lower lip
+  d = smax(d, -ellipsoid(p, {0, -0.0485, 0.096}, {0.016, 0.0008, 0.006}), 0.0015);        // mouth
   // the neck ends inside the shoulders (its tip 2 cm above the bust's
   // bottom edge would be too low: cut flat there, the bust let hair in
   // under it onto the neck's tip), and a shorter neck swings less through
   // the torso when the head nods
-  d = smin(d, capsule(p, {0, -0.03, -0.014}, {0, -0.20, -0.014}, 0.051), 0.03);   // neck
+  d = smin(d, capsule(p, {0, -0.03, -0.014}, {0, -0.20, -0.014}, 0.051), 0.03);  // neck
   return d;
 }
 
 double torso(dvec3 p) {
-  double d = roundBox(p, {0, -0.45, -0.012}, {0.10, 0.14, 0.04}, 0.06);          // chest
-  d = smin(d, ellipsoid(p, {0, -0.34, -0.012}, {0.16, 0.13, 0.10}), 0.06);        // rib cage
-  for (double s : {-1.0, 1.0})                                                     // shoulders
+  double d = roundBox(p, {0, -0.45, -0.012}, {0.10, 0.14, 0.04}, 0.06);     // chest
+  d = smin(d, ellipsoid(p, {0, -0.34, -0.012}, {0.16, 0.13, 0.10}), 0.06);  // rib cage
+  for (double s : {-1.0, 1.0})                                              // shoulders
     d = smin(d, capsule(p, {s * 0.05, -0.205, -0.015}, {s * 0.165, -0.245, -0.015}, 0.05), 0.05);
-  d = smin(d, capsule(p, {0, -0.17, -0.014}, {0, -0.28, -0.014}, 0.048), 0.07);   // base of the neck, inside the head's
+  d = smin(d, capsule(p, {0, -0.17, -0.014}, {0, -0.28, -0.014}, 0.048), 0.07);  // base of the neck, inside the head's
   return d;
 }
 
 // Unit directions of an icosahedron subdivided `levels` times.
 loosehair::TriangleMesh icosphere(int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<dvec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<dvec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (auto& x : v) x = glm::normalize(x);
-  std::vector<glm::u32vec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  std::vector<glm::u32vec3> f = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
     auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
@@ -146,8 +145,7 @@ loosehair::TriangleMesh icosphere(int levels) {
 
 // Pushes every direction of `sphere` from `centre` to the outermost zero
 // crossing of `sdf` within `reach` metres.
-loosehair::TriangleMesh starMesh(const std::function<double(dvec3)>& sdf, dvec3 centre, double reach,
-                                 int levels) {
+loosehair::TriangleMesh starMesh(const std::function<double(dvec3)>& sdf, dvec3 centre, double reach, int levels) {
   loosehair::TriangleMesh m = icosphere(levels);
   const double step = 0.0005;
   for (auto& vert : m.vertices) {
@@ -188,7 +186,9 @@ bool writeLengthMap(const std::string& path, int size) {
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::fprintf(stderr, "usage: %s DATA_DIR\n  writes DATA_DIR/meshes/{head,torso}.ply and DATA_DIR/maps/hair_length.png\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s DATA_DIR\n  writes DATA_DIR/meshes/{head,torso}.ply and DATA_DIR/maps/hair_length.png\n",
+                 argv[0]);
     return 2;
   }
   const std::filesystem::path dir = argv[1];
@@ -205,9 +205,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "cannot write %s\n", (dir / "maps/hair_length.png").c_str());
       return 1;
     }
-    std::printf("head: %zu vertices, %zu triangles, %.2f l, box (%.3f %.3f %.3f)-(%.3f %.3f %.3f)\n",
-                rh.vertices, rh.triangles, rh.volume * 1e3, rh.lower.x, rh.lower.y, rh.lower.z,
-                rh.upper.x, rh.upper.y, rh.upper.z);
+    std::printf("head: %zu vertices, %zu triangles, %.2f l, box (%.3f %.3f %.3f)-(%.3f %.3f %.3f)\n", rh.vertices,
+                rh.triangles, rh.volume * 1e3, rh.lower.x, rh.lower.y, rh.lower.z, rh.upper.x, rh.upper.y, rh.upper.z);
     std::printf("torso: %zu vertices, %zu triangles, %.2f l\n", rt.vertices, rt.triangles, rt.volume * 1e3);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());

@@ -48,12 +48,12 @@ WispParams memberParams(float density, float offset_radius, float length_variati
 }
 
 struct Drape {
-  float length = 0.3f;   // m
-  float step = 0.01f;    // m between marched points
-  float bend = 0.2f;     // how fast the direction turns towards gravity per step
+  float length = 0.3f;                         // m
+  float step = 0.01f;                          // m between marched points
+  float bend = 0.2f;                           // how fast the direction turns towards gravity per step
   float clearance = 0.003f, layering = 0.03f;  // off the head: clearance + layering * s
-  float cut = -INFINITY;  // the strand ends where it first falls below this height (m)
-  int every = 4;         // a control point every this many steps
+  float cut = -INFINITY;                       // the strand ends where it first falls below this height (m)
+  int every = 4;                               // a control point every this many steps
 };
 
 // Pushes p off the head and torso to at least `gap`.

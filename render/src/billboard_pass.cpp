@@ -18,9 +18,9 @@ BillboardPass::BillboardPass() {
   hair_prog_.reset(program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
                                shaders::kajiya_kay_glsl + shaders::hair_shade_glsl + shaders::billboard_vert,
                            frag_head + shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::hair_frag));
-  opacity_prog_.reset(program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert,
-                              frag_head + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl +
-                                  shaders::opacity_frag));
+  opacity_prog_.reset(
+      program(std::string("#version 330 core\nuniform vec3 u_eye;\n") + shaders::billboard_vert,
+              frag_head + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl + shaders::opacity_frag));
   // The hair-strand texture, mipmapped (method.md §7.1).
   const int tw = kStrandWidth, th = kStrandHeight;
   static_assert((1 << kStrandLevels) == kStrandWidth && kStrandHeight >= kStrandWidth);
@@ -64,14 +64,18 @@ void BillboardPass::upload(const FrameInput& in, const glm::mat4& view, const st
   quads_.resize(n * 4 * 7);
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t i = order_[k];
-    const float v[7] = {in.position[i].x,  in.position[i].y,  in.position[i].z, in.direction[i].x,
-                        in.direction[i].y, in.direction[i].z, i < values.size() ? values[i] : 0.0f};
+    const float v[7] = {in.position[i].x,
+                        in.position[i].y,
+                        in.position[i].z,
+                        in.direction[i].x,
+                        in.direction[i].y,
+                        in.direction[i].z,
+                        i < values.size() ? values[i] : 0.0f};
     for (int corner = 0; corner < 4; ++corner) std::memcpy(&quads_[(k * 4 + corner) * 7], v, sizeof v);
   }
   glBindVertexArray(quad_vao_.get());
   glBindBuffer(GL_ARRAY_BUFFER, quad_vbo_.get());
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads_.size() * sizeof(float)), quads_.data(),
-               GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(quads_.size() * sizeof(float)), quads_.data(), GL_STREAM_DRAW);
   if (quad_capacity_ < n) {
     quad_capacity_ = std::max<std::size_t>(n, 2 * quad_capacity_);
     quad_indices_.resize(quad_capacity_ * 6);

@@ -32,14 +32,14 @@ void BodyPass::upload(Mesh& b, const TriangleMesh* mesh) {
   std::vector<float> data;
   data.reserve(mesh->vertices.size() * 6);
   for (std::size_t v = 0; v < mesh->vertices.size(); ++v)
-    data.insert(data.end(), {mesh->vertices[v].x, mesh->vertices[v].y, mesh->vertices[v].z, normals[v].x,
-                             normals[v].y, normals[v].z});
+    data.insert(data.end(), {mesh->vertices[v].x, mesh->vertices[v].y, mesh->vertices[v].z, normals[v].x, normals[v].y,
+                             normals[v].z});
   glBindVertexArray(b.vao.get());
   glBindBuffer(GL_ARRAY_BUFFER, b.vbo.get());
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.ibo.get());
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh->triangles.size() * 12),
-               mesh->triangles.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh->triangles.size() * 12), mesh->triangles.data(),
+               GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 24, nullptr);
   glEnableVertexAttribArray(1);

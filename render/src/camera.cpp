@@ -11,9 +11,12 @@ namespace loosehair::render {
 
 Camera Camera::preset(const std::string& name) {
   Camera c;
-  if (name == "front") c.yaw_deg = 0;
-  else if (name == "side") c.yaw_deg = 90;
-  else if (name == "back") c.yaw_deg = 180;
+  if (name == "front")
+    c.yaw_deg = 0;
+  else if (name == "side")
+    c.yaw_deg = 90;
+  else if (name == "back")
+    c.yaw_deg = 180;
   else if (name == "three-quarter") {
     c.yaw_deg = 35;
     c.pitch_deg = 12;
@@ -24,8 +27,8 @@ Camera Camera::preset(const std::string& name) {
 
 glm::vec3 Camera::eye() const {
   const float yaw = glm::radians(yaw_deg), pitch = glm::radians(pitch_deg);
-  return target + distance * glm::vec3(std::sin(yaw) * std::cos(pitch), std::sin(pitch),
-                                       std::cos(yaw) * std::cos(pitch));
+  return target +
+         distance * glm::vec3(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
 }
 
 glm::vec3 Camera::keyLight() const {

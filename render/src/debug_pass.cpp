@@ -56,8 +56,7 @@ void DebugPass::draw(const FrameInput& in, const RenderSettings& settings, const
   }
   glBindVertexArray(vao_.get());
   glBindBuffer(GL_ARRAY_BUFFER, vbo_.get());
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines_.size() * sizeof(float)), lines_.data(),
-               GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines_.size() * sizeof(float)), lines_.data(), GL_STREAM_DRAW);
   glDrawArrays(mode, 0, static_cast<GLsizei>(lines_.size() / 4));
 }
 

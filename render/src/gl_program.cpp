@@ -51,7 +51,9 @@ GLuint program(const std::string& vs, const std::string& fs) {
 GLuint computeProgram(const std::string& cs) { return link(glCreateProgram(), {compile(GL_COMPUTE_SHADER, cs)}); }
 
 GLint loc(GLuint p, const char* name) { return glGetUniformLocation(p, name); }
-void setMat(GLuint p, const char* n, const glm::mat4& m) { glUniformMatrix4fv(loc(p, n), 1, GL_FALSE, glm::value_ptr(m)); }
+void setMat(GLuint p, const char* n, const glm::mat4& m) {
+  glUniformMatrix4fv(loc(p, n), 1, GL_FALSE, glm::value_ptr(m));
+}
 void setVec(GLuint p, const char* n, const glm::vec3& v) { glUniform3fv(loc(p, n), 1, glm::value_ptr(v)); }
 void setF(GLuint p, const char* n, float v) { glUniform1f(loc(p, n), v); }
 void setI(GLuint p, const char* n, int v) { glUniform1i(loc(p, n), v); }

@@ -12,7 +12,7 @@ namespace loosehair::render {
 struct LightFrame {
   glm::vec3 lo{0.0f}, hi{0.0f};  // the hair's box (world)
   glm::vec3 centre{0.0f};
-  float radius = 0.0f;            // of the orthographic view
+  float radius = 0.0f;  // of the orthographic view
   glm::mat4 view{1.0f}, proj{1.0f};
   float zmin = 0.0f;  // the hair nearest the light (depth along it)
   float dz = 0.0f;    // the depth unit: a 15th of the hair's extent along the light

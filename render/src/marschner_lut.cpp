@@ -38,9 +38,7 @@ double etaPerp(double eta, double theta_d) {
 double phiOf(int p, double c, double g) {
   return (6.0 * p * c / kPi - 2.0) * g - 8.0 * p * c / (kPi * kPi * kPi) * g * g * g + p * kPi;
 }
-double dPhi(int p, double c, double g) {
-  return (6.0 * p * c / kPi - 2.0) - 24.0 * p * c / (kPi * kPi * kPi) * g * g;
-}
+double dPhi(int p, double c, double g) { return (6.0 * p * c / kPi - 2.0) - 24.0 * p * c / (kPi * kPi * kPi) * g * g; }
 
 double wrapAngle(double a) {
   while (a > kPi) a -= 2.0 * kPi;
@@ -61,8 +59,10 @@ std::vector<double> roots(int p, double c, double phi) {
       double a = g0, b = g1, fa = f0;
       for (int it = 0; it < 40; ++it) {
         const double m = 0.5 * (a + b), fm = f(m);
-        if ((fa <= 0.0) == (fm <= 0.0)) a = m, fa = fm;
-        else b = m;
+        if ((fa <= 0.0) == (fm <= 0.0))
+          a = m, fa = fm;
+        else
+          b = m;
       }
       out.push_back(0.5 * (a + b));
     }
@@ -115,8 +115,8 @@ MarschnerTables makeMarschnerTables(const MarschnerParams& par, int size) {
   const double alpha = par.shift_deg * kPi / 180.0, beta = par.width_deg * kPi / 180.0;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
-      const std::size_t at = (static_cast<std::size_t>(y) * static_cast<std::size_t>(size) +
-                              static_cast<std::size_t>(x)) * 4;
+      const std::size_t at =
+          (static_cast<std::size_t>(y) * static_cast<std::size_t>(size) + static_cast<std::size_t>(x)) * 4;
       // M: sin theta_i along u, sin theta_r along v
       const double si = 2.0 * (x + 0.5) / size - 1.0, sr = 2.0 * (y + 0.5) / size - 1.0;
       const double ti = std::asin(si), tr = std::asin(sr);
@@ -129,8 +129,8 @@ MarschnerTables makeMarschnerTables(const MarschnerParams& par, int size) {
       const double cphi = 2.0 * (x + 0.5) / size - 1.0, ctd = (y + 0.5) / size;
       const double phi = std::acos(std::clamp(cphi, -1.0, 1.0)), theta_d = std::acos(std::clamp(ctd, 0.0, 1.0));
       // R: the cuticle's reflection, with Fresnel at the half angle
-      t.n1[at + 0] = static_cast<float>(0.25 * std::cos(0.5 * phi) *
-                                        fresnel(par.eta, std::cos(theta_d) * std::cos(0.5 * phi)));
+      t.n1[at + 0] =
+          static_cast<float>(0.25 * std::cos(0.5 * phi) * fresnel(par.eta, std::cos(theta_d) * std::cos(0.5 * phi)));
       for (int c = 0; c < 3; ++c) {
         t.n1[at + 1 + static_cast<std::size_t>(c)] =
             static_cast<float>(azimuthal(1, phi, theta_d, par.eta, par.absorption[c]));

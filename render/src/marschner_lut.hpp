@@ -12,9 +12,9 @@
 namespace loosehair::render {
 
 struct MarschnerParams {
-  float eta = 1.55f;                 // index of refraction of the fibre
-  float shift_deg = -6.0f;           // alpha_R: the cuticle tilt (R shifts by it, TT by -1/2, TRT by -3/2)
-  float width_deg = 7.0f;            // beta_R: R's longitudinal width (TT half, TRT double)
+  float eta = 1.55f;                       // index of refraction of the fibre
+  float shift_deg = -6.0f;                 // alpha_R: the cuticle tilt (R shifts by it, TT by -1/2, TRT by -3/2)
+  float width_deg = 7.0f;                  // beta_R: R's longitudinal width (TT half, TRT double)
   glm::vec3 absorption{0.3f, 0.6f, 1.2f};  // sigma_a per unit fibre radius (colour of TT, TRT)
 };
 

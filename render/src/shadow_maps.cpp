@@ -27,8 +27,8 @@ ShadowMaps::ShadowMaps() {
   glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_.get());
   slice_tex_ = GlTexture::make();
   glBindTexture(GL_TEXTURE_2D_ARRAY, slice_tex_.get());
-  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, kShadowSize, kShadowSize, kSliceLayers, 0, GL_RGBA,
-               GL_UNSIGNED_BYTE, nullptr);
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, kShadowSize, kShadowSize, kSliceLayers, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               nullptr);
   clampedTexture(GL_TEXTURE_2D_ARRAY, GL_LINEAR);
   GLint max_buffers = 0;
   glGetIntegerv(GL_MAX_DRAW_BUFFERS, &max_buffers);

@@ -26,7 +26,16 @@ namespace {
 constexpr GLuint kLocalSize = 64;  // strand_carry.comp's local_size_x
 // the storage buffers, by their binding points in strand_carry.comp
 enum Buffer : GLuint {
-  kMotions, kBindIndex, kBindWeight, kRestPoints, kDetail, kStrandFirst, kOutPoints, kScratch, kVolumes, kBuffers
+  kMotions,
+  kBindIndex,
+  kBindWeight,
+  kRestPoints,
+  kDetail,
+  kStrandFirst,
+  kOutPoints,
+  kScratch,
+  kVolumes,
+  kBuffers
 };
 // rounds of (push out, length limit), as the CPU carry's rough rounds
 constexpr int kPushRounds = 3;
@@ -139,16 +148,17 @@ GpuStrandCarry::GpuStrandCarry(const StrandField& field, const DistanceVolumeOpt
   storage<glm::vec4>(r.buffers[kOutPoints].get(), std::vector<glm::vec4>(r.points, glm::vec4(0.0f)), GL_DYNAMIC_COPY);
   storage<float>(r.buffers[kVolumes].get(), r.values, GL_STATIC_DRAW);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, r.buffers[kScratch].get());
-  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, 2 * r.points) * sizeof(glm::vec4)),
-               nullptr, GL_DYNAMIC_COPY);
+  glBufferData(GL_SHADER_STORAGE_BUFFER,
+               static_cast<GLsizeiptr>(std::max<std::size_t>(1, 2 * r.points) * sizeof(glm::vec4)), nullptr,
+               GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
 GpuStrandCarry::~GpuStrandCarry() = default;
 
 void GpuStrandCarry::carry(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-                           const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world,
-                           int threads, std::size_t stride) {
+                           const std::vector<BodyPlacement>& bodies, const glm::mat4& head_to_world, int threads,
+                           std::size_t stride) {
   stride = std::max<std::size_t>(1, stride);
   Impl& r = *impl_;
   if (bodies.size() > static_cast<std::size_t>(kMaxBodies))

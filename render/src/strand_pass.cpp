@@ -21,14 +21,13 @@ constexpr std::size_t kLightStrands = 4000;
 StrandPass::StrandPass() {
   const std::string head = "#version 330 core\nuniform vec3 u_eye;\n";
   camera_prog_.reset(program(std::string("#version 330 core\n#define SHADE 1\nuniform vec3 u_eye;\n") +
-                             shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl +
-                             shaders::strand_shade_glsl +
-                             shaders::strand_vert,
-                         std::string("#version 330 core\n") + shaders::strand_frag));
+                                 shaders::nearest_hair_glsl + shaders::shadow_lookup_glsl + shaders::kajiya_kay_glsl +
+                                 shaders::strand_shade_glsl + shaders::strand_vert,
+                             std::string("#version 330 core\n") + shaders::strand_frag));
   composite_prog_.reset(program(shaders::fullscreen_vert, shaders::oit_composite_frag));
-  opacity_prog_.reset(program(head + shaders::strand_vert,
-                          std::string("#version 330 core\n") + shaders::nearest_hair_glsl + shaders::opacity_slices_glsl +
-                              shaders::strand_opacity_frag));
+  opacity_prog_.reset(
+      program(head + shaders::strand_vert, std::string("#version 330 core\n") + shaders::nearest_hair_glsl +
+                                               shaders::opacity_slices_glsl + shaders::strand_opacity_frag));
   vao_ = GlVertexArray::make();  // no attributes: the vertex shader pulls the points
   buffer_ = GlBuffer::make();
   buffer_tex_ = GlTexture::make();
@@ -108,8 +107,7 @@ void StrandPass::upload(const std::vector<glm::vec3>& points, int per_strand) {
 }
 
 void StrandPass::drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
-                             float pixel_scale, float radius, float opacity, bool nearest_pass,
-                             GLuint nearest_tex) {
+                             float pixel_scale, float radius, float opacity, bool nearest_pass, GLuint nearest_tex) {
   if (segments_ == 0) return;
   const GLuint p = opacity_prog_.get();
   glUseProgram(p);
@@ -173,8 +171,8 @@ void StrandPass::updateTables(const StrandShading& sh) {
 }
 
 bool StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& sh,
-                                 float radius, float opacity, const glm::mat4& lookup_coords, float kappa,
-                                 bool shadows, GLuint slice_tex, GLuint nearest_tex, std::size_t stride) {
+                                 float radius, float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows,
+                                 GLuint slice_tex, GLuint nearest_tex, std::size_t stride) {
   target.bindTransparency();
   const GLfloat zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);

@@ -51,8 +51,8 @@ class StrandPass {
   /// to (s, t, slice), `pixel_scale` is light pixels per metre.
   /// `nearest_pass`: the pass before, the depth of the nearest hair (a MIN
   /// blend); otherwise the slices, from `nearest_tex` on.
-  void drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir,
-                   float pixel_scale, float radius, float opacity, bool nearest_pass, GLuint nearest_tex);
+  void drawOpacity(const glm::mat4& view_proj, const glm::mat4& slice_coords, glm::vec3 proj_dir, float pixel_scale,
+                   float radius, float opacity, bool nearest_pass, GLuint nearest_tex);
   /// The texture unit of the nearest-hair depth in every program.
   static constexpr int kNearestUnit = 5;
   /// Whether strands `radius` wide at `pixels_per_metre` are drawn as lines:
@@ -62,15 +62,15 @@ class StrandPass {
   struct Camera {
     glm::mat4 view_proj{1.0f};
     glm::vec3 eye{0.0f};
-    float pixel_scale = 1.0f;  // pixels per metre at unit depth
+    float pixel_scale = 1.0f;                   // pixels per metre at unit depth
     float near_depth = 0.0f, far_depth = 1.0f;  // the hair's range of eye distances
   };
   /// Clears the target's transparency sums and draws the strands into them
   /// (depth-tested against its opaque picture, not written). Returns
   /// whether they were drawn as lines (asLines at the nearest hair).
-  bool drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading,
-                       float radius, float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows,
-                       GLuint slice_tex, GLuint nearest_tex, std::size_t stride = 1);
+  bool drawTransparent(const OffscreenTarget& target, const Camera& cam, const StrandShading& shading, float radius,
+                       float opacity, const glm::mat4& lookup_coords, float kappa, bool shadows, GLuint slice_tex,
+                       GLuint nearest_tex, std::size_t stride = 1);
   /// The sums over the target's opaque picture (a full-screen triangle from
   /// the attribute-less `empty_vao`).
   void composite(const OffscreenTarget& target, GLuint empty_vao);
@@ -85,7 +85,7 @@ class StrandPass {
   std::vector<GLsizei> strip_count_;
   std::vector<GLint> line_first_;
   std::vector<GLsizei> line_count_;
-  std::vector<GLint> subset_first_;    // drawEvery's strips
+  std::vector<GLint> subset_first_;  // drawEvery's strips
   std::vector<GLsizei> subset_count_;
   GlProgram camera_prog_, opacity_prog_, composite_prog_;
   GlVertexArray vao_;

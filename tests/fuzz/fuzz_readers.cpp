@@ -84,9 +84,12 @@ std::vector<Seed> builtinSeeds() {
       R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})";
   std::string p5 = "P5\n4 2\n255\n";
   for (int k = 0; k < 8; ++k) p5.push_back(static_cast<char>(k * 30));
-  return {{Kind::Mesh, ".obj", obj},         {Kind::Mesh, ".off", off},
-          {Kind::Mesh, ".ply", ply},         {Kind::Mesh, ".ply", binary_ply},
-          {Kind::Mesh, ".stl", stl},         {Kind::Mesh, ".gltf", gltf},
+  return {{Kind::Mesh, ".obj", obj},
+          {Kind::Mesh, ".off", off},
+          {Kind::Mesh, ".ply", ply},
+          {Kind::Mesh, ".ply", binary_ply},
+          {Kind::Mesh, ".stl", stl},
+          {Kind::Mesh, ".gltf", gltf},
           {Kind::Image, ".pgm", "P2\n# c\n3 2\n15\n0 5 10\n15 3 7\n"},
           {Kind::Image, ".pgm", p5}};
 }
@@ -107,13 +110,15 @@ std::vector<Seed> fileSeeds() {
                    R"( {"time": 0.5, "euler_deg": [30, 5, 0], "translation": [0, 0.01, 0]}]}})"});
   // grooms: two strands rooted on a sphere of radius 0.1, in each format
   loosehair::Polylines groom;
-  groom.points = {{0, 0.1f, 0}, {0, 0.15f, 0.01f}, {0.02f, 0.2f, 0.02f}, {0.1f, 0, 0}, {0.15f, -0.02f, 0}, {0.2f, -0.1f, 0}};
+  groom.points = {{0, 0.1f, 0}, {0, 0.15f, 0.01f},  {0.02f, 0.2f, 0.02f},
+                  {0.1f, 0, 0}, {0.15f, -0.02f, 0}, {0.2f, -0.1f, 0}};
   groom.first = {0, 3, 6};
   for (const auto& [ext, format] : {std::pair{".hair", "g.hair"}, {".groom.ply", "g.ply"}, {".groom.obj", "g.obj"}})
     seeds.push_back({Kind::Groom, ext, loosehair::polylineFileBytes(groom, format)});
   // snapshots of the tiny scenes, without air, with a grid, with particles
   for (int k = 0; k < 3; ++k) {
-    loosehair::SceneDesc scene = loosehair::loadScene(src + (k ? "/tests/data/tiny-wind.json" : "/tests/data/tiny.json"));
+    loosehair::SceneDesc scene =
+        loosehair::loadScene(src + (k ? "/tests/data/tiny-wind.json" : "/tests/data/tiny.json"));
     if (k == 2) scene.wind.model = loosehair::AirModel::Particles;
     loosehair::Solver solver = loosehair::buildSolver(scene);
     solver.advance(2);
@@ -125,10 +130,35 @@ std::vector<Seed> fileSeeds() {
 // One mutation of `s`, chosen by `rng`.
 void mutate(std::string& s, loosehair::Random& rng) {
   auto pick = [&](std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(rng.next() % n); };
-  static const char* const kTokens[] = {"1e400", "-1", "0", "nan", "1e-300", "-0", "99999999999999999999",
-                                        "2147483648", "-2147483649", "4294967296", "\"", "[", "{", "}",
-                                        "]", ",", ":", "null", "true", "\n", "#", "/", "//", "-", "e",
-                                        "\"\\u0000\"", "element vertex 9999", "f 1 2 99", "v nan 0 0"};
+  static const char* const kTokens[] = {"1e400",
+                                        "-1",
+                                        "0",
+                                        "nan",
+                                        "1e-300",
+                                        "-0",
+                                        "99999999999999999999",
+                                        "2147483648",
+                                        "-2147483649",
+                                        "4294967296",
+                                        "\"",
+                                        "[",
+                                        "{",
+                                        "}",
+                                        "]",
+                                        ",",
+                                        ":",
+                                        "null",
+                                        "true",
+                                        "\n",
+                                        "#",
+                                        "/",
+                                        "//",
+                                        "-",
+                                        "e",
+                                        "\"\\u0000\"",
+                                        "element vertex 9999",
+                                        "f 1 2 99",
+                                        "v nan 0 0"};
   switch (pick(8)) {
     case 0:  // flip a bit
       if (!s.empty()) s[pick(s.size())] ^= static_cast<char>(1u << pick(8));
@@ -163,8 +193,7 @@ void mutate(std::string& s, loosehair::Random& rng) {
       s.resize(pick(s.size() + 1));
       break;
     default:  // random bytes
-      for (std::size_t k = pick(8) + 1; k > 0; --k)
-        s.insert(pick(s.size() + 1), 1, static_cast<char>(rng.next()));
+      for (std::size_t k = pick(8) + 1; k > 0; --k) s.insert(pick(s.size() + 1), 1, static_cast<char>(rng.next()));
       break;
   }
   if (s.size() > (1u << 20)) s.resize(1u << 20);
@@ -172,22 +201,31 @@ void mutate(std::string& s, loosehair::Random& rng) {
 
 const char* kindName(Kind k) {
   switch (k) {
-    case Kind::Scene: return "scene";
-    case Kind::Mesh: return "mesh";
-    case Kind::Image: return "image";
-    case Kind::Style: return "style";
-    case Kind::Groom: return "groom";
-    case Kind::Snapshot: return "snapshot";
-    case Kind::Script: return "script";
-    case Kind::Motion: return "motion";
+    case Kind::Scene:
+      return "scene";
+    case Kind::Mesh:
+      return "mesh";
+    case Kind::Image:
+      return "image";
+    case Kind::Style:
+      return "style";
+    case Kind::Groom:
+      return "groom";
+    case Kind::Snapshot:
+      return "snapshot";
+    case Kind::Script:
+      return "script";
+    case Kind::Motion:
+      return "motion";
   }
   return "";
 }
 
 int usage() {
-  std::fputs("usage: loosehair_fuzz [--iterations N] [--seed S]\n"
-             "                      [--kind scene|mesh|image|style|groom|snapshot|script|motion|all] [FILE...]\n",
-             stderr);
+  std::fputs(
+      "usage: loosehair_fuzz [--iterations N] [--seed S]\n"
+      "                      [--kind scene|mesh|image|style|groom|snapshot|script|motion|all] [FILE...]\n",
+      stderr);
   return 2;
 }
 
@@ -202,9 +240,12 @@ int main(int argc, char** argv) {
     const std::string a = argv[k];
     if ((a == "--iterations" || a == "--seed" || a == "--kind") && k + 1 < argc) {
       const std::string v = argv[++k];
-      if (a == "--iterations") iterations = std::stol(v);
-      else if (a == "--seed") seed = std::stoull(v);
-      else kind = v;
+      if (a == "--iterations")
+        iterations = std::stol(v);
+      else if (a == "--seed")
+        seed = std::stoull(v);
+      else
+        kind = v;
     } else if (!a.empty() && a[0] == '-') {
       return usage();
     } else {
@@ -226,8 +267,7 @@ int main(int argc, char** argv) {
   for (Seed& s : fileSeeds()) seeds.push_back(std::move(s));
   std::vector<Seed> chosen;
   for (Seed& s : seeds)
-    if (kind == "all" || kind == kindName(s.kind))
-      chosen.push_back(s);
+    if (kind == "all" || kind == kindName(s.kind)) chosen.push_back(s);
   if (chosen.empty()) return usage();
   loosehair::Random rng(seed);
   long refused = 0;
@@ -252,7 +292,7 @@ int main(int argc, char** argv) {
     }
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("%ld inputs (%ld refused with an error, %ld read) in %.1f s, seed %llu: no crash\n", iterations,
-              refused, iterations - refused, seconds, static_cast<unsigned long long>(seed));
+  std::printf("%ld inputs (%ld refused with an error, %ld read) in %.1f s, seed %llu: no crash\n", iterations, refused,
+              iterations - refused, seconds, static_cast<unsigned long long>(seed));
   return 0;
 }

@@ -53,8 +53,8 @@ Solver& snapshotTarget(bool wind, bool particle_air) {
   static std::unique_ptr<Solver> solvers[3];
   const int k = wind ? (particle_air ? 2 : 1) : 0;
   if (!solvers[k]) {
-    SceneDesc scene = loadScene(std::string(LOOSEHAIR_SOURCE_DIR) + (wind ? "/tests/data/tiny-wind.json"
-                                                                          : "/tests/data/tiny.json"));
+    SceneDesc scene =
+        loadScene(std::string(LOOSEHAIR_SOURCE_DIR) + (wind ? "/tests/data/tiny-wind.json" : "/tests/data/tiny.json"));
     if (particle_air) scene.wind.model = AirModel::Particles;
     solvers[k] = std::make_unique<Solver>(buildSolver(scene));
   }
@@ -64,8 +64,8 @@ Solver& snapshotTarget(bool wind, bool particle_air) {
 }  // namespace
 
 std::string readInput(Kind kind, const std::string& extension, const std::string& bytes) {
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("loosehair-fuzz-" + std::to_string(::getpid()) + extension);
+  const auto path =
+      std::filesystem::temp_directory_path() / ("loosehair-fuzz-" + std::to_string(::getpid()) + extension);
   const std::string content = kind == Kind::Snapshot ? withConsistentFraming(bytes) : bytes;
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -12,11 +12,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const struct {
     Kind kind;
     const char* ext;
-  } kTargets[] = {{Kind::Scene, ".json"}, {Kind::Mesh, ".obj"}, {Kind::Mesh, ".ply"}, {Kind::Mesh, ".off"},
-                  {Kind::Mesh, ".stl"},   {Kind::Mesh, ".gltf"}, {Kind::Mesh, ".glb"}, {Kind::Image, ".pgm"},
-                  {Kind::Image, ".png"},  {Kind::Style, ".style.json"}, {Kind::Groom, ".hair"},
-                  {Kind::Groom, ".groom.ply"}, {Kind::Groom, ".groom.obj"}, {Kind::Snapshot, ".state"},
-                  {Kind::Script, ".script.json"}, {Kind::Motion, ".motion.json"}};
+  } kTargets[] = {{Kind::Scene, ".json"},        {Kind::Mesh, ".obj"},       {Kind::Mesh, ".ply"},
+                  {Kind::Mesh, ".off"},          {Kind::Mesh, ".stl"},       {Kind::Mesh, ".gltf"},
+                  {Kind::Mesh, ".glb"},          {Kind::Image, ".pgm"},      {Kind::Image, ".png"},
+                  {Kind::Style, ".style.json"},  {Kind::Groom, ".hair"},     {Kind::Groom, ".groom.ply"},
+                  {Kind::Groom, ".groom.obj"},   {Kind::Snapshot, ".state"}, {Kind::Script, ".script.json"},
+                  {Kind::Motion, ".motion.json"}};
   const auto& t = kTargets[data[0] % (sizeof kTargets / sizeof kTargets[0])];
   (void)loosehair::fuzz::readInput(t.kind, t.ext, std::string(reinterpret_cast<const char*>(data + 1), size - 1));
   return 0;

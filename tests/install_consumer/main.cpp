@@ -10,8 +10,7 @@ int main() {
   loosehair::SceneDesc scene = loosehair::parseScene(text, "inline");
   loosehair::Solver solver = loosehair::buildSolver(scene);
   solver.advance(10);
-  std::printf("stepped %llu steps, hash %016llx\n",
-              static_cast<unsigned long long>(solver.stepCount()),
+  std::printf("stepped %llu steps, hash %016llx\n", static_cast<unsigned long long>(solver.stepCount()),
               static_cast<unsigned long long>(solver.stateHash()));
   return 0;
 }

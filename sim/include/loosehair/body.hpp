@@ -44,8 +44,7 @@ class Body {
   /// For each of the n points p[k] (in the body's frame): phi[k] = signed
   /// distance (m, negative inside), normal[k] = unit outward normal of the
   /// nearest surface point (gradient of phi).
-  virtual void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                              glm::vec3* normal) const = 0;
+  virtual void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const = 0;
   /// The same where phi[k] < limit; elsewhere phi[k] is some value >= limit
   /// (a lower bound of the distance) and normal[k] is unspecified. For the
   /// solver's contact tests, which only look closer than a limit: a body may
@@ -59,8 +58,8 @@ class Body {
   /// an earlier query of the same, moving point left there, or -1 (MeshBody:
   /// the nearest triangle). Hints only make a query faster: the answer has
   /// the same bits whatever they hold. By default they are left alone.
-  virtual void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                         glm::vec3* normal, std::int32_t* hint) const {
+  virtual void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal,
+                                         std::int32_t* hint) const {
     (void)hint;
     signedDistanceBelow(p, n, limit, phi, normal);
   }
@@ -68,8 +67,7 @@ class Body {
   /// (MeshBody: its grid, within a voxel), for the velocity-level contact
   /// response and the air, which do not decide whether a particle is left
   /// inside. By default: signedDistanceBelow.
-  virtual void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                  glm::vec3* normal) const {
+  virtual void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal) const {
     signedDistanceBelow(p, n, limit, phi, normal);
   }
   /// How far (m) roughDistanceBelow's answers may lie above the exact
@@ -94,8 +92,7 @@ class Body {
 class SphereBody final : public Body {
  public:
   SphereBody(glm::vec3 center, float radius);
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override;
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const override;
   float roughError() const override { return 0.0f; }  // exact
   bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
   glm::vec3 center() const { return center_; }
@@ -110,8 +107,7 @@ class SphereBody final : public Body {
 class CapsuleBody final : public Body {
  public:
   CapsuleBody(glm::vec3 a, glm::vec3 b, float radius);
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override;
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const override;
   float roughError() const override { return 0.0f; }  // exact
   bool bounds(glm::vec3& lower, glm::vec3& upper) const override;
 
@@ -130,17 +126,15 @@ class CapsuleBody final : public Body {
 class UnionBody final : public Body {
  public:
   void add(std::shared_ptr<const Body> body) { parts_.push_back(std::move(body)); }
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override;
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const override;
   void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                            glm::vec3* normal) const override;
   /// The hint a point keeps is the nearest part's own, with the part
   /// (hint = part's hint * parts + part); the other parts are asked
   /// without one.
-  void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                 glm::vec3* normal, std::int32_t* hint) const override;
-  void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                          glm::vec3* normal) const override;
+  void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal,
+                                 std::int32_t* hint) const override;
+  void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal) const override;
   /// The parts' largest (their signedDistance is within it of the exact
   /// distance: exact, or a MeshBody's grid beyond its band); negative if
   /// any part has none.
@@ -185,8 +179,7 @@ class GridSdfBody final : public Body {
   /// messages. `from_cache` (optional) tells whether the cache was used.
   static std::shared_ptr<GridSdfBody> bake(const TriangleMesh& mesh, const SdfBakeOptions& options,
                                            bool* from_cache = nullptr);
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override;
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const override;
   /// Skips the exact query where the lowest grid value around the point's
   /// cell (kept per brick of kBrick^3 cells) already proves phi >= limit.
   void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
@@ -197,7 +190,7 @@ class GridSdfBody final : public Body {
     /// bake computed exactly (-infinity if none of them was)
     float lower;
     static constexpr int kMaxTriangles = 8;
-    int triangles = 0;   // the corners' distinct nearest triangles
+    int triangles = 0;  // the corners' distinct nearest triangles
     std::int32_t triangle[kMaxTriangles];
   };
   Cell cell(const glm::vec3& p) const;
@@ -226,11 +219,11 @@ class GridSdfBody final : public Body {
   /// The cell of p (clamped to the grid), the point clamped to the grid's
   /// box (whose upper corner is `top`), and the cell's offset in voxels
   /// (`inv`: 1 / voxel size).
-  void locate(const glm::vec3& p, const glm::vec3& top, float inv, glm::ivec3& cell,
-              glm::vec3& clamped, glm::vec3& f) const;
+  void locate(const glm::vec3& p, const glm::vec3& top, float inv, glm::ivec3& cell, glm::vec3& clamped,
+              glm::vec3& f) const;
   /// The exact query of p, given locate's results.
-  void sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc, const glm::vec3& f,
-              float& phi, glm::vec3& normal) const;
+  void sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc, const glm::vec3& f, float& phi,
+              glm::vec3& normal) const;
   void computeBricks();  // brick_min_ from values_
   // the steps of bake (sdf_body.cpp)
   bool readCache(const std::filesystem::path& cache_file, std::uint64_t key, std::size_t triangles);
@@ -239,8 +232,7 @@ class GridSdfBody final : public Body {
   void writeCache(const std::filesystem::path& cache_file, std::uint64_t key) const;
   std::size_t brickIndex(const glm::ivec3& brick) const;
   float at(int i, int j, int k) const {
-    return values_[(static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_.y) +
-                    static_cast<std::size_t>(j)) *
+    return values_[(static_cast<std::size_t>(k) * static_cast<std::size_t>(dims_.y) + static_cast<std::size_t>(j)) *
                        static_cast<std::size_t>(dims_.x) +
                    static_cast<std::size_t>(i)];
   }
@@ -271,14 +263,12 @@ class MeshBody final : public Body {
   ~MeshBody() override;
   MeshBody(const MeshBody&) = delete;
   MeshBody& operator=(const MeshBody&) = delete;
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override;
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const override;
   void signedDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
                            glm::vec3* normal) const override;
-  void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                 glm::vec3* normal, std::int32_t* hint) const override;
-  void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                          glm::vec3* normal) const override;
+  void signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal,
+                                 std::int32_t* hint) const override;
+  void roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal) const override;
   /// Its grid's error: the rough answers (and signedDistance's beyond its
   /// band) are within it of the exact distance, which decides the sign.
   float roughError() const override { return grid_error_; }
@@ -293,8 +283,8 @@ class MeshBody final : public Body {
   /// grid's normals in normal): replaced where -deep < phi < limit + grid
   /// error; where phi >= limit + error it becomes a lower bound >= limit.
   /// `hint` (optional): a seed triangle a point, set to the nearest found.
-  void refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi,
-              glm::vec3* normal, std::int32_t* hint = nullptr) const;
+  void refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi, glm::vec3* normal,
+              std::int32_t* hint = nullptr) const;
   std::shared_ptr<const GridSdfBody> grid_;
   std::unique_ptr<ExactDistance> exact_;
   float grid_error_ = 0.0f;

@@ -16,14 +16,14 @@
 namespace loosehair {
 
 struct ConnectionSet {
-  std::vector<std::uint32_t> offset;   // entries of particle i: [offset[i], offset[i+1])
+  std::vector<std::uint32_t> offset;      // entries of particle i: [offset[i], offset[i+1])
   std::vector<std::uint32_t> tip_offset;  // first tip-side entry of particle i
-  std::vector<std::uint32_t> partner;  // j
-  std::vector<float> rest_length;      // l_ij (m)
-  std::vector<float> strength;         // c_ij = a_ij * l_ij (m)
-  std::vector<float> cos_rest;         // cos(theta_ij), theta_ij = angle(t_i, x_ij) at rest
-  std::vector<float> sin_rest;         // sin(theta_ij)
-  std::vector<std::uint8_t> tip_side;  // 1: j in Nt(i) (towards the tip), 0: j in Nr(i)
+  std::vector<std::uint32_t> partner;     // j
+  std::vector<float> rest_length;         // l_ij (m)
+  std::vector<float> strength;            // c_ij = a_ij * l_ij (m)
+  std::vector<float> cos_rest;            // cos(theta_ij), theta_ij = angle(t_i, x_ij) at rest
+  std::vector<float> sin_rest;            // sin(theta_ij)
+  std::vector<std::uint8_t> tip_side;     // 1: j in Nt(i) (towards the tip), 0: j in Nr(i)
 
   std::size_t particleCount() const { return offset.empty() ? 0 : offset.size() - 1; }
   std::size_t entryCount() const { return partner.size(); }

@@ -27,11 +27,11 @@ struct GroomImportOptions {
 struct GroomImportReport {
   std::size_t strands_read = 0;
   std::size_t strands_kept = 0;
-  std::size_t skipped_far = 0;     // root too far from the scalp
-  std::size_t skipped_short = 0;   // fewer than two distinct points
-  std::size_t skipped_beyond = 0;  // a point beyond kMaxStyleCoordinate
-  std::size_t reversed = 0;        // stored tip first: turned round
-  float largest_root_distance = 0; // of the kept strands (m)
+  std::size_t skipped_far = 0;      // root too far from the scalp
+  std::size_t skipped_short = 0;    // fewer than two distinct points
+  std::size_t skipped_beyond = 0;   // a point beyond kMaxStyleCoordinate
+  std::size_t reversed = 0;         // stored tip first: turned round
+  float largest_root_distance = 0;  // of the kept strands (m)
 };
 
 /// The groom as a style on `head` (built from `head_desc`). A strand's root
@@ -39,8 +39,7 @@ struct GroomImportReport {
 /// the root moves onto the nearest scalp point and the rest of the strand
 /// is pushed out of the head by 2 mm where it dips in. `source` names the
 /// groom in messages. Throws StyleError naming the file and the strand.
-Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadModel& head,
-                  const std::string& source, const GroomImportOptions& options = {},
-                  GroomImportReport* report = nullptr);
+Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadModel& head, const std::string& source,
+                  const GroomImportOptions& options = {}, GroomImportReport* report = nullptr);
 
 }  // namespace loosehair

@@ -37,8 +37,8 @@ class HeadModel {
   /// Loads and checks the meshes, bakes their distance fields and builds the
   /// scalp. Throws SceneError naming `source` and the field. `report`
   /// receives the mesh figures, timings and warnings.
-  static HeadModel build(const HeadDesc& desc, const std::string& source,
-                         const MeshLimits& limits = {}, BuildReport* report = nullptr);
+  static HeadModel build(const HeadDesc& desc, const std::string& source, const MeshLimits& limits = {},
+                         BuildReport* report = nullptr);
   HeadModel(HeadModel&&) noexcept;
   HeadModel& operator=(HeadModel&&) noexcept;
   ~HeadModel();
@@ -80,7 +80,7 @@ class HeadModel {
   std::unique_ptr<ScalpSurface> scalp_;
   TriangleMesh head_mesh_;
   ScalpTriangles tris_;
-  std::unique_ptr<NearestTriangle> nearest_;  // the scalp triangles, for nearestScalpUv
+  std::unique_ptr<NearestTriangle> nearest_;                // the scalp triangles, for nearestScalpUv
   std::vector<std::uint32_t> bucket_start_, bucket_items_;  // uv buckets of triangles
   int buckets_ = 1;
   float mirror_x_ = 0.0f;

@@ -20,9 +20,9 @@ struct HeadPose {
 /// What the solver needs of the head at time t, all in double precision.
 struct HeadKinematics {
   HeadPose pose;
-  glm::dvec3 velocity{0.0};          // c'(t), world (m/s)
-  glm::dvec3 acceleration{0.0};      // c''(t), world (m/s^2)
-  glm::dvec3 angular_velocity{0.0};  // omega, head frame (rad/s)
+  glm::dvec3 velocity{0.0};              // c'(t), world (m/s)
+  glm::dvec3 acceleration{0.0};          // c''(t), world (m/s^2)
+  glm::dvec3 angular_velocity{0.0};      // omega, head frame (rad/s)
   glm::dvec3 angular_acceleration{0.0};  // alpha, head frame (rad/s^2)
 };
 
@@ -42,11 +42,9 @@ class HeadTrajectory {
   /// amplitude * sin(2 pi f (t - start)) for `cycles` periods after `start`,
   /// with a smooth envelope over the first and last period so that it starts
   /// and stops without jerk, then rest.
-  static HeadTrajectory shake(double amplitude_rad, double frequency_hz, double cycles,
-                              double start = 0.0);
+  static HeadTrajectory shake(double amplitude_rad, double frequency_hz, double cycles, double start = 0.0);
   /// The same as shake about the head's side axis (+X).
-  static HeadTrajectory nod(double amplitude_rad, double frequency_hz, double cycles,
-                            double start = 0.0);
+  static HeadTrajectory nod(double amplitude_rad, double frequency_hz, double cycles, double start = 0.0);
   /// Catmull-Rom interpolation of keyframes (sorted by time, at least two);
   /// the pose is held before the first and after the last.
   static HeadTrajectory keyframes(std::vector<HeadKeyframe> keys);

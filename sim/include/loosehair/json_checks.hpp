@@ -14,8 +14,7 @@ inline constexpr int kMaxJsonDepth = 64;
 
 /// Throws `Error` (constructed from a message string) naming `source` on
 /// the first problem.
-void checkJson(std::string_view text, const std::string& source,
-               void (*raise)(const std::string& message));
+void checkJson(std::string_view text, const std::string& source, void (*raise)(const std::string& message));
 
 /// At most `limit` characters of `text` for an error message, with "..."
 /// where it was cut.

@@ -63,17 +63,17 @@ struct MeshLoadOptions {
 /// What checkMesh found.
 struct MeshReport {
   std::size_t vertices = 0, triangles = 0;
-  std::size_t degenerate_removed = 0;   // zero-area or repeated-index triangles dropped
-  std::size_t boundary_edges = 0;       // edges with one triangle (holes), before filling
-  std::size_t holes_filled = 0;         // boundary loops closed by a fan of triangles
-  std::size_t nonmanifold_edges = 0;    // edges with three or more triangles
-  std::size_t misoriented_edges = 0;    // edges whose two triangles disagree in orientation
-  std::size_t components = 0;           // connected pieces (after dropping)
-  std::size_t parts_dropped = 0;        // open parts besides the largest, dropped
-  std::size_t triangles_dropped = 0;    // their triangles
-  double volume = 0;                    // enclosed volume (m^3), after reorientation
-  bool flipped = false;                 // the whole mesh was turned inside out and fixed
-  glm::vec3 lower{0.0f}, upper{0.0f};   // bounding box (m)
+  std::size_t degenerate_removed = 0;  // zero-area or repeated-index triangles dropped
+  std::size_t boundary_edges = 0;      // edges with one triangle (holes), before filling
+  std::size_t holes_filled = 0;        // boundary loops closed by a fan of triangles
+  std::size_t nonmanifold_edges = 0;   // edges with three or more triangles
+  std::size_t misoriented_edges = 0;   // edges whose two triangles disagree in orientation
+  std::size_t components = 0;          // connected pieces (after dropping)
+  std::size_t parts_dropped = 0;       // open parts besides the largest, dropped
+  std::size_t triangles_dropped = 0;   // their triangles
+  double volume = 0;                   // enclosed volume (m^3), after reorientation
+  bool flipped = false;                // the whole mesh was turned inside out and fixed
+  glm::vec3 lower{0.0f}, upper{0.0f};  // bounding box (m)
   /// The input was closed (after checkMesh the mesh always is: holes are filled).
   bool closed() const { return boundary_edges == 0 && nonmanifold_edges == 0; }
 };
@@ -81,8 +81,7 @@ struct MeshReport {
 /// Reads a mesh by its extension (.obj .ply .off .stl .gltf .glb), turns
 /// polygons into triangles, welds vertices at equal positions, converts to
 /// the simulator's frame and runs checkMesh. Throws MeshError.
-TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {},
-                      MeshReport* report = nullptr);
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {}, MeshReport* report = nullptr);
 
 /// Cleans and checks a mesh in place: drops degenerate triangles and
 /// unreferenced vertices, closes holes with a fan of triangles from each
@@ -106,8 +105,7 @@ MeshParts meshParts(const TriangleMesh& mesh);
 
 /// Drops the parts (connected pieces) that are open, other than the one with
 /// the most triangles (MeshLoadOptions::drop_open_parts); counts what went.
-void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
-                        std::size_t& triangles_dropped);
+void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped, std::size_t& triangles_dropped);
 
 /// Writes a binary little-endian PLY through OpenMesh (the whole file or
 /// nothing): float x y z vertices, triangle faces. Throws MeshError.

@@ -21,16 +21,16 @@ struct ParamInfo {
   /// not carry), or only when it is switched on (solver.cpp's fingerprint
   /// names those).
   enum class Print { Always, Never, WhenOn };
-  const char* name;     // the SimParams field (gravity.y for a component)
-  const char* unit;     // "" when dimensionless
+  const char* name;  // the SimParams field (gravity.y for a component)
+  const char* unit;  // "" when dimensionless
   Kind kind;
-  double lo, hi;        // the values it may take: [lo, hi], or (lo, hi] when lo_open
-  bool lo_open;         // lo itself is not allowed
-  bool logarithmic;     // a control steps in ratios, not differences
-  bool live;            // Solver::setParams takes it
-  bool in_scene;        // a scene file's "solver" object sets it under this name
-  Print print;          // the scene fingerprint
-  const char* help;     // one line
+  double lo, hi;     // the values it may take: [lo, hi], or (lo, hi] when lo_open
+  bool lo_open;      // lo itself is not allowed
+  bool logarithmic;  // a control steps in ratios, not differences
+  bool live;         // Solver::setParams takes it
+  bool in_scene;     // a scene file's "solver" object sets it under this name
+  Print print;       // the scene fingerprint
+  const char* help;  // one line
   double (*get)(const SimParams&);
   void (*set)(SimParams&, double);
 

@@ -33,8 +33,8 @@ struct RenderStrandOptions {
 /// grown on `threads` threads (the same strands for any count). Throws
 /// SceneError (or StyleError) naming the scene and field, and
 /// std::invalid_argument for options out of range.
-StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model,
-                            const RenderStrandOptions& options = {}, int threads = 1);
+StrandSet growRenderStrands(const SceneDesc& scene, const HeadModel& model, const RenderStrandOptions& options = {},
+                            int threads = 1);
 
 struct Particles;
 class StrandField;

@@ -13,8 +13,8 @@
 namespace loosehair {
 
 struct ScalpCoverage {
-  double covered = 0.0;          // share of the sampled area with a root within the radius (0..1)
-  std::vector<glm::vec3> bare;   // the sample points with none
+  double covered = 0.0;         // share of the sampled area with a root within the radius (0..1)
+  std::vector<glm::vec3> bare;  // the sample points with none
   std::size_t samples = 0;
 };
 

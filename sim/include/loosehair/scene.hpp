@@ -27,18 +27,18 @@ class SceneError : public std::runtime_error {
 struct Style;  // loosehair/style.hpp
 
 struct HairSpec {
-  int particles = 3000;        // target particle count, roots included
+  int particles = 3000;  // target particle count, roots included
   /// A style file (resolved path) whose member strands the hair is seeded
   /// from instead of the cantilever placement (method.md §6.2); `style_data`, if
   /// set, is used instead of reading it. The cantilever fields below are
   /// then unused.
   std::string style;
   std::shared_ptr<const Style> style_data;
-  float length = 0.25f;        // hair length L (m)
-  float mass = 0.06f;          // total hair mass (kg)
-  glm::vec3 whorl{0, 1, 0};    // whorl normal n_w (head frame, unit)
-  float w_t = 1.0f;            // weight of the direction away from the whorl
-  float w_n = 1.0f;            // weight of the scalp normal
+  float length = 0.25f;      // hair length L (m)
+  float mass = 0.06f;        // total hair mass (kg)
+  glm::vec3 whorl{0, 1, 0};  // whorl normal n_w (head frame, unit)
+  float w_t = 1.0f;          // weight of the direction away from the whorl
+  float w_n = 1.0f;          // weight of the scalp normal
   /// Cantilever stiffness EI / (weight per length) of the initial strands
   /// (m^3): larger hangs straighter, smaller droops more.
   float bending_stiffness = 5.0e-4f;
@@ -85,7 +85,7 @@ struct HeadDesc {
   float head_radius = 0.1f;  // m
   MeshSpec head_mesh;        // head_kind == Mesh: head and neck, turning with the head
   bool has_torso = false;
-  MeshSpec torso_mesh;       // shoulders and chest, fixed in the world
+  MeshSpec torso_mesh;  // shoulders and chest, fixed in the world
   ScalpKind scalp_kind = ScalpKind::SphereCap;
   float cap_angle_deg = 100.0f;  // scalp: spherical cap up to this angle from the crown (+Y)
   /// Control points of the front, right, back and left trimming curves
@@ -137,16 +137,20 @@ struct SceneDesc : HeadDesc {
   /// What buildSolver refuses to start (not read from the file: the
   /// program's --allow-expensive lifts them).
   struct CostLimits {
-    int max_substeps = 2000;                    // solver steps a frame
-    std::size_t max_particles = 2'000'000;      // hair.particles
-    std::size_t max_air_particles = 4'000'000;  // wind
-    MeshLimits mesh;                            // head and torso meshes
-    StrandBudget style;                         // a style's member strands
+    int max_substeps = 2000;                     // solver steps a frame
+    std::size_t max_particles = 2'000'000;       // hair.particles
+    std::size_t max_air_particles = 4'000'000;   // wind
+    MeshLimits mesh;                             // head and torso meshes
+    StrandBudget style;                          // a style's member strands
     std::size_t max_strand_points = 20'000'000;  // render strands' points (about 120 bytes each, bound)
     /// No limits (--allow-expensive): whatever the scene costs is started.
     static CostLimits unlimited() {
-      return {1 << 30, std::size_t{1} << 40, std::size_t{1} << 40, MeshLimits::unlimited(),
-              StrandBudget::unlimited(), StrandBudget::unlimited().max_points};
+      return {1 << 30,
+              std::size_t{1} << 40,
+              std::size_t{1} << 40,
+              MeshLimits::unlimited(),
+              StrandBudget::unlimited(),
+              StrandBudget::unlimited().max_points};
     }
   } limits;
 };
@@ -174,18 +178,17 @@ std::string keyframesJson(const std::vector<HeadKeyframe>& keys);
 
 /// What building a scene chose, for printing.
 struct BuildReport {
-  float poisson_radius = 0;        // r_P (m)
+  float poisson_radius = 0;          // r_P (m)
   float mean_neighbor_distance = 0;  // after the cantilever placement (m)
   int substeps = 0;
   double time_step = 0;  // s
   // mesh heads
   std::size_t head_vertices = 0, head_triangles = 0, torso_triangles = 0;
   std::size_t scalp_triangles = 0;
-  double scalp_area = 0;            // m^2
-  bool scalp_mean_value = false;    // the harmonic map fell back to mean-value weights
+  double scalp_area = 0;          // m^2
+  bool scalp_mean_value = false;  // the harmonic map fell back to mean-value weights
   bool sdf_from_cache = false;
-  double seconds_meshes = 0, seconds_sdf = 0, seconds_scalp = 0, seconds_sampling = 0,
-         seconds_strands = 0;
+  double seconds_meshes = 0, seconds_sdf = 0, seconds_scalp = 0, seconds_sampling = 0, seconds_strands = 0;
   /// Things the scene allows but a user should look at (a head far from
   /// human size, say), each a sentence naming the field and what to set.
   std::vector<std::string> warnings;

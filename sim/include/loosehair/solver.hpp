@@ -32,10 +32,10 @@ class NeighborGrid;
 class WindAir;
 class ThreadChoice;
 struct ShapeKeeping;
-struct SlicedConnections;  // solver/connection_passes.hpp
-struct StepContext;        // solver/step_context.hpp
-struct PairRecords;        // solver/neighbor_records.hpp
-struct SpringScratch;      // solver/spring_scratch.hpp
+struct SlicedConnections;    // solver/connection_passes.hpp
+struct StepContext;          // solver/step_context.hpp
+struct PairRecords;          // solver/neighbor_records.hpp
+struct SpringScratch;        // solver/spring_scratch.hpp
 enum class PositionRecords;  // solver/hair_hair.hpp
 class ImplicitSprings;
 class HairChain;
@@ -45,21 +45,21 @@ class HairChain;
 /// tethers, `body_contacts` the projection out of the bodies (and the
 /// trapped-hair pass).
 struct StageTimes {
-  double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0,
-         integrate = 0, strain_limit = 0, tethers = 0, body_contacts = 0, directions = 0;
+  double neighbors = 0, density = 0, springs = 0, hair_hair = 0, external = 0, integrate = 0, strain_limit = 0,
+         tethers = 0, body_contacts = 0, directions = 0;
   /// The wind's air particles: neighbours, density, forces, integration,
   /// body contact, emission and removal (0 without wind).
   double air = 0;
   double total() const {
-    return neighbors + density + springs + hair_hair + external + integrate + strain_limit + tethers +
-           body_contacts + directions + air;
+    return neighbors + density + springs + hair_hair + external + integrate + strain_limit + tethers + body_contacts +
+           directions + air;
   }
   StageTimes& operator+=(const StageTimes& o);
 };
 
 struct StepStats {
-  StageTimes last;      // the most recent step
-  StageTimes sum;       // all steps so far
+  StageTimes last;  // the most recent step
+  StageTimes sum;   // all steps so far
   std::uint64_t steps = 0;
   std::size_t neighbor_pairs = 0;      // ordered pairs within 2*h2, last step
   std::size_t active_connections = 0;  // pairs closer than 2*h1 at the end of the last step
@@ -82,9 +82,9 @@ struct InitReport {
   /// Non-root particles that cannot reach a root through root-side
   /// connections (method.md §3.1): they hang on nothing. Should be 0.
   std::size_t unanchored = 0;
-  float median_density = 0;       // kg/m^3, initial
-  float rest_density = 0;         // rho0 (kg/m^3)
-  double stable_time_step = 0;    // s, initial estimate
+  float median_density = 0;         // kg/m^3, initial
+  float rest_density = 0;           // rho0 (kg/m^3)
+  double stable_time_step = 0;      // s, initial estimate
   float collision_coefficient = 0;  // d_c of eq. 17 derived from collision_rate (kg m^3/s)
   float friction_coefficient = 0;   // d_fr of eq. 18
 };
@@ -140,8 +140,7 @@ class Solver {
   /// An obstacle (`obstacle` true) pushes hair like any body, but where it
   /// squeezes hair against the head or torso the head and torso win: the
   /// last projection of a step keeps particles out of them only.
-  void addWorldBody(std::shared_ptr<const Body> body,
-                    HeadTrajectory motion = HeadTrajectory::still(),
+  void addWorldBody(std::shared_ptr<const Body> body, HeadTrajectory motion = HeadTrajectory::still(),
                     double begin = -INFINITY, double end = INFINITY, bool obstacle = false);
   std::size_t worldBodyCount() const { return world_bodies_.size(); }
 
@@ -181,14 +180,14 @@ class Solver {
   /// Signed distance (m) from each head-frame point to the union of the
   /// head and the world bodies active at time t (obstacles too if asked);
   /// negative inside.
-  void bodyDistance(std::span<const glm::vec3> head_frame_points, double t,
-                    std::vector<float>& phi, bool include_obstacles = false) const;
+  void bodyDistance(std::span<const glm::vec3> head_frame_points, double t, std::vector<float>& phi,
+                    bool include_obstacles = false) const;
   /// Signed distance and outward normal (head frame) of the nearest of the
   /// head and the world bodies active at time t, obstacles included, exact
   /// where phi < limit (elsewhere phi >= limit, the normal unspecified);
   /// `rough`: by the bodies' fast approximation (Body::roughDistanceBelow).
-  void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit,
-                    std::span<float> phi, std::span<glm::vec3> normal, bool rough = false) const;
+  void bodyContacts(std::span<const glm::vec3> head_frame_points, double t, float limit, std::span<float> phi,
+                    std::span<glm::vec3> normal, bool rough = false) const;
   /// The head and the world bodies (obstacles too) placed as they are now,
   /// each with the map from the head frame into its own frame: the head
   /// first (identity). Detached from the solver: a thread of its own may
@@ -276,8 +275,8 @@ class Solver {
   void springForces(SpringScratch& s, std::vector<glm::vec3>& force) const;
   SpringScratch springFactorsNow() const;  // fresh buffers, for the const queries
   float entryFactor(const SpringScratch& s, std::size_t i, std::uint32_t e) const;  // alpha_ij
-  void computeRestFactors();           // side factors of the rest state (E A / sum l k W)
-  void computeDerivedCoefficients();   // rho0, d_c, d_fr from the parameters
+  void computeRestFactors();          // side factors of the rest state (E A / sum l k W)
+  void computeDerivedCoefficients();  // rho0, d_c, d_fr from the parameters
   /// The density stage (solver/density.hpp) at the current positions:
   /// writes density_, pressure_, pressure_term_ and the (x, m) records.
   void measureDensity(PairRecords& records);
@@ -292,23 +291,21 @@ class Solver {
     bool obstacle;
   };
   struct BodyFrame;  // per-step placement of the world bodies
-  void placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head,
-                   bool include_obstacles = true) const;
+  void placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head, bool include_obstacles = true) const;
   /// phi, normal and surface velocity of the nearest body; exact where phi <
   /// limit, elsewhere phi >= limit and the rest unspecified
   /// (Body::signedDistanceBelow; `rough`: Body::roughDistanceBelow).
   /// `index` (optional): the particles the points are, whose exact-query
   /// hints (body_hints_, made by prepareBodyHints) speed the exact queries
   /// up without changing their answers.
-  void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                   const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                   glm::vec3* surface_velocity, float limit = INFINITY, bool rough = false,
-                   const std::uint32_t* index = nullptr) const;
+  void queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head, const glm::vec3* x, std::size_t n,
+                   float* phi, glm::vec3* normal, glm::vec3* surface_velocity, float limit = INFINITY,
+                   bool rough = false, const std::uint32_t* index = nullptr) const;
   /// A hint a particle for the head and for every body of `frames`.
   void prepareBodyHints(const std::vector<BodyFrame>& frames) const;
   std::int32_t* bodyHints(const Body* body) const;
-  void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                         const glm::vec3* world, std::size_t n, float* phi) const;
+  void worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head, const glm::vec3* world,
+                         std::size_t n, float* phi) const;
   // the stages of step() after the forces; each returns what StepStats counts
   class PlacedBodies;  // the bodies as the stages ask them (solver_internal.hpp)
   // step()'s phases, in order (solver.cpp)
@@ -330,17 +327,16 @@ class Solver {
   /// moves and whether to absorb the corrections; writes positions and
   /// velocities (the corrections' moves as velocities).
   void projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
-                          const std::vector<BodyFrame>& frames,
-                          const std::vector<BodyFrame>& solid_frames, const HeadKinematics& head);
+                          const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
+                          const HeadKinematics& head);
   /// Whether the bodies are placed otherwise than at the last call (the
   /// grid air's bodies need placing again).
   bool airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
   std::vector<double> air_bodies_key_, air_bodies_scratch_;
   /// Body distances and (if `velocity`) world velocities at world points;
   /// `rough`: the bodies' grid distances (Body::roughDistanceBelow).
-  void worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                       const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity,
-                       bool rough) const;
+  void worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head, const glm::vec3* world,
+                       std::size_t n, float* phi, glm::vec3* velocity, bool rough) const;
 
   SimParams params_;
   Particles particles_;
@@ -348,8 +344,8 @@ class Solver {
   std::unique_ptr<WindAir> air_;  // the wind's, particles or a grid (wind_air.hpp)
   ConnectionSet connections_;
   std::unique_ptr<HairChain> chain_;   // no particle loose from the hair (hair_chain.hpp)
-  std::vector<std::uint8_t> trapped_;      // this step's particles caught beyond their tethers
-  float longest_hair_ = 0.0f;              // the largest arc length (m)
+  std::vector<std::uint8_t> trapped_;  // this step's particles caught beyond their tethers
+  float longest_hair_ = 0.0f;          // the largest arc length (m)
   std::vector<std::uint32_t> trapped_list_;
   std::shared_ptr<const Body> head_;
   // per body: each particle's nearest triangle from its last exact query
@@ -364,30 +360,30 @@ class Solver {
   double time_ = 0.0;
   mutable std::uint64_t fingerprint_ = 0;  // sceneFingerprint(), once taken
   mutable bool fingerprint_taken_ = false;
-  friend struct SnapshotAccess;  // snapshot.cpp
+  friend struct SnapshotAccess;      // snapshot.cpp
   bool absorb_corrections_ = false;  // the step after setKinematicState
 
   // derived at initialisation
-  std::vector<float> cross_section_;  // A_i
+  std::vector<float> cross_section_;                       // A_i
   std::vector<float> rest_factor_root_, rest_factor_tip_;  // a_r, a_t at rest
   float rest_density_ = 0, dc_ = 0, dfr_ = 0;
-  float median_density_ = 0;     // initial median hair density (kg/m^3)
-  double mean_hair_mass_ = 0;    // kg
+  float median_density_ = 0;   // initial median hair density (kg/m^3)
+  double mean_hair_mass_ = 0;  // kg
 
   // per step
   std::unique_ptr<NeighborGrid> grid_;
   std::vector<float> density_, pressure_, pressure_term_;  // rho, P, P / rho^2
-  std::vector<float> inverse_mass_;  // 0 for a root
-  std::unique_ptr<StepContext> step_;  // what the stages hand on (solver/step_context.hpp)
+  std::vector<float> inverse_mass_;                        // 0 for a root
+  std::unique_ptr<StepContext> step_;                      // what the stages hand on (solver/step_context.hpp)
   // step()'s placements of the world bodies, reused from step to step: at
   // the start, at the end, and at the end without obstacles
   std::vector<BodyFrame> start_frames_, end_frames_, solid_frames_;
   std::unique_ptr<SpringScratch> scratch_;
   std::unique_ptr<SlicedConnections> sliced_;  // the connections in the layout of the connection passes
-  std::unique_ptr<ShapeKeeping> shape_;  // params_.shape_keeping > 0
+  std::unique_ptr<ShapeKeeping> shape_;        // params_.shape_keeping > 0
   std::unique_ptr<ImplicitSprings> implicit_;  // params_.implicit_springs
-  std::vector<glm::vec3> spring_dv_;          // its velocity change, this step (the next one's start)
-  std::vector<glm::vec3> tie_point_;     // setTieTethers; both empty: none
+  std::vector<glm::vec3> spring_dv_;           // its velocity change, this step (the next one's start)
+  std::vector<glm::vec3> tie_point_;           // setTieTethers; both empty: none
   std::vector<float> tie_reach_;
 
   StepStats stats_;

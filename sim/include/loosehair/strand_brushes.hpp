@@ -48,8 +48,8 @@ struct BrushDab {
 /// smooth moves each inner point towards the middle of its neighbours.
 /// Throws StyleError for a weight or move list of the wrong size or a
 /// value that is not finite. `clearance` as StyleEditor::keptOutside.
-std::vector<glm::vec3> brushedKeyStrand(const std::vector<glm::vec3>& key, const BrushDab& dab,
-                                        const HeadModel& head, glm::vec3 root_normal, float clearance);
+std::vector<glm::vec3> brushedKeyStrand(const std::vector<glm::vec3>& key, const BrushDab& dab, const HeadModel& head,
+                                        glm::vec3 root_normal, float clearance);
 
 /// `p` pushed out of the head and the torso to `clearance` (m) where it is
 /// nearer (along the surfaces' normals, a few rounds for creases).

@@ -57,16 +57,15 @@ class StrandField {
   /// Binds `rest` (every strand at least 2 points; head frame) to the rest
   /// state `particles`. Throws std::invalid_argument on empty input, bad
   /// options or non-finite points.
-  StrandField(StrandSet rest, const Particles& particles, const StrandFieldOptions& options,
-              int threads = 1);
+  StrandField(StrandSet rest, const Particles& particles, const StrandFieldOptions& options, int threads = 1);
 
   /// The strands for particles at `positions` with hair `directions` (same
   /// frame as the rest state, one per particle): `out` receives
   /// rest().points.size() points. `bodies` (may be null) keeps points out
   /// of the bodies. Same bits for any thread count. Throws
   /// std::invalid_argument on wrong sizes.
-  void deform(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions,
-              const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads = 1) const;
+  void deform(std::span<const glm::vec3> positions, std::span<const glm::vec3> directions, const BodyContacts* bodies,
+              std::vector<glm::vec3>& out, int threads = 1) const;
   /// The same for a solver's current state, head frame, out of its bodies.
   void deform(const Solver& solver, std::vector<glm::vec3>& out, int threads = 1) const;
   /// The same in world coordinates (the head frame placed by the head's

@@ -103,10 +103,10 @@ struct Wisp {
 /// the head) and the hair beyond swings freely.
 struct HairTie {
   std::string name;
-  glm::vec3 center{0.0f};       // head frame (m)
-  glm::vec3 axis{0, -1, 0};     // the ring's axis (unit; hair runs along it)
-  float radius = 0.015f;        // inner radius of the ring (m)
-  float width = 0.012f;         // extent along the axis (m)
+  glm::vec3 center{0.0f};    // head frame (m)
+  glm::vec3 axis{0, -1, 0};  // the ring's axis (unit; hair runs along it)
+  float radius = 0.015f;     // inner radius of the ring (m)
+  float width = 0.012f;      // extent along the axis (m)
   /// Shape-keeping strength (Hz) of the hair the tie gathers, between the
   /// scalp and the ring: a tie pulls that hair taut against the head, which
   /// LCP, without bending or tension, cannot represent (docs/design.md).
@@ -190,15 +190,15 @@ glm::mat3 rootFrame(const HeadModel& head, glm::vec2 uv);
 /// A key strand moved to a new root: each control point keeps its
 /// coordinates in the root frame (rootFrame), from `from_uv` on `from` to
 /// `to_uv` on `to` (the same head for a paste).
-std::vector<glm::vec3> reRootKeyStrand(const std::vector<glm::vec3>& control, const HeadModel& from,
-                                       glm::vec2 from_uv, const HeadModel& to, glm::vec2 to_uv);
+std::vector<glm::vec3> reRootKeyStrand(const std::vector<glm::vec3>& control, const HeadModel& from, glm::vec2 from_uv,
+                                       const HeadModel& to, glm::vec2 to_uv);
 
 /// Member strands of a style, as polylines.
 struct StrandSet {
-  std::vector<glm::vec3> points;          // all strands' points, strand after strand
-  std::vector<std::uint32_t> first;       // strand k is points[first[k], first[k+1])
-  std::vector<std::uint32_t> wisp;        // per strand: the wisp it belongs to
-  std::vector<glm::vec2> root_uv;         // per strand: (u, v) of its root
+  std::vector<glm::vec3> points;     // all strands' points, strand after strand
+  std::vector<std::uint32_t> first;  // strand k is points[first[k], first[k+1])
+  std::vector<std::uint32_t> wisp;   // per strand: the wisp it belongs to
+  std::vector<glm::vec2> root_uv;    // per strand: (u, v) of its root
   std::size_t size() const { return wisp.size(); }
   std::size_t pointCount(std::size_t k) const { return first[k + 1] - first[k]; }
 };

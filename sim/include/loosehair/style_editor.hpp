@@ -128,8 +128,7 @@ class StyleEditor {
   /// the style's check would refuse it. `gathered`: key strands replaced in
   /// the same edit (as setKeyStrandsOf; the tie tool pulls the strands it
   /// ties into the ring), one undo step with the tie.
-  std::size_t addTie(const HairTie& tie,
-                     std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> gathered = {});
+  std::size_t addTie(const HairTie& tie, std::vector<std::pair<std::size_t, std::vector<glm::vec3>>> gathered = {});
   void deleteTie(std::size_t tie);
   void setTie(std::size_t tie, const HairTie& value);
   void setColour(glm::vec3 colour);

@@ -14,8 +14,7 @@ SphereBody::SphereBody(glm::vec3 center, float radius) : center_(center), radius
   if (!(radius > 0.0f)) throw std::invalid_argument("sphere radius must be positive");
 }
 
-void SphereBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                                glm::vec3* normal) const {
+void SphereBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
   for (std::size_t k = 0; k < n; ++k) {
     const glm::vec3 d = p[k] - center_;
     const float r = glm::length(d);
@@ -34,8 +33,7 @@ CapsuleBody::CapsuleBody(glm::vec3 a, glm::vec3 b, float radius) : a_(a), b_(b),
   if (!(radius > 0.0f) || !std::isfinite(radius)) throw std::invalid_argument("capsule radius must be positive");
 }
 
-void CapsuleBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                                 glm::vec3* normal) const {
+void CapsuleBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
   const glm::vec3 ab = b_ - a_;
   const float len2 = glm::dot(ab, ab);
   for (std::size_t k = 0; k < n; ++k) {
@@ -58,8 +56,8 @@ namespace {
 // phi, normal = the least over the parts of what `ask(part, phi, normal)`
 // gives
 template <class Ask>
-void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_t n, float* phi,
-               glm::vec3* normal, const Ask& ask) {
+void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_t n, float* phi, glm::vec3* normal,
+               const Ask& ask) {
   for (std::size_t k = 0; k < n; ++k) {
     phi[k] = INFINITY;
     normal[k] = glm::vec3(0.0f, 1.0f, 0.0f);
@@ -85,10 +83,9 @@ void leastOver(const std::vector<std::shared_ptr<const Body>>& parts, std::size_
 
 template <class Query>
 void UnionBody::least(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal, const Query& query) const {
-  leastOver(parts_, n, phi, normal,
-            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
-              query(*parts_[q], p + b, len, pb, nb);
-            });
+  leastOver(parts_, n, phi, normal, [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
+    query(*parts_[q], p + b, len, pb, nb);
+  });
 }
 
 void UnionBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
@@ -111,22 +108,21 @@ void UnionBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limi
   });
 }
 
-void UnionBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                          glm::vec3* normal, std::int32_t* hint) const {
+void UnionBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal,
+                                          std::int32_t* hint) const {
   const auto parts = static_cast<std::int32_t>(parts_.size());
   std::int32_t own[256];  // leastOver's block
-  leastOver(parts_, n, phi, normal,
-            [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
-              for (std::size_t k = 0; k < len; ++k) {
-                const std::int32_t h = hint[b + k];
-                own[k] = h >= 0 && h % parts == static_cast<std::int32_t>(q) ? h / parts : -1;
-              }
-              parts_[q]->signedDistanceBelowHinted(p + b, len, limit, pb, nb, own);
-              // the part's new hint, kept where it is the nearest so far
-              for (std::size_t k = 0; k < len; ++k)
-                if (own[k] >= 0 && pb[k] < phi[b + k] && own[k] <= (INT32_MAX - parts) / parts)
-                  hint[b + k] = own[k] * parts + static_cast<std::int32_t>(q);
-            });
+  leastOver(parts_, n, phi, normal, [&](std::uint32_t q, std::size_t b, std::size_t len, float* pb, glm::vec3* nb) {
+    for (std::size_t k = 0; k < len; ++k) {
+      const std::int32_t h = hint[b + k];
+      own[k] = h >= 0 && h % parts == static_cast<std::int32_t>(q) ? h / parts : -1;
+    }
+    parts_[q]->signedDistanceBelowHinted(p + b, len, limit, pb, nb, own);
+    // the part's new hint, kept where it is the nearest so far
+    for (std::size_t k = 0; k < len; ++k)
+      if (own[k] >= 0 && pb[k] < phi[b + k] && own[k] <= (INT32_MAX - parts) / parts)
+        hint[b + k] = own[k] * parts + static_cast<std::int32_t>(q);
+  });
 }
 
 float UnionBody::roughError() const {

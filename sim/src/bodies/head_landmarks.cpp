@@ -11,7 +11,8 @@ HeadHeights measureHeadHeights(const TriangleMesh& m) {
   if (m.vertices.empty()) throw MeshError("head heights: the mesh has no vertices");
   float ymin = INFINITY, ymax = -INFINITY;
   for (const auto& v : m.vertices) ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
-  if (!(ymax - ymin > 0.0f) || !std::isfinite(ymax - ymin)) throw MeshError("head heights: the mesh is flat or not finite");
+  if (!(ymax - ymin > 0.0f) || !std::isfinite(ymax - ymin))
+    throw MeshError("head heights: the mesh is flat or not finite");
   constexpr float kSlice = 0.005f;
   const int n = static_cast<int>(std::min(100000.0f, (ymax - ymin) / kSlice)) + 1;
   const auto un = static_cast<std::size_t>(n);

@@ -62,8 +62,8 @@ TriangleMesh sphereMesh(glm::vec3 c, float r) {
     const double th = std::numbers::pi * i / rings;
     for (int j = 0; j < sectors; ++j) {
       const double ph = 2.0 * std::numbers::pi * j / sectors;
-      m.vertices.push_back(c + r * glm::vec3(glm::dvec3(std::sin(th) * std::cos(ph), std::cos(th),
-                                                        std::sin(th) * std::sin(ph))));
+      m.vertices.push_back(
+          c + r * glm::vec3(glm::dvec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph))));
     }
   }
   auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * sectors + (j % sectors)); };
@@ -160,8 +160,7 @@ TriangleMesh loadBodyMesh(const MeshSpec& spec, const std::string& field, const 
   rep.seconds_meshes += since(t0);
   if (mesh_report.parts_dropped > 0)
     rep.warnings.push_back(field + ".mesh: dropped " + std::to_string(mesh_report.parts_dropped) +
-                           " open part(s) besides the largest (" +
-                           std::to_string(mesh_report.triangles_dropped) +
+                           " open part(s) besides the largest (" + std::to_string(mesh_report.triangles_dropped) +
                            " triangles: eyes, teeth or helper geometry enclose no volume); the hair "
                            "collides with the rest");
   return mesh;
@@ -181,9 +180,8 @@ glm::vec3 checkBodyMesh(const TriangleMesh& mesh, const MeshSpec& spec, const st
   const float size = std::max({extent.x, extent.y, extent.z});
   // A head or body of no size (a tiny scale) has no surface to hang hair on
   if (!(size >= 1e-3f))
-    throw SceneError(source + ": " + field + ".scale: the mesh is " + metres(size) +
-                     " across after scaling (scale " + num(spec.load.scale) +
-                     "); a " + field + " is tenths of a metre: set " + field +
+    throw SceneError(source + ": " + field + ".scale: the mesh is " + metres(size) + " across after scaling (scale " +
+                     num(spec.load.scale) + "); a " + field + " is tenths of a metre: set " + field +
                      ".scale to the mesh's unit in metres (0.01 for centimetres, 0.001 for millimetres)");
   // Positions are single precision: far from the origin they are coarse
   // against the mesh (at its bounding box's farthest corner)
@@ -191,11 +189,10 @@ glm::vec3 checkBodyMesh(const TriangleMesh& mesh, const MeshSpec& spec, const st
   const float spacing = reach * std::numeric_limits<float>::epsilon();
   if (spacing > kWarnPositionSpacing * size) {
     const glm::vec3 mid = 0.5f * (lo + hi);
-    const std::string text =
-        std::filesystem::path(spec.path).filename().string() + ": the mesh lies " + metres(reach) +
-        " from the origin, where positions are " + metres(spacing) + " apart (" + num(spacing / size) +
-        " of its " + metres(size) + " size): move it near the origin with " + field + ".offset [" +
-        num(-mid.x) + ", " + num(-mid.y) + ", " + num(-mid.z) + "]";
+    const std::string text = std::filesystem::path(spec.path).filename().string() + ": the mesh lies " + metres(reach) +
+                             " from the origin, where positions are " + metres(spacing) + " apart (" +
+                             num(spacing / size) + " of its " + metres(size) + " size): move it near the origin with " +
+                             field + ".offset [" + num(-mid.x) + ", " + num(-mid.y) + ", " + num(-mid.z) + "]";
     if (spacing > kMaxPositionSpacing * size) throw SceneError(source + ": " + field + ".mesh: " + text);
     rep.warnings.push_back(field + ".mesh: " + text);
   }
@@ -222,10 +219,9 @@ glm::vec3 checkBodyMesh(const TriangleMesh& mesh, const MeshSpec& spec, const st
     double cells = 1;
     for (int a = 0; a < 3; ++a) cells *= std::ceil(extent[a] / spec.sdf_voxel) + 8.0;
     if (cells > limits.max_sdf_cells)
-      throw SceneError(source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) +
-                       " makes a distance grid of " + std::to_string(static_cast<long long>(cells / 1e6)) +
-                       " million cells (" + std::to_string(static_cast<long long>(cells * 4 / 1e9)) +
-                       " GB), above the limit of " +
+      throw SceneError(source + ": " + field + ".sdf_voxel: " + metres(spec.sdf_voxel) + " makes a distance grid of " +
+                       std::to_string(static_cast<long long>(cells / 1e6)) + " million cells (" +
+                       std::to_string(static_cast<long long>(cells * 4 / 1e9)) + " GB), above the limit of " +
                        std::to_string(static_cast<long long>(limits.max_sdf_cells / 1e6)) +
                        " million: use a larger sdf_voxel or \"auto\" (or --allow-expensive)");
   }
@@ -258,8 +254,7 @@ std::shared_ptr<const Body> bakeBody(const TriangleMesh& mesh, const MeshSpec& s
     } catch (const std::bad_alloc&) {
       throw SceneError(source + ": " + field + ".sdf_voxel: not enough memory for the distance grid");
     } catch (const std::exception& e) {
-      throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) +
-                       ")");
+      throw SceneError(source + ": " + field + ": the signed-distance bake failed (" + clipped(e.what(), 200) + ")");
     }
     all_cached = all_cached && cached;
     return std::make_shared<MeshBody>(piece, grid);
@@ -292,12 +287,10 @@ void checkSphereHead(const HeadDesc& desc, const std::string& source, BuildRepor
     throw SceneError(source + ": head.radius: " + num(desc.head_radius) +
                      " m has no surface to hang hair on; a human head is about 0.1 m");
   if (desc.head_radius < 0.04 || desc.head_radius > 0.3)
-    rep.warnings.push_back("head.radius: " + num(desc.head_radius) +
-                           " m is far from a human head (about 0.1 m)");
+    rep.warnings.push_back("head.radius: " + num(desc.head_radius) + " m is far from a human head (about 0.1 m)");
 }
 
 }  // namespace
-
 
 HeadModel::HeadModel() = default;
 HeadModel::HeadModel(HeadModel&&) noexcept = default;
@@ -376,8 +369,10 @@ void HeadModel::buildScalpTables() {
     const auto tr = t.triangles[k];
     const glm::vec2 lo = glm::min(t.uvs[tr.x], glm::min(t.uvs[tr.y], t.uvs[tr.z]));
     const glm::vec2 hi = glm::max(t.uvs[tr.x], glm::max(t.uvs[tr.y], t.uvs[tr.z]));
-    const int x0 = std::clamp(static_cast<int>(lo.x * static_cast<float>(nb)), 0, nb - 1), x1 = std::clamp(static_cast<int>(hi.x * static_cast<float>(nb)), 0, nb - 1);
-    const int y0 = std::clamp(static_cast<int>(lo.y * static_cast<float>(nb)), 0, nb - 1), y1 = std::clamp(static_cast<int>(hi.y * static_cast<float>(nb)), 0, nb - 1);
+    const int x0 = std::clamp(static_cast<int>(lo.x * static_cast<float>(nb)), 0, nb - 1),
+              x1 = std::clamp(static_cast<int>(hi.x * static_cast<float>(nb)), 0, nb - 1);
+    const int y0 = std::clamp(static_cast<int>(lo.y * static_cast<float>(nb)), 0, nb - 1),
+              y1 = std::clamp(static_cast<int>(hi.y * static_cast<float>(nb)), 0, nb - 1);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) lists[static_cast<std::size_t>(y * nb + x)].push_back(k);
   }
@@ -402,8 +397,7 @@ HeadModel HeadModel::build(const HeadDesc& desc, const std::string& source, cons
   m.desc_ = desc;
   if (desc.head_kind == HeadKind::Sphere) {
     checkSphereHead(desc, source, rep);
-    m.scalp_ = std::make_unique<SphereCapScalp>(desc.head_center, desc.head_radius,
-                                                glm::radians(desc.cap_angle_deg));
+    m.scalp_ = std::make_unique<SphereCapScalp>(desc.head_center, desc.head_radius, glm::radians(desc.cap_angle_deg));
     m.head_ = std::make_shared<SphereBody>(desc.head_center, desc.head_radius);
     m.head_mesh_ = sphereMesh(desc.head_center, desc.head_radius);
   } else {

@@ -22,8 +22,8 @@ std::vector<std::string> headOrientationWarnings(const TriangleMesh& mesh, const
     std::snprintf(buf, sizeof buf,
                   "%s: the mesh is %.3g m tall (y), %.3g m wide (x) and %.3g m deep (z): it seems to lie "
                   "on its side; if its up axis is not +y, set %s.up (for example \"+z\") and %s.front",
-                  field.c_str(), static_cast<double>(ext.y), static_cast<double>(ext.x),
-                  static_cast<double>(ext.z), field.c_str(), field.c_str());
+                  field.c_str(), static_cast<double>(ext.y), static_cast<double>(ext.x), static_cast<double>(ext.z),
+                  field.c_str(), field.c_str());
     out.emplace_back(buf);
     return out;
   }

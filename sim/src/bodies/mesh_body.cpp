@@ -17,8 +17,7 @@
 
 namespace loosehair {
 
-MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> grid)
-    : grid_(std::move(grid)) {
+MeshBody::MeshBody(const TriangleMesh& mesh, std::shared_ptr<const GridSdfBody> grid) : grid_(std::move(grid)) {
   if (!grid_) throw std::invalid_argument("MeshBody: no grid");
   exact_ = std::make_unique<ExactDistance>(mesh);
   // sqrt(3/4) voxel for the interpolation, as much for the values' excess
@@ -42,8 +41,8 @@ bool MeshBody::bounds(glm::vec3& lower, glm::vec3& upper) const {
 
 MeshBody::~MeshBody() = default;
 
-void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi,
-                      glm::vec3* normal, std::int32_t* hint) const {
+void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep, float* phi, glm::vec3* normal,
+                      std::int32_t* hint) const {
   for (std::size_t k = 0; k < n; ++k) {
     const float g = phi[k];
     if (!(g < limit + grid_error_)) {
@@ -82,8 +81,7 @@ void MeshBody::refine(const glm::vec3* p, std::size_t n, float limit, float deep
   }
 }
 
-void MeshBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                              glm::vec3* normal) const {
+void MeshBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
   grid_->signedDistance(p, n, phi, normal);
   // Exact within two grid errors of the surface; beyond, the grid's value
   // (within its error) stands.
@@ -99,8 +97,8 @@ void MeshBody::signedDistanceBelow(const glm::vec3* p, std::size_t n, float limi
   signedDistanceBelowHinted(p, n, limit, phi, normal, nullptr);
 }
 
-void MeshBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                         glm::vec3* normal, std::int32_t* hint) const {
+void MeshBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal,
+                                         std::int32_t* hint) const {
   if (!(limit < std::numeric_limits<float>::max())) {
     signedDistance(p, n, phi, normal);
     return;
@@ -109,8 +107,7 @@ void MeshBody::signedDistanceBelowHinted(const glm::vec3* p, std::size_t n, floa
   refine(p, n, limit, std::numeric_limits<float>::infinity(), phi, normal, hint);
 }
 
-void MeshBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi,
-                                  glm::vec3* normal) const {
+void MeshBody::roughDistanceBelow(const glm::vec3* p, std::size_t n, float limit, float* phi, glm::vec3* normal) const {
   grid_->signedDistanceBelow(p, n, limit, phi, normal);
 }
 

@@ -66,9 +66,8 @@ bool GridSdfBody::readCache(const std::filesystem::path& cache_file, std::uint64
   GridSdfBody* body = this;
   std::ifstream in(cache_file, std::ios::binary);
   CacheHeader h;
-  if (in && in.read(reinterpret_cast<char*>(&h), sizeof h) && h.magic == kCacheMagic &&
-      h.version == kCacheVersion && h.key == key && h.voxel == voxel && h.dims[0] == dims.x &&
-      h.dims[1] == dims.y && h.dims[2] == dims.z) {
+  if (in && in.read(reinterpret_cast<char*>(&h), sizeof h) && h.magic == kCacheMagic && h.version == kCacheVersion &&
+      h.key == key && h.voxel == voxel && h.dims[0] == dims.x && h.dims[1] == dims.y && h.dims[2] == dims.z) {
     body->values_.resize(static_cast<std::size_t>(cells));
     body->nearest_.resize(static_cast<std::size_t>(cells));
     bool ok = in.read(reinterpret_cast<char*>(body->values_.data()),
@@ -76,8 +75,7 @@ bool GridSdfBody::readCache(const std::filesystem::path& cache_file, std::uint64
               in.read(reinterpret_cast<char*>(body->nearest_.data()),
                       static_cast<std::streamsize>(body->nearest_.size() * sizeof(std::int32_t)));
     for (std::size_t k = 0; ok && k < body->nearest_.size(); ++k)
-      ok = body->nearest_[k] >= -1 &&
-           body->nearest_[k] < static_cast<std::int64_t>(triangles);
+      ok = body->nearest_[k] >= -1 && body->nearest_[k] < static_cast<std::int64_t>(triangles);
     if (ok) return true;
   }
   return false;
@@ -107,14 +105,13 @@ void GridSdfBody::convert(const TriangleMesh& mesh, glm::vec3 glo, float margin)
   // gives the nearest triangle of every voxel in the band, which the exact
   // queries of MeshBody start from.
   for (auto& p : points) p /= voxel;
-  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(
-      points.data(), points.size(), tris.data(), tris.size());
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points.data(), points.size(),
+                                                                                     tris.data(), tris.size());
   openvdb::Int32Grid index_grid(static_cast<openvdb::Int32>(openvdb::util::INVALID_IDX));
   // Without renormalisation the voxels keep their exact distances to the
   // nearest triangle, which the Lipschitz bounds of cell() rely on.
-  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-      adapter, *xform, band, std::numeric_limits<float>::max(),
-      openvdb::tools::DISABLE_RENORMALIZATION, &index_grid);
+  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *xform, band, std::numeric_limits<float>::max(),
+                                                               openvdb::tools::DISABLE_RENORMALIZATION, &index_grid);
   auto acc = grid->getConstAccessor();
   auto index_acc = index_grid.getConstAccessor();
   body->values_.resize(static_cast<std::size_t>(cells));
@@ -186,16 +183,14 @@ void GridSdfBody::writeCache(const std::filesystem::path& cache_file, std::uint6
     AtomicFile out(cache_file.string());
     out.write({reinterpret_cast<const char*>(&h), sizeof h});
     out.write({reinterpret_cast<const char*>(body->values_.data()), body->values_.size() * sizeof(float)});
-    out.write({reinterpret_cast<const char*>(body->nearest_.data()),
-               body->nearest_.size() * sizeof(std::int32_t)});
+    out.write({reinterpret_cast<const char*>(body->nearest_.data()), body->nearest_.size() * sizeof(std::int32_t)});
     out.commit();
   } catch (const FileError&) {
     // a cache is optional: without it the next run bakes again
   }
 }
 
-std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const SdfBakeOptions& opt,
-                                               bool* from_cache) {
+std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const SdfBakeOptions& opt, bool* from_cache) {
   if (from_cache) *from_cache = false;
   if (mesh.triangles.empty()) throw MeshError("signed-distance bake: the mesh has no triangles");
   glm::vec3 lo(INFINITY), hi(-INFINITY);
@@ -204,8 +199,7 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
     hi = glm::max(hi, p);
   }
   const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  if (!(extent > 0.0f) || !std::isfinite(extent))
-    throw MeshError("signed-distance bake: the mesh has no extent");
+  if (!(extent > 0.0f) || !std::isfinite(extent)) throw MeshError("signed-distance bake: the mesh has no extent");
   const float voxel = opt.voxel_size > 0.0f ? opt.voxel_size : extent / 128.0f;
   if (!(voxel > 0.0f) || !std::isfinite(voxel) || !(opt.margin >= 0.0f))
     throw MeshError("signed-distance bake: voxel size and margin must be positive");
@@ -215,9 +209,8 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
   const glm::ivec3 dims = glm::ivec3(ghi - glo) + 1;
   const double cells = static_cast<double>(dims.x) * dims.y * dims.z;
   if (cells > 4.0e8)
-    throw MeshError("signed-distance bake: a grid of " + std::to_string(dims.x) + "x" +
-                    std::to_string(dims.y) + "x" + std::to_string(dims.z) +
-                    " is too large; use a larger voxel size");
+    throw MeshError("signed-distance bake: a grid of " + std::to_string(dims.x) + "x" + std::to_string(dims.y) + "x" +
+                    std::to_string(dims.z) + " is too large; use a larger voxel size");
 
   auto body = std::shared_ptr<GridSdfBody>(new GridSdfBody());
   body->lower_ = glo * voxel;
@@ -255,14 +248,13 @@ std::shared_ptr<GridSdfBody> GridSdfBody::bake(const TriangleMesh& mesh, const S
 
 // (inline: called per point in the queries below, the only callers)
 inline std::size_t GridSdfBody::brickIndex(const glm::ivec3& b) const {
-  return (static_cast<std::size_t>(b.z) * static_cast<std::size_t>(bricks_.y) +
-          static_cast<std::size_t>(b.y)) *
+  return (static_cast<std::size_t>(b.z) * static_cast<std::size_t>(bricks_.y) + static_cast<std::size_t>(b.y)) *
              static_cast<std::size_t>(bricks_.x) +
          static_cast<std::size_t>(b.x);
 }
 
-inline void GridSdfBody::locate(const glm::vec3& p, const glm::vec3& top, float inv,
-                                glm::ivec3& c, glm::vec3& pc, glm::vec3& f) const {
+inline void GridSdfBody::locate(const glm::vec3& p, const glm::vec3& top, float inv, glm::ivec3& c, glm::vec3& pc,
+                                glm::vec3& f) const {
   pc = glm::clamp(p, lower_, top);
   const glm::vec3 q = (pc - lower_) * inv;
   c = glm::min(glm::ivec3(q), dims_ - 2);
@@ -289,8 +281,8 @@ void GridSdfBody::computeBricks() {
       }
 }
 
-inline void GridSdfBody::sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc,
-                         const glm::vec3& f, float& phi, glm::vec3& normal) const {
+inline void GridSdfBody::sample(const glm::vec3& p, const glm::ivec3& c, const glm::vec3& pc, const glm::vec3& f,
+                                float& phi, glm::vec3& normal) const {
   const float c000 = at(c.x, c.y, c.z), c100 = at(c.x + 1, c.y, c.z);
   const float c010 = at(c.x, c.y + 1, c.z), c110 = at(c.x + 1, c.y + 1, c.z);
   const float c001 = at(c.x, c.y, c.z + 1), c101 = at(c.x + 1, c.y, c.z + 1);
@@ -299,12 +291,9 @@ inline void GridSdfBody::sample(const glm::vec3& p, const glm::ivec3& c, const g
   const float value = hz * (hy * (hx * c000 + gx * c100) + gy * (hx * c010 + gx * c110)) +
                       gz * (hy * (hx * c001 + gx * c101) + gy * (hx * c011 + gx * c111));
   glm::vec3 grad;
-  grad.x = hz * (hy * (c100 - c000) + gy * (c110 - c010)) +
-           gz * (hy * (c101 - c001) + gy * (c111 - c011));
-  grad.y = hz * (hx * (c010 - c000) + gx * (c110 - c100)) +
-           gz * (hx * (c011 - c001) + gx * (c111 - c101));
-  grad.z = hy * (hx * (c001 - c000) + gx * (c101 - c100)) +
-           gy * (hx * (c011 - c010) + gx * (c111 - c110));
+  grad.x = hz * (hy * (c100 - c000) + gy * (c110 - c010)) + gz * (hy * (c101 - c001) + gy * (c111 - c011));
+  grad.y = hz * (hx * (c010 - c000) + gx * (c110 - c100)) + gz * (hx * (c011 - c001) + gx * (c111 - c101));
+  grad.z = hy * (hx * (c001 - c000) + gx * (c101 - c100)) + gy * (hx * (c011 - c010) + gx * (c111 - c110));
   const glm::vec3 out = p - pc;
   const float out_len = glm::length(out);
   if (out_len > 0.0f) {
@@ -357,8 +346,7 @@ GridSdfBody::Cell GridSdfBody::cell(const glm::vec3& p) const {
   return out;
 }
 
-void GridSdfBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                                 glm::vec3* normal) const {
+void GridSdfBody::signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const {
   const glm::vec3 top = lower_ + voxel_ * glm::vec3(dims_ - 1);
   const float inv = 1.0f / voxel_;
   for (std::size_t k = 0; k < n; ++k) {

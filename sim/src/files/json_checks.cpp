@@ -56,7 +56,7 @@ class Checker : public nlohmann::json_sax<json> {
   struct Level {
     bool object;
     std::set<std::string> keys;
-    std::string key;      // the current key (objects)
+    std::string key;        // the current key (objects)
     std::size_t index = 0;  // the current element (arrays)
   };
 
@@ -114,12 +114,11 @@ class Checker : public nlohmann::json_sax<json> {
 
 std::string clipped(std::string_view text, std::size_t limit) {
   if (text.size() <= limit) return std::string(text);
-  return std::string(text.substr(0, limit > 3 ? limit - 3 : 0)) + "... (" +
-         std::to_string(text.size()) + " characters)";
+  return std::string(text.substr(0, limit > 3 ? limit - 3 : 0)) + "... (" + std::to_string(text.size()) +
+         " characters)";
 }
 
-void checkJson(std::string_view text, const std::string& source,
-               void (*raise)(const std::string& message)) {
+void checkJson(std::string_view text, const std::string& source, void (*raise)(const std::string& message)) {
   Checker checker;
   const bool ok = json::sax_parse(text.begin(), text.end(), &checker, json::input_format_t::json,
                                   /*strict=*/true);
@@ -142,8 +141,10 @@ void checkJson(std::string_view text, const std::string& source,
   const std::size_t at = std::min(checker.position(), text.size());
   std::size_t line = 1, column = 1;
   for (std::size_t k = 0; k + 1 < at; ++k) {
-    if (text[k] == '\n') ++line, column = 1;
-    else ++column;
+    if (text[k] == '\n')
+      ++line, column = 1;
+    else
+      ++column;
   }
   raise(source + ": invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
         checker.problem());

@@ -12,7 +12,8 @@ namespace {
 bool sameFile(const std::string& a, const std::string& b) {
   if (a == b) return true;
   std::error_code ea, eb;
-  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ea),
+                              cb = std::filesystem::weakly_canonical(b, eb);
   return !ea && !eb && ca == cb;
 }
 }  // namespace
@@ -24,8 +25,7 @@ bool HeadDesc::sameAs(const HeadDesc& o) const {
            a.load.drop_open_parts == b.load.drop_open_parts && a.sdf_voxel == b.sdf_voxel;
   };
   if (head_kind != o.head_kind || scalp_kind != o.scalp_kind || has_torso != o.has_torso) return false;
-  if (head_kind == HeadKind::Sphere && (head_center != o.head_center || head_radius != o.head_radius))
-    return false;
+  if (head_kind == HeadKind::Sphere && (head_center != o.head_center || head_radius != o.head_radius)) return false;
   if (head_kind == HeadKind::Mesh && !sameMesh(head_mesh, o.head_mesh)) return false;
   if (has_torso && !sameMesh(torso_mesh, o.torso_mesh)) return false;
   if (scalp_kind == ScalpKind::SphereCap && cap_angle_deg != o.cap_angle_deg) return false;
@@ -89,12 +89,18 @@ namespace {
 
 const char* axisName(Axis a) {
   switch (a) {
-    case Axis::PosX: return "+x";
-    case Axis::NegX: return "-x";
-    case Axis::PosY: return "+y";
-    case Axis::NegY: return "-y";
-    case Axis::PosZ: return "+z";
-    case Axis::NegZ: return "-z";
+    case Axis::PosX:
+      return "+x";
+    case Axis::NegX:
+      return "-x";
+    case Axis::PosY:
+      return "+y";
+    case Axis::NegY:
+      return "-y";
+    case Axis::PosZ:
+      return "+z";
+    case Axis::NegZ:
+      return "-z";
   }
   return "+y";
 }

@@ -71,16 +71,14 @@ class Fields {
     return obj_.at(key);
   }
 
-  double number(const std::string& key, double fallback, double lo, double hi,
-                bool lo_open = false) {
+  double number(const std::string& key, double fallback, double lo, double hi, bool lo_open = false) {
     if (!has(key)) return fallback;
     const json& v = obj_.at(key);
     if (!v.is_number()) fail(key, "must be a number, got " + show(v));
     const double d = v.get<double>();
     if (!std::isfinite(d) || d < lo || d > hi || (lo_open && d == lo)) {
       std::ostringstream os;
-      os << "must be a number in " << (lo_open ? "(" : "[") << lo << ", " << hi << "], got "
-         << show(v);
+      os << "must be a number in " << (lo_open ? "(" : "[") << lo << ", " << hi << "], got " << show(v);
       fail(key, os.str());
     }
     return d;
@@ -94,31 +92,26 @@ class Fields {
                     show(obj_.at(key)));
     return static_cast<float>(d);
   }
-  std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t lo,
-                       std::int64_t hi) {
+  std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t lo, std::int64_t hi) {
     if (!has(key)) return fallback;
     const json& v = obj_.at(key);
     // 1e5 is an integer written as a number with an exponent: taken if exact
     std::int64_t i = 0;
     if (v.is_number_integer()) {
       if (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX))
-        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                      "], got " + show(v));
+        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + show(v));
       i = v.get<std::int64_t>();
     } else if (v.is_number_float()) {
       const double d = v.get<double>();
-      if (!(std::floor(d) == d) || !(std::abs(d) < 9.2e18))
-        fail(key, "must be a whole number, got " + show(v));
+      if (!(std::floor(d) == d) || !(std::abs(d) < 9.2e18)) fail(key, "must be a whole number, got " + show(v));
       if (d < static_cast<double>(lo) || d > static_cast<double>(hi))
-        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                      "], got " + show(v));
+        fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + show(v));
       i = static_cast<std::int64_t>(d);
     } else {
       fail(key, "must be an integer, got " + show(v));
     }
     if (i < lo || i > hi)
-      fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                    "], got " + show(v));
+      fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + show(v));
     return i;
   }
   bool boolean(const std::string& key, bool fallback) {
@@ -136,19 +129,16 @@ class Fields {
   glm::dvec3 vec3(const std::string& key, glm::dvec3 fallback, double bound = 1e6) {
     if (!has(key)) return fallback;
     const json& v = obj_.at(key);
-    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
-        !v[2].is_number())
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
       fail(key, "must be an array of three numbers, got " + show(v));
     glm::dvec3 out(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
     for (int a = 0; a < 3; ++a)
       if (!std::isfinite(out[a]) || std::abs(out[a]) > bound)
-        fail(key, "must hold finite numbers of magnitude at most " + num(bound) +
-                      ", got " + show(v));
+        fail(key, "must hold finite numbers of magnitude at most " + num(bound) + ", got " + show(v));
     return out;
   }
   /// A number, or "auto" (returns nullopt-like: sets is_auto).
-  double numberOrAuto(const std::string& key, double fallback, bool& is_auto, double lo,
-                      double hi) {
+  double numberOrAuto(const std::string& key, double fallback, bool& is_auto, double lo, double hi) {
     if (has(key) && obj_.at(key).is_string()) {
       if (obj_.at(key).get<std::string>() != "auto")
         fail(key, "must be a number or \"auto\", got " + show(obj_.at(key)));
@@ -227,7 +217,6 @@ inline std::vector<glm::vec3> readPoints(Fields& f, const std::string& key, std:
   }
   return out;
 }
-
 
 /// The head, torso and scalp fields of `top` (scenes and styles share them).
 void readHeadParts(Fields& top, HeadDesc& h);

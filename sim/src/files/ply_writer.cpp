@@ -9,15 +9,12 @@
 
 namespace loosehair {
 
-static_assert(std::endian::native == std::endian::little,
-              "the PLY writer assumes a little-endian machine");
+static_assert(std::endian::native == std::endian::little, "the PLY writer assumes a little-endian machine");
 
 namespace {
 
-void writeWhole(const std::string& path, const std::string& header,
-                const std::vector<unsigned char>& body) {
-  writeFileAtomically(path, {header, std::string_view(reinterpret_cast<const char*>(body.data()),
-                                                      body.size())});
+void writeWhole(const std::string& path, const std::string& header, const std::vector<unsigned char>& body) {
+  writeFileAtomically(path, {header, std::string_view(reinterpret_cast<const char*>(body.data()), body.size())});
 }
 
 }  // namespace
@@ -29,16 +26,14 @@ void writeAirPly(const std::string& path, const Solver& solver) {
   const auto density = solver.airDensity();
   const std::size_t n = x.size();
   std::string header = "ply\nformat binary_little_endian 1.0\ncomment loosehair air, time " +
-                       std::to_string(solver.time()) + " s\nelement vertex " + std::to_string(n) +
-                       "\n";
+                       std::to_string(solver.time()) + " s\nelement vertex " + std::to_string(n) + "\n";
   for (const char* name : {"x", "y", "z", "vx", "vy", "vz", "density"})
     header += std::string("property float ") + name + "\n";
   header += "end_header\n";
   constexpr std::size_t kRecord = 7 * sizeof(float);
   std::vector<unsigned char> body(n * kRecord);
   for (std::size_t a = 0; a < n; ++a) {
-    const float f[7] = {x[a].x, x[a].y, x[a].z, v[a].x, v[a].y, v[a].z,
-                        a < density.size() ? density[a] : 0.0f};
+    const float f[7] = {x[a].x, x[a].y, x[a].z, v[a].x, v[a].y, v[a].z, a < density.size() ? density[a] : 0.0f};
     std::memcpy(body.data() + a * kRecord, f, sizeof f);
   }
   writeWhole(path, header, body);
@@ -55,10 +50,8 @@ void writeParticlePly(const std::string& path, const Solver& solver) {
   const std::size_t n = p.size();
 
   std::string header = "ply\nformat binary_little_endian 1.0\ncomment loosehair frame, time " +
-                       std::to_string(solver.time()) + " s\nelement vertex " + std::to_string(n) +
-                       "\n";
-  for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "vx", "vy", "vz", "u", "v", "s", "rx",
-                           "ry", "rz"})
+                       std::to_string(solver.time()) + " s\nelement vertex " + std::to_string(n) + "\n";
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "vx", "vy", "vz", "u", "v", "s", "rx", "ry", "rz"})
     header += std::string("property float ") + name + "\n";
   header += "property uchar root\nproperty float density\nend_header\n";
 
@@ -66,7 +59,7 @@ void writeParticlePly(const std::string& path, const Solver& solver) {
   std::vector<unsigned char> body(n * kRecord);
   for (std::size_t i = 0; i < n; ++i) {
     unsigned char* rec = body.data() + i * kRecord;
-    const float f[15] = {x[i].x, x[i].y, x[i].z, t[i].x, t[i].y, t[i].z, v[i].x, v[i].y,
+    const float f[15] = {x[i].x, x[i].y,    x[i].z,    t[i].x,          t[i].y, t[i].z, v[i].x, v[i].y,
                          v[i].z, p.uv[i].x, p.uv[i].y, p.arc_length[i], r[i].x, r[i].y, r[i].z};
     std::memcpy(rec, f, sizeof f);
     rec[sizeof f] = p.is_root[i];

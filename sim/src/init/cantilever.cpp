@@ -23,9 +23,8 @@ namespace {
 constexpr float kRise = 0.6f;
 }  // namespace
 
-CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, float length,
-                                   float stiffness, const Body* body, float clearance,
-                                   float layering, int segments, float needed)
+CantileverStrand::CantileverStrand(glm::vec3 root, glm::vec3 dir, glm::vec3 g, float length, float stiffness,
+                                   const Body* body, float clearance, float layering, int segments, float needed)
     : length_(length) {
   segments = std::max(1, segments);
   ds_ = length / static_cast<float>(segments);

@@ -25,9 +25,8 @@ class CantileverStrand {
   /// only the pieces that position(s) and tangent(s) read for s <= needed
   /// are grown (a few more for rounding): their answers there are the same
   /// bits as the whole strand's, and points() is shorter.
-  CantileverStrand(glm::vec3 root, glm::vec3 root_direction, glm::vec3 gravity_direction,
-                   float length, float stiffness, const Body* body, float clearance,
-                   float layering, int segments,
+  CantileverStrand(glm::vec3 root, glm::vec3 root_direction, glm::vec3 gravity_direction, float length, float stiffness,
+                   const Body* body, float clearance, float layering, int segments,
                    float needed = std::numeric_limits<float>::infinity());
 
   /// Point and unit tangent at arc length s in [0, length] (clamped).

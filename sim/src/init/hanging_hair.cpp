@@ -20,8 +20,7 @@ class PlacedBody final : public Body {
  public:
   PlacedBody(std::shared_ptr<const Body> body, const HeadPose& pose)
       : body_(std::move(body)), r_(pose.rotation), c_(pose.center) {}
-  void signedDistance(const glm::vec3* p, std::size_t n, float* phi,
-                      glm::vec3* normal) const override {
+  void signedDistance(const glm::vec3* p, std::size_t n, float* phi, glm::vec3* normal) const override {
     std::vector<glm::vec3> q(n);
     for (std::size_t k = 0; k < n; ++k) q[k] = r_ * p[k] + c_;
     body_->signedDistance(q.data(), n, phi, normal);
@@ -73,9 +72,9 @@ glm::vec3 HangingHair::rootDirection(glm::vec2 uv) const {
 
 CantileverStrand HangingHair::strand(glm::vec2 uv, int segments, float clearance, float needed) const {
   const glm::vec3 root_dir = rootDirection(uv);
-  return CantileverStrand(model_.scalp().point(uv), root_dir, has_gravity_ ? gravity_dir_ : root_dir,
-                          length(uv), scene_.hair.bending_stiffness, &start_bodies_, clearance,
-                          scene_.hair.layering, segments, needed);
+  return CantileverStrand(model_.scalp().point(uv), root_dir, has_gravity_ ? gravity_dir_ : root_dir, length(uv),
+                          scene_.hair.bending_stiffness, &start_bodies_, clearance, scene_.hair.layering, segments,
+                          needed);
 }
 
 }  // namespace loosehair

@@ -65,8 +65,9 @@ bool readPgm(const std::string& path, const std::string& bytes, int& w, int& h, 
     out.resize(pixels);
     for (std::size_t k = 0; k < pixels; ++k) {
       const long g = number("grey value", 65535);
-      if (g > maxval) fail("pixel " + std::to_string(k) + " is " + std::to_string(g) + ", above the maximum " +
-                           std::to_string(maxval));
+      if (g > maxval)
+        fail("pixel " + std::to_string(k) + " is " + std::to_string(g) + ", above the maximum " +
+             std::to_string(maxval));
       out[k] = static_cast<float>(g) / static_cast<float>(maxval);
     }
     return true;
@@ -78,14 +79,14 @@ bool readPgm(const std::string& path, const std::string& bytes, int& w, int& h, 
   ++at;
   const std::size_t bytes_per = maxval > 255 ? 2 : 1;
   if (bytes.size() - at < pixels * bytes_per)
-    fail("the file is truncated: " + std::to_string(bytes.size() - at) + " bytes of pixels where " +
-         std::to_string(w) + "x" + std::to_string(h) + " need " + std::to_string(pixels * bytes_per));
+    fail("the file is truncated: " + std::to_string(bytes.size() - at) + " bytes of pixels where " + std::to_string(w) +
+         "x" + std::to_string(h) + " need " + std::to_string(pixels * bytes_per));
   out.resize(pixels);
   const auto* p = reinterpret_cast<const unsigned char*>(bytes.data() + at);
   for (std::size_t k = 0; k < pixels; ++k) {
     const long g = bytes_per == 2 ? (long{p[2 * k]} << 8) | p[2 * k + 1] : long{p[k]};
-    if (g > maxval) fail("pixel " + std::to_string(k) + " is " + std::to_string(g) + ", above the maximum " +
-                         std::to_string(maxval));
+    if (g > maxval)
+      fail("pixel " + std::to_string(k) + " is " + std::to_string(g) + ", above the maximum " + std::to_string(maxval));
     out[k] = static_cast<float>(g) / static_cast<float>(maxval);
   }
   return true;

@@ -19,12 +19,8 @@
 namespace loosehair {
 namespace {
 
-std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
-  return (static_cast<std::uint64_t>(a) << 32) | b;
-}
-std::uint64_t undirectedKey(std::uint32_t a, std::uint32_t b) {
-  return edgeKey(std::min(a, b), std::max(a, b));
-}
+std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
+std::uint64_t undirectedKey(std::uint32_t a, std::uint32_t b) { return edgeKey(std::min(a, b), std::max(a, b)); }
 
 double meanEdgeLength(const TriangleMesh& m) {
   double sum = 0;
@@ -245,9 +241,7 @@ namespace {
 // The scalp's errors name the file and say what is wrong with the curves.
 struct ScalpFail {
   const std::string& source;
-  [[noreturn]] void operator()(const std::string& problem) const {
-    throw MeshError(source + ": scalp: " + problem);
-  }
+  [[noreturn]] void operator()(const std::string& problem) const { throw MeshError(source + ": scalp: " + problem); }
 };
 
 // Corners: where consecutive curves meet (each curve's end and the next
@@ -258,8 +252,8 @@ std::array<glm::vec3, 4> curveCorners(const ScalpCurves& curves, float size, con
     const glm::vec3 end = curves.control[static_cast<std::size_t>(k)].back();
     const glm::vec3 start = curves.control[static_cast<std::size_t>((k + 1) % 4)].front();
     if (glm::length(end - start) > 0.05f * size)
-      fail(std::string(kCurveName[k]) + " curve ends at " + show(end) + " but the " +
-           kCurveName[(k + 1) % 4] + " curve starts at " + show(start) + "; consecutive curves must meet");
+      fail(std::string(kCurveName[k]) + " curve ends at " + show(end) + " but the " + kCurveName[(k + 1) % 4] +
+           " curve starts at " + show(start) + "; consecutive curves must meet");
     corner[static_cast<std::size_t>((k + 1) % 4)] = 0.5f * (end + start);
   }
 
@@ -331,8 +325,7 @@ std::vector<std::uint32_t> trimmingLoop(const TriangleMesh& head, const std::vec
   for (std::size_t s = 0; s < near.size(); ++s) {
     const std::uint32_t a = near[s], b = near[(s + 1) % near.size()];
     auto piece = graph.path(a, b, dist, prev);
-    if (piece.empty())
-      fail("the hairline crosses a gap in the head's surface (the mesh is not connected along it)");
+    if (piece.empty()) fail("the hairline crosses a gap in the head's surface (the mesh is not connected along it)");
     for (std::size_t i = 0; i + 1 < piece.size(); ++i)
       if (loop.empty() || loop.back() != piece[i]) loop.push_back(piece[i]);
   }
@@ -373,7 +366,8 @@ std::array<std::size_t, 4> cornersOnLoop(const TriangleMesh& head, std::vector<s
   }
   std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(corner_at[0]), loop.end());
   for (int k = 3; k >= 0; --k)
-    corner_at[static_cast<std::size_t>(k)] = (corner_at[static_cast<std::size_t>(k)] + loop.size() - corner_at[0]) % loop.size();
+    corner_at[static_cast<std::size_t>(k)] =
+        (corner_at[static_cast<std::size_t>(k)] + loop.size() - corner_at[0]) % loop.size();
   if (!(corner_at[1] > 0 && corner_at[2] > corner_at[1] && corner_at[3] > corner_at[2]))
     fail("the four curves must run front, right, back, left around the scalp");
   for (int k = 0; k < 4; ++k) corner_vertex[static_cast<std::size_t>(k)] = loop[corner_at[static_cast<std::size_t>(k)]];
@@ -465,9 +459,11 @@ MeshScalp::MeshScalp(const TriangleMesh& head_in, const Body& sdf, const ScalpCu
   polyline_ = curve.samples;
   const std::vector<std::uint32_t> near = nearestVertices(head, curve.samples);
   std::vector<std::uint32_t> loop = trimmingLoop(head, near, fail);
-  if (loop.size() < 8) fail("the curves enclose too small a region (" + std::to_string(loop.size()) + " boundary vertices)");
+  if (loop.size() < 8)
+    fail("the curves enclose too small a region (" + std::to_string(loop.size()) + " boundary vertices)");
   std::array<std::uint32_t, 4> corner_vertex{};
-  for (int k = 0; k < 4; ++k) corner_vertex[static_cast<std::size_t>(k)] = near[curve.corner_sample[static_cast<std::size_t>(k)]];
+  for (int k = 0; k < 4; ++k)
+    corner_vertex[static_cast<std::size_t>(k)] = near[curve.corner_sample[static_cast<std::size_t>(k)]];
   std::array<std::size_t, 4> corner_at = cornersOnLoop(head, loop, corner_vertex, fail);
   std::unordered_map<std::uint64_t, std::uint32_t> face_of;
   std::vector<char> in = floodScalp(head, loop, face_of, fail);
@@ -502,7 +498,6 @@ void MeshScalp::takeSubmesh(const TriangleMesh& head, const std::vector<glm::vec
     tri_.push_back(t);
   }
   for (std::uint32_t v : loop) boundary_.push_back(local[v]);
-
 }
 
 // The boundary on the square's sides by arc length between the corners;
@@ -614,7 +609,6 @@ void MeshScalp::mapInterior(const std::vector<char>& fixed, const Fail& fail) {
   }
   if (report_.flipped > 0)
     fail(std::to_string(report_.flipped) + " triangles fold over in the (u, v) map; check the curves");
-
 }
 
 // The area table for uniform sampling and the (u, v) buckets for f^-1.
@@ -634,18 +628,16 @@ void MeshScalp::buildSampling() {
   buckets_ = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(tri_.size()))), 1, 1024);
   const auto nb = static_cast<std::size_t>(buckets_) * static_cast<std::size_t>(buckets_);
   std::vector<std::vector<std::uint32_t>> lists(nb);
-  auto cell = [&](float x) {
-    return std::clamp(static_cast<int>(x * static_cast<float>(buckets_)), 0, buckets_ - 1);
-  };
+  auto cell = [&](float x) { return std::clamp(static_cast<int>(x * static_cast<float>(buckets_)), 0, buckets_ - 1); };
   for (std::uint32_t t = 0; t < tri_.size(); ++t) {
     const glm::vec2 a = uv_[tri_[t].x], b = uv_[tri_[t].y], c = uv_[tri_[t].z];
     const glm::vec2 l = glm::min(a, glm::min(b, c)), h = glm::max(a, glm::max(b, c));
     for (int y = cell(l.y); y <= cell(h.y); ++y)
-      for (int x = cell(l.x); x <= cell(h.x); ++x)
-        lists[static_cast<std::size_t>(y * buckets_ + x)].push_back(t);
+      for (int x = cell(l.x); x <= cell(h.x); ++x) lists[static_cast<std::size_t>(y * buckets_ + x)].push_back(t);
   }
   bucket_start_.assign(nb + 1, 0);
-  for (std::size_t b = 0; b < nb; ++b) bucket_start_[b + 1] = bucket_start_[b] + static_cast<std::uint32_t>(lists[b].size());
+  for (std::size_t b = 0; b < nb; ++b)
+    bucket_start_[b + 1] = bucket_start_[b] + static_cast<std::uint32_t>(lists[b].size());
   bucket_items_.reserve(bucket_start_[nb]);
   for (const auto& l : lists) bucket_items_.insert(bucket_items_.end(), l.begin(), l.end());
 }
@@ -701,8 +693,7 @@ glm::vec2 MeshScalp::sampleByArea(Random& rng) const {
   const auto it = std::upper_bound(area_cdf_.begin(), area_cdf_.end(), target);
   const std::size_t t = std::min(static_cast<std::size_t>(it - area_cdf_.begin()), tri_.size() - 1);
   const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
-  const auto a = static_cast<float>(1.0 - r1), b = static_cast<float>(r1 * (1.0 - r2)),
-             c = static_cast<float>(r1 * r2);
+  const auto a = static_cast<float>(1.0 - r1), b = static_cast<float>(r1 * (1.0 - r2)), c = static_cast<float>(r1 * r2);
   return a * uv_[tri_[t].x] + b * uv_[tri_[t].y] + c * uv_[tri_[t].z];
 }
 

@@ -44,8 +44,7 @@ class MeshScalp final : public ScalpSurface {
  public:
   /// Trims `head` by the curves and solves the harmonic map. Throws
   /// MeshError (naming `source`) if the curves do not enclose a disc.
-  MeshScalp(const TriangleMesh& head, const Body& head_sdf, const ScalpCurves& curves,
-            const std::string& source);
+  MeshScalp(const TriangleMesh& head, const Body& head_sdf, const ScalpCurves& curves, const std::string& source);
 
   glm::vec3 point(glm::vec2 uv) const override;
   glm::vec3 normal(glm::vec2 uv) const override;

@@ -87,9 +87,9 @@ class Grid4 {
 }  // namespace
 
 std::vector<PillarSample> samplePillarWithRadius(const ScalpSurface& scalp,
-                                                 const std::function<float(glm::vec2)>& length,
-                                                 float max_length, float radius, float root_depth,
-                                                 std::uint64_t seed, std::size_t candidates) {
+                                                 const std::function<float(glm::vec2)>& length, float max_length,
+                                                 float radius, float root_depth, std::uint64_t seed,
+                                                 std::size_t candidates) {
   Random rng(seed);
   const std::size_t expected = candidates / 4 + 16;
   Grid4 grid(radius, expected);
@@ -116,8 +116,8 @@ std::vector<PillarSample> samplePillarWithRadius(const ScalpSurface& scalp,
   return out;
 }
 
-PillarResult samplePillar(const ScalpSurface& scalp, const std::function<float(glm::vec2)>& length,
-                          float max_length, const PillarOptions& opt) {
+PillarResult samplePillar(const ScalpSurface& scalp, const std::function<float(glm::vec2)>& length, float max_length,
+                          const PillarOptions& opt) {
   const double target = std::max(1, opt.target_count);
   const std::size_t candidates =
       static_cast<std::size_t>(target) * static_cast<std::size_t>(std::max(2, opt.candidates_per_sample));

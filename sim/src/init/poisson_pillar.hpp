@@ -13,8 +13,8 @@ namespace loosehair {
 
 struct PillarSample {
   glm::vec2 uv;
-  float s;            // arc length (m), negative in the root layer
-  glm::vec3 point;    // f^-1(u, v)
+  float s;          // arc length (m), negative in the root layer
+  glm::vec3 point;  // f^-1(u, v)
 };
 
 struct PillarOptions {
@@ -36,13 +36,13 @@ struct PillarResult {
 /// (count ~ r^-3) until the count is within 1% of the target or the best of
 /// a few rounds is kept. No two samples are closer than `radius`.
 /// `length(uv)` is L(u, v) in metres (> 0), `max_length` its maximum.
-PillarResult samplePillar(const ScalpSurface& scalp,
-                          const std::function<float(glm::vec2)>& length, float max_length,
+PillarResult samplePillar(const ScalpSurface& scalp, const std::function<float(glm::vec2)>& length, float max_length,
                           const PillarOptions& options);
 
 /// Greedy dart throwing with a given radius (one round of samplePillar).
-std::vector<PillarSample> samplePillarWithRadius(
-    const ScalpSurface& scalp, const std::function<float(glm::vec2)>& length, float max_length,
-    float radius, float root_depth, std::uint64_t seed, std::size_t candidates);
+std::vector<PillarSample> samplePillarWithRadius(const ScalpSurface& scalp,
+                                                 const std::function<float(glm::vec2)>& length, float max_length,
+                                                 float radius, float root_depth, std::uint64_t seed,
+                                                 std::size_t candidates);
 
 }  // namespace loosehair

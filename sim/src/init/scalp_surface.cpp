@@ -27,8 +27,7 @@ glm::vec3 SphereCapScalp::normal(glm::vec2 uv) const {
   const double dx = rho * std::cos(phi), dz = rho * std::sin(phi);
   const double radial = std::sqrt(dx * dx + dz * dz);
   // disc -> cap, equal area
-  const double cos_theta =
-      1.0 - radial * radial * (1.0 - std::cos(static_cast<double>(cap_angle_)));
+  const double cos_theta = 1.0 - radial * radial * (1.0 - std::cos(static_cast<double>(cap_angle_)));
   const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
   const double ex = radial > 0 ? dx / radial : 1.0, ez = radial > 0 ? dz / radial : 0.0;
   return glm::vec3(glm::dvec3(sin_theta * ex, cos_theta, sin_theta * ez));

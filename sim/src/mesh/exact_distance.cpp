@@ -33,8 +33,8 @@ enum Feature : std::uint8_t { kFace, kVertexA, kVertexB, kVertexC, kEdgeAB, kEdg
 
 // The point of triangle (a, b, c) nearest to p and the feature it lies on:
 // the Voronoi regions of the vertices, then of the edges, then the face.
-glm::vec3 nearestOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
-                            const glm::vec3& c, Feature& feature) {
+glm::vec3 nearestOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
+                            Feature& feature) {
   const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
   const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
   if (d1 <= 0.0f && d2 <= 0.0f) {
@@ -97,13 +97,20 @@ struct ExactDistance::Tree {
 
   glm::vec3 pseudoNormal(std::uint32_t t, Feature f) const {
     switch (f) {
-      case kFace: return face_normal[t];
-      case kVertexA: return vertex_normal[triangles[t].x];
-      case kVertexB: return vertex_normal[triangles[t].y];
-      case kVertexC: return vertex_normal[triangles[t].z];
-      case kEdgeAB: return edge_normal[3 * t + 0];
-      case kEdgeBC: return edge_normal[3 * t + 1];
-      case kEdgeCA: return edge_normal[3 * t + 2];
+      case kFace:
+        return face_normal[t];
+      case kVertexA:
+        return vertex_normal[triangles[t].x];
+      case kVertexB:
+        return vertex_normal[triangles[t].y];
+      case kVertexC:
+        return vertex_normal[triangles[t].z];
+      case kEdgeAB:
+        return edge_normal[3 * t + 0];
+      case kEdgeBC:
+        return edge_normal[3 * t + 1];
+      case kEdgeCA:
+        return edge_normal[3 * t + 2];
     }
     return face_normal[t];
   }
@@ -201,8 +208,7 @@ struct ExactDistance::Tree {
     const std::uint32_t mid = first + (last - first) / 2;
     std::nth_element(order.begin() + first, order.begin() + mid, order.begin() + last,
                      [&](std::uint32_t a, std::uint32_t b) {
-                       return centre[a][axis] < centre[b][axis] ||
-                              (centre[a][axis] == centre[b][axis] && a < b);
+                       return centre[a][axis] < centre[b][axis] || (centre[a][axis] == centre[b][axis] && a < b);
                      });
     split(first, mid, centre);
     nodes[self].first_or_second = static_cast<std::uint32_t>(nodes.size());
@@ -267,12 +273,10 @@ struct ExactDistance::Tree {
       const Node& node = nodes[stack[--top]];
       if (boxDistance2(q.p, node.lo, node.hi) > q.r2) continue;  // the ball shrank
       if (node.count > 0) {
-        for (std::uint32_t k = node.first_or_second; k < node.first_or_second + node.count; ++k)
-          offerLeaf(q, k);
+        for (std::uint32_t k = node.first_or_second; k < node.first_or_second + node.count; ++k) offerLeaf(q, k);
         continue;
       }
-      const std::uint32_t a = static_cast<std::uint32_t>(&node - nodes.data()) + 1,
-                          b = node.first_or_second;
+      const std::uint32_t a = static_cast<std::uint32_t>(&node - nodes.data()) + 1, b = node.first_or_second;
       const float da = boxDistance2(q.p, nodes[a].lo, nodes[a].hi);
       const float db = boxDistance2(q.p, nodes[b].lo, nodes[b].hi);
       // the nearer child is searched first: pushed last. A median split
@@ -320,9 +324,8 @@ void ExactDistance::Tree::init(const TriangleMesh& mesh) {
       uses.push_back({(static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b),
                       static_cast<std::uint32_t>(3 * k + static_cast<std::size_t>(i))});
     }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.key < y.key || (x.key == y.key && x.slot < y.slot);
-  });
+  std::sort(uses.begin(), uses.end(),
+            [](const EdgeUse& x, const EdgeUse& y) { return x.key < y.key || (x.key == y.key && x.slot < y.slot); });
   t.edge_normal.assign(3 * nt, glm::vec3(0.0f));
   for (std::size_t a = 0; a < uses.size();) {
     std::size_t b = a;
@@ -409,8 +412,8 @@ bool ExactDistance::nearest(const glm::vec3& p, float radius, const std::int32_t
   return found;
 }
 
-float ExactDistance::signedDistance(const glm::vec3& p, const std::int32_t* seeds, int count,
-                                    glm::vec3* normal, std::uint32_t* triangle) const {
+float ExactDistance::signedDistance(const glm::vec3& p, const std::int32_t* seeds, int count, glm::vec3* normal,
+                                    std::uint32_t* triangle) const {
   Nearest near;
   if (!nearest(p, std::numeric_limits<float>::infinity(), seeds, count, near))
     return std::numeric_limits<float>::infinity();

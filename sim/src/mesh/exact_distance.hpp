@@ -21,9 +21,9 @@ class ExactDistance {
   ExactDistance& operator=(const ExactDistance&) = delete;
 
   struct Nearest {
-    float signed_distance;  // m, negative inside (the union of the parts)
-    glm::vec3 normal;       // unit, outward: away from the point inside, towards it outside
-    std::uint32_t triangle; // the nearest triangle
+    float signed_distance;   // m, negative inside (the union of the parts)
+    glm::vec3 normal;        // unit, outward: away from the point inside, towards it outside
+    std::uint32_t triangle;  // the nearest triangle
   };
   /// The nearest point to p of each part (connected piece) within `radius`
   /// (infinite: anywhere), signed by its pseudo-normal; of these the one
@@ -32,12 +32,11 @@ class ExactDistance {
   /// (count of them; out-of-range ids are ignored) are tried first and only
   /// make the search faster. Ties go to the lower triangle id, so the
   /// answer does not depend on the seeds. False if no part is in reach.
-  bool nearest(const glm::vec3& p, float radius, const std::int32_t* seeds, int count,
-               Nearest& out) const;
+  bool nearest(const glm::vec3& p, float radius, const std::int32_t* seeds, int count, Nearest& out) const;
   /// nearest() anywhere: the signed distance, `normal` (optional) and the
   /// nearest triangle (optional).
-  float signedDistance(const glm::vec3& p, const std::int32_t* seeds, int count,
-                       glm::vec3* normal = nullptr, std::uint32_t* triangle = nullptr) const;
+  float signedDistance(const glm::vec3& p, const std::int32_t* seeds, int count, glm::vec3* normal = nullptr,
+                       std::uint32_t* triangle = nullptr) const;
 
  private:
   struct Tree;

@@ -8,8 +8,8 @@
 
 namespace loosehair {
 
-std::size_t boundFarValues(const ExactDistance& exact, const GridValues& grid, float exact_from,
-                           float allowance, int threads) {
+std::size_t boundFarValues(const ExactDistance& exact, const GridValues& grid, float exact_from, float allowance,
+                           int threads) {
   const auto sx = static_cast<std::size_t>(grid.dims.x), sy = static_cast<std::size_t>(grid.dims.y),
              sz = static_cast<std::size_t>(grid.dims.z);
   std::vector<std::size_t> changed(sz, 0);  // per slab, summed in order below

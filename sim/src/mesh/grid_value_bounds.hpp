@@ -27,9 +27,9 @@
 namespace loosehair {
 
 struct GridValues {
-  glm::vec3 lower{0.0f};  // world position of voxel (0, 0, 0)
-  float voxel = 0.0f;     // edge length (m)
-  glm::ivec3 dims{0};     // voxels along x, y, z (x fastest)
+  glm::vec3 lower{0.0f};            // world position of voxel (0, 0, 0)
+  float voxel = 0.0f;               // edge length (m)
+  glm::ivec3 dims{0};               // voxels along x, y, z (x fastest)
   std::span<float> value;           // signed distance (m), < 0 inside
   std::span<std::int32_t> nearest;  // nearest triangle, -1 if unknown
 };
@@ -40,7 +40,7 @@ struct GridValues {
 /// (also a voxel outside by its value but inside a part whose surface is
 /// nearer than the value less the allowance). Each voxel is independent, so
 /// the result does not depend on `threads`. Returns how many changed.
-std::size_t boundFarValues(const ExactDistance& exact, const GridValues& grid, float exact_from,
-                           float allowance, int threads);
+std::size_t boundFarValues(const ExactDistance& exact, const GridValues& grid, float exact_from, float allowance,
+                           int threads);
 
 }  // namespace loosehair

@@ -3,7 +3,6 @@
 #include "loosehair/file_io.hpp"
 #include "mesh/mesh_file_checks.hpp"
 
-
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -108,8 +107,8 @@ TriangleMesh readPolygonFile(const std::string& path, const std::string& ext, st
   // Binary variants, told from the content (a stream reader cannot look):
   // a PLY header naming a binary format, an STL whose triangle count fits
   // its size (checkMeshFile refuses any other non-ASCII STL).
-  if ((ext == ".ply" && bytes.substr(0, std::min<std::size_t>(bytes.size(), 512)).find("format binary") !=
-                            std::string::npos) ||
+  if ((ext == ".ply" &&
+       bytes.substr(0, std::min<std::size_t>(bytes.size(), 512)).find("format binary") != std::string::npos) ||
       (ext == ".stl" && isBinaryStl(bytes)))
     opt += OpenMesh::IO::Options::Binary;
   bool ok = false;
@@ -140,21 +139,17 @@ glm::mat4 nodeMatrix(const tinygltf::Node& node) {
   }
   glm::dmat4 t(1.0), r(1.0), s(1.0);
   if (node.translation.size() == 3)
-    t = glm::translate(glm::dmat4(1.0), glm::dvec3(node.translation[0], node.translation[1],
-                                                   node.translation[2]));
+    t = glm::translate(glm::dmat4(1.0), glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
   if (node.rotation.size() == 4)
-    r = glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1],
-                                  node.rotation[2]));
-  if (node.scale.size() == 3)
-    s = glm::scale(glm::dmat4(1.0), glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+    r = glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+  if (node.scale.size() == 3) s = glm::scale(glm::dmat4(1.0), glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
   return glm::mat4(t * r * s);
 }
 
 // Reads element `k` of an accessor as up to 3 components of type double.
 class AccessorReader {
  public:
-  AccessorReader(const tinygltf::Model& model, int index, const std::string& path)
-      : path_(path) {
+  AccessorReader(const tinygltf::Model& model, int index, const std::string& path) : path_(path) {
     if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size())
       throw MeshError(path + ": an accessor index is out of range");
     acc_ = &model.accessors[static_cast<std::size_t>(index)];
@@ -179,10 +174,9 @@ class AccessorReader {
         (acc_->count > 0 && acc_->count - 1 > size / static_cast<std::size_t>(stride_)))
       throw MeshError(path + ": an accessor reads past the end of its buffer");
     const std::size_t begin = view.byteOffset + acc_->byteOffset;
-    const std::size_t need =
-        acc_->count == 0 ? 0
-                         : begin + (acc_->count - 1) * static_cast<std::size_t>(stride_) +
-                               static_cast<std::size_t>(comps_ * comp_size_);
+    const std::size_t need = acc_->count == 0 ? 0
+                                              : begin + (acc_->count - 1) * static_cast<std::size_t>(stride_) +
+                                                    static_cast<std::size_t>(comps_ * comp_size_);
     if (need > buffer.data.size() || view.byteOffset + view.byteLength > buffer.data.size())
       throw MeshError(path + ": an accessor reads past the end of its buffer");
     data_ = buffer.data.data() + begin;
@@ -190,16 +184,34 @@ class AccessorReader {
   std::size_t count() const { return acc_->count; }
   int components() const { return comps_; }
   double get(std::size_t k, int c) const {
-    const unsigned char* p = data_ + k * static_cast<std::size_t>(stride_) +
-                             static_cast<std::size_t>(c * comp_size_);
+    const unsigned char* p = data_ + k * static_cast<std::size_t>(stride_) + static_cast<std::size_t>(c * comp_size_);
     switch (acc_->componentType) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t u; std::memcpy(&u, p, 4); return u; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t u; std::memcpy(&u, p, 2); return u; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
-      case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t u; std::memcpy(&u, p, 2); return u; }
-      case TINYGLTF_COMPONENT_TYPE_BYTE: return static_cast<signed char>(*p);
-      default: throw MeshError(path_ + ": an accessor has an unsupported component type");
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        std::uint32_t u;
+        std::memcpy(&u, p, 4);
+        return u;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t u;
+        std::memcpy(&u, p, 2);
+        return u;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return *p;
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t u;
+        std::memcpy(&u, p, 2);
+        return u;
+      }
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return static_cast<signed char>(*p);
+      default:
+        throw MeshError(path_ + ": an accessor has an unsupported component type");
     }
   }
 
@@ -210,11 +222,10 @@ class AccessorReader {
   std::string path_;
 };
 
-void appendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                     const glm::mat4& xf, const std::string& path, TriangleMesh& out) {
+void appendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, const glm::mat4& xf,
+                     const std::string& path, TriangleMesh& out) {
   const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-      mode != TINYGLTF_MODE_TRIANGLE_FAN)
+  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
     return;  // points and lines carry no surface
   auto it = prim.attributes.find("POSITION");
   if (it == prim.attributes.end()) throw MeshError(path + ": a primitive has no POSITION attribute");
@@ -250,8 +261,10 @@ void appendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& pr
     for (std::size_t k = 0; k + 2 < idx.size(); k += 3) add(idx[k], idx[k + 1], idx[k + 2]);
   } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
     for (std::size_t k = 0; k + 2 < idx.size(); ++k) {
-      if (k % 2 == 0) add(idx[k], idx[k + 1], idx[k + 2]);
-      else add(idx[k + 1], idx[k], idx[k + 2]);
+      if (k % 2 == 0)
+        add(idx[k], idx[k + 1], idx[k + 2]);
+      else
+        add(idx[k + 1], idx[k], idx[k + 2]);
     }
   } else {
     for (std::size_t k = 1; k + 1 < idx.size(); ++k) add(idx[0], idx[k], idx[k + 1]);
@@ -344,18 +357,23 @@ Axis parseAxis(const std::string& text) {
   if (t == "-y") return Axis::NegY;
   if (t == "+z" || t == "z") return Axis::PosZ;
   if (t == "-z") return Axis::NegZ;
-  throw std::invalid_argument("must be one of \"+x\", \"-x\", \"+y\", \"-y\", \"+z\", \"-z\", got \"" +
-                              text + "\"");
+  throw std::invalid_argument("must be one of \"+x\", \"-x\", \"+y\", \"-y\", \"+z\", \"-z\", got \"" + text + "\"");
 }
 
 glm::vec3 axisVector(Axis a) {
   switch (a) {
-    case Axis::PosX: return {1, 0, 0};
-    case Axis::NegX: return {-1, 0, 0};
-    case Axis::PosY: return {0, 1, 0};
-    case Axis::NegY: return {0, -1, 0};
-    case Axis::PosZ: return {0, 0, 1};
-    case Axis::NegZ: return {0, 0, -1};
+    case Axis::PosX:
+      return {1, 0, 0};
+    case Axis::NegX:
+      return {-1, 0, 0};
+    case Axis::PosY:
+      return {0, 1, 0};
+    case Axis::NegY:
+      return {0, -1, 0};
+    case Axis::PosZ:
+      return {0, 0, 1};
+    case Axis::NegZ:
+      return {0, 0, -1};
   }
   return {0, 1, 0};
 }
@@ -364,8 +382,7 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   if (!(options.scale > 0.0f) || !std::isfinite(options.scale))
     throw MeshError(path + ": scale must be a positive number, got " + std::to_string(options.scale));
   const glm::vec3 up = axisVector(options.up), front = axisVector(options.front);
-  if (std::abs(glm::dot(up, front)) > 0.5f)
-    throw MeshError(path + ": the up and front axes must be different axes");
+  if (std::abs(glm::dot(up, front)) > 0.5f) throw MeshError(path + ": the up and front axes must be different axes");
   try {
     (void)checkRegularFile(path, kMaxMeshFileBytes);
   } catch (const FileError& e) {
@@ -378,11 +395,11 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   else if (ext == ".gltf" || ext == ".glb") {
     checkGltfFaceCount(path, ext == ".glb", options.max_faces);
     mesh = readGltf(path, ext == ".glb");
-  }
-  else
-    throw MeshError(path + ": " + (ext.empty() ? std::string("the file name has no extension")
-                                                : "unknown mesh format \"" + ext + "\"") +
-                    " (use .obj, .ply, .off, .stl, .gltf or .glb)");
+  } else
+    throw MeshError(
+        path + ": " +
+        (ext.empty() ? std::string("the file name has no extension") : "unknown mesh format \"" + ext + "\"") +
+        " (use .obj, .ply, .off, .stl, .gltf or .glb)");
   // polygons became fans of triangles, and the files' counts were claims
   checkFaceCount(path, mesh.triangles.size(), options.max_faces);
   weld(mesh);
@@ -434,8 +451,7 @@ std::uint32_t MeshParts::largest() const {
   return best;
 }
 
-void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped,
-                        std::size_t& triangles_dropped) {
+void dropOpenMinorParts(TriangleMesh& mesh, std::size_t& parts_dropped, std::size_t& triangles_dropped) {
   parts_dropped = triangles_dropped = 0;
   const std::size_t nv = mesh.vertices.size();
   if (mesh.triangles.empty() || nv == 0) return;
@@ -500,8 +516,7 @@ void checkFiniteAndIndexed(const TriangleMesh& mesh, const std::string& source) 
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[t][k] >= mesh.vertices.size())
         throw MeshError(source + ": triangle " + std::to_string(t) + " refers to vertex " +
-                        std::to_string(mesh.triangles[t][k]) + " of " +
-                        std::to_string(mesh.vertices.size()));
+                        std::to_string(mesh.triangles[t][k]) + " of " + std::to_string(mesh.vertices.size()));
 }
 
 // Degenerate triangles (repeated corners or, numerically, no area) are
@@ -519,10 +534,8 @@ void dropDegenerateTriangles(TriangleMesh& mesh, float diag, MeshReport& r, cons
   r.degenerate_removed = mesh.triangles.size() - good.size();
   if (good.empty() || r.degenerate_removed * 10 > mesh.triangles.size())
     throw MeshError(source + ": " + std::to_string(r.degenerate_removed) + " of " +
-                    std::to_string(mesh.triangles.size()) +
-                    " triangles are degenerate (no area or repeated corners)");
+                    std::to_string(mesh.triangles.size()) + " triangles are degenerate (no area or repeated corners)");
   mesh.triangles = std::move(good);
-
 }
 
 // Drops unreferenced vertices.
@@ -582,16 +595,18 @@ EdgeCensus countEdges(const TriangleMesh& mesh, MeshReport& r, const std::string
       // the triangle runs lo->hi when dir > 0; the hole runs the other way
       const std::uint32_t from = edges[a].dir > 0 ? hi_v : lo_v, to = edges[a].dir > 0 ? lo_v : hi_v;
       if (!next.emplace(from, to).second && pinched == UINT32_MAX) pinched = from;
-    } else if (count > 2) ++r.nonmanifold_edges;
-    else if (sum != 0) ++r.misoriented_edges;
+    } else if (count > 2)
+      ++r.nonmanifold_edges;
+    else if (sum != 0)
+      ++r.misoriented_edges;
     a = b;
   }
   if (r.nonmanifold_edges * 100 > unique_edges)
-    throw MeshError(source + ": the mesh is not a surface: " + std::to_string(r.nonmanifold_edges) +
-                    " of " + std::to_string(unique_edges) + " edges belong to three or more triangles");
+    throw MeshError(source + ": the mesh is not a surface: " + std::to_string(r.nonmanifold_edges) + " of " +
+                    std::to_string(unique_edges) + " edges belong to three or more triangles");
   if (r.misoriented_edges * 100 > unique_edges)
-    throw MeshError(source + ": the triangles are not consistently oriented: " +
-                    std::to_string(r.misoriented_edges) + " of " + std::to_string(unique_edges) +
+    throw MeshError(source + ": the triangles are not consistently oriented: " + std::to_string(r.misoriented_edges) +
+                    " of " + std::to_string(unique_edges) +
                     " edges are traversed the same way by both their triangles");
   return census;
 }
@@ -632,8 +647,8 @@ void closeHoles(TriangleMesh& mesh, const EdgeCensus& census, MeshReport& r, con
   const bool small_gaps = r.boundary_edges * 50 <= unique_edges;
   auto refuse = [&](const std::string& holes) {
     char share[96];
-    std::snprintf(share, sizeof share, ", %zu of %zu edges (%.1f%%) on their rims", r.boundary_edges,
-                  unique_edges, 100.0 * static_cast<double>(r.boundary_edges) / static_cast<double>(unique_edges));
+    std::snprintf(share, sizeof share, ", %zu of %zu edges (%.1f%%) on their rims", r.boundary_edges, unique_edges,
+                  100.0 * static_cast<double>(r.boundary_edges) / static_cast<double>(unique_edges));
     throw MeshError(source + ": the mesh is not closed: " + holes + share +
                     "; holes are closed automatically when there are at most 4 openings that each close "
                     "with a flat fan (a head cut at the neck, a bust cut under the chest or at the arms) or "
@@ -714,8 +729,7 @@ double orientedVolume(TriangleMesh& mesh, glm::vec3 lo, glm::vec3 hi, MeshReport
 
 MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
   MeshReport r;
-  if (mesh.triangles.empty() || mesh.vertices.empty())
-    throw MeshError(source + ": the mesh has no triangles");
+  if (mesh.triangles.empty() || mesh.vertices.empty()) throw MeshError(source + ": the mesh has no triangles");
   checkFiniteAndIndexed(mesh, source);
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const auto& t : mesh.triangles)
@@ -726,8 +740,8 @@ MeshReport checkMesh(TriangleMesh& mesh, const std::string& source) {
   const glm::vec3 ext = hi - lo;
   const float diag = glm::length(ext);
   if (!(diag > 0.0f) || std::min({ext.x, ext.y, ext.z}) <= 1e-6f * diag)
-    throw MeshError(source + ": the mesh is flat or a point (bounding box " + vecText(lo) + " to " +
-                    vecText(hi) + "); a body must enclose a volume");
+    throw MeshError(source + ": the mesh is flat or a point (bounding box " + vecText(lo) + " to " + vecText(hi) +
+                    "); a body must enclose a volume");
 
   dropDegenerateTriangles(mesh, diag, r, source);
   dropUnusedVertices(mesh);

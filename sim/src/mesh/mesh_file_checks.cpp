@@ -44,9 +44,9 @@ std::string shown(std::string_view s) {
 }
 
 // A count from a header: a whole number in [0, limit].
-std::size_t count(const std::string& path, const std::string& what, const std::string& token,
-                  std::size_t limit) {
-  if (token.empty() || !std::all_of(token.begin(), token.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+std::size_t count(const std::string& path, const std::string& what, const std::string& token, std::size_t limit) {
+  if (token.empty() ||
+      !std::all_of(token.begin(), token.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
     fail(path, "the header's count of " + what + " is \"" + shown(token) + "\", not a whole number >= 0");
   errno = 0;
   const unsigned long long v = std::strtoull(token.c_str(), nullptr, 10);
@@ -76,10 +76,10 @@ int plyTypeBytes(const std::string& path, const std::string& type, bool* is_floa
     const char* name;
     int bytes;
     bool floating;
-  } kTypes[] = {{"char", 1, false},   {"uchar", 1, false},  {"short", 2, false},  {"ushort", 2, false},
-                {"int", 4, false},    {"uint", 4, false},   {"float", 4, true},   {"double", 8, true},
-                {"int8", 1, false},   {"uint8", 1, false},  {"int16", 2, false},  {"uint16", 2, false},
-                {"int32", 4, false},  {"uint32", 4, false}, {"float32", 4, true}, {"float64", 8, true}};
+  } kTypes[] = {{"char", 1, false},  {"uchar", 1, false},  {"short", 2, false},  {"ushort", 2, false},
+                {"int", 4, false},   {"uint", 4, false},   {"float", 4, true},   {"double", 8, true},
+                {"int8", 1, false},  {"uint8", 1, false},  {"int16", 2, false},  {"uint16", 2, false},
+                {"int32", 4, false}, {"uint32", 4, false}, {"float32", 4, true}, {"float64", 8, true}};
   for (const auto& t : kTypes)
     if (type == t.name) {
       if (is_float) *is_float = t.floating;
@@ -136,8 +136,7 @@ PlyHeader readPlyHeader(const std::string& path, const std::string& bytes, std::
         prop.value_bytes = plyTypeBytes(path, type, &prop.value_float, &prop.value_signed);
       }
       std::string extra;
-      if (prop.name.empty() || (in >> extra))
-        fail(path, "the PLY property line \"" + shown(line) + "\" is malformed");
+      if (prop.name.empty() || (in >> extra)) fail(path, "the PLY property line \"" + shown(line) + "\" is malformed");
       elements.back().properties.push_back(prop);
     } else if (word != "comment" && word != "obj_info" && !word.empty()) {
       fail(path, "the PLY header has a line \"" + shown(line) + "\" that is not an element, property or comment");
@@ -151,8 +150,8 @@ PlyHeader readPlyHeader(const std::string& path, const std::string& bytes, std::
 
 // The vertex and face elements checked (x, y, z; a corner list; the face
 // limit), their counts; and no element claiming more than the file holds.
-MeshFileCounts checkPlyElements(const std::vector<PlyElement>& elements, const std::string& path,
-                                std::size_t size, std::size_t at, std::size_t max_faces) {
+MeshFileCounts checkPlyElements(const std::vector<PlyElement>& elements, const std::string& path, std::size_t size,
+                                std::size_t at, std::size_t max_faces) {
   MeshFileCounts c;
   for (const PlyElement& e : elements) {
     auto has = [&](const char* name, bool list) {
@@ -178,8 +177,9 @@ MeshFileCounts checkPlyElements(const std::vector<PlyElement>& elements, const s
   for (const PlyElement& e : elements)
     if (e.count > 0 && e.properties.size() > 0 && e.count > (size - at) / e.properties.size())
       fail(path, "the header claims " + std::to_string(e.count) + " " +
-                     (e.name == "vertex" ? std::string("vertices") : e.name == "face" ? std::string("faces")
-                                                                          : shown(e.name) + " elements") +
+                     (e.name == "vertex" ? std::string("vertices")
+                      : e.name == "face" ? std::string("faces")
+                                         : shown(e.name) + " elements") +
                      ", more than a file of this size can hold");
   return c;
 }
@@ -189,7 +189,11 @@ MeshFileCounts checkPlyElements(const std::vector<PlyElement>& elements, const s
 class PlyBody {
  public:
   PlyBody(const std::string& file, const std::string& data, std::size_t start, const std::string& format)
-      : path(file), bytes(data), size(data.size()), at(start), ascii(format == "ascii"),
+      : path(file),
+        bytes(data),
+        size(data.size()),
+        at(start),
+        ascii(format == "ascii"),
         big(format == "binary_big_endian") {}
   /// One value of property p (its list's count when `count`), as a double.
   double value(const PlyElement& e, std::size_t k, const PlyProperty& p, bool count) {
@@ -200,7 +204,8 @@ class PlyBody {
       if (*end != '\0') fail(path, where(e, k) + ": \"" + shown(t) + "\" is not a number");
       return d;
     }
-    return count ? binary(e, k, p.count_bytes, false, false) : binary(e, k, p.value_bytes, p.value_float, p.value_signed);
+    return count ? binary(e, k, p.count_bytes, false, false)
+                 : binary(e, k, p.value_bytes, p.value_float, p.value_signed);
   }
   std::string where(const PlyElement& e, std::size_t k) const { return shown(e.name) + " " + std::to_string(k); }
   std::size_t left() const { return size - at; }
@@ -384,11 +389,12 @@ MeshFileCounts checkObj(const std::string& path, const std::string& bytes, std::
         char* end = nullptr;
         errno = 0;
         const double d = std::strtod(s, &end);
-        if (end == s) fail(path, where + "vertex " + std::to_string(c.vertices + 1) +
-                                     " needs three numbers: \"" + shown(line) + "\"");
+        if (end == s)
+          fail(path,
+               where + "vertex " + std::to_string(c.vertices + 1) + " needs three numbers: \"" + shown(line) + "\"");
         if (!std::isfinite(d) || (errno == ERANGE && std::abs(d) > 1.0))
-          fail(path, where + "vertex " + std::to_string(c.vertices + 1) + " has a coordinate that is not a finite number: \"" +
-                         shown(line) + "\"");
+          fail(path, where + "vertex " + std::to_string(c.vertices + 1) +
+                         " has a coordinate that is not a finite number: \"" + shown(line) + "\"");
         s = end;
       }
       ++c.vertices;
@@ -402,8 +408,7 @@ MeshFileCounts checkObj(const std::string& path, const std::string& bytes, std::
         errno = 0;
         const long long i = std::strtoll(index.c_str(), &end, 10);
         if (index.empty() || *end != '\0' || errno != 0)
-          fail(path, where + "face " + std::to_string(c.faces + 1) + ": \"" + shown(ref) +
-                         "\" is not a vertex index");
+          fail(path, where + "face " + std::to_string(c.faces + 1) + ": \"" + shown(ref) + "\" is not a vertex index");
         const long long resolved = i < 0 ? static_cast<long long>(c.vertices) + 1 + i : i;
         if (resolved < 1 || resolved > static_cast<long long>(c.vertices))
           fail(path, where + "face " + std::to_string(c.faces + 1) + " refers to vertex " + index + ", but " +
@@ -539,8 +544,10 @@ MeshFileCounts checkMeshFile(const std::string& path, const std::string& bytes, 
     std::size_t at = 0;
     while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
     if (bytes.compare(at, 5, "solid") != 0)
-      fail(path, "not a valid STL file: neither ASCII (\"solid ...\") nor binary (its triangle count does "
-                 "not match its size of " + std::to_string(bytes.size()) + " bytes)");
+      fail(path,
+           "not a valid STL file: neither ASCII (\"solid ...\") nor binary (its triangle count does "
+           "not match its size of " +
+               std::to_string(bytes.size()) + " bytes)");
     // no count in the file: its facets, each closed by "endfacet"
     std::size_t facets = 0;
     for (std::size_t k = bytes.find("endfacet", at); k != std::string::npos; k = bytes.find("endfacet", k + 8))

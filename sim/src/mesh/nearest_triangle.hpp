@@ -36,7 +36,7 @@ class NearestTriangle {
   std::vector<glm::vec3> positions_;
   std::vector<glm::u32vec3> triangles_;
   struct Node {
-    glm::vec3 lo, hi;           // box of the triangles below
+    glm::vec3 lo, hi;            // box of the triangles below
     std::uint32_t first, count;  // leaf: order_[first, first + count); inner: count 0, children first, first + 1
   };
   std::vector<Node> nodes_;

@@ -42,8 +42,8 @@ void TriangleCells::build(const std::vector<glm::vec3>& corners, float margin, s
   inv_cell_ = 1.0f / cell_;
   origin_ = lo;
   for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::floor(static_cast<double>(extent[a]) / cell)) + 1;
-  const std::size_t cells = static_cast<std::size_t>(dims_[0]) * static_cast<std::size_t>(dims_[1]) *
-                            static_cast<std::size_t>(dims_[2]);
+  const std::size_t cells =
+      static_cast<std::size_t>(dims_[0]) * static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(dims_[2]);
   // The cells a triangle's grown box overlaps, by the same rounding as
   // forEachNear (so a box that meets the query's meets a listed cell).
   auto range = [&](std::size_t t, int* l, int* h) {
@@ -63,11 +63,14 @@ void TriangleCells::build(const std::vector<glm::vec3>& corners, float margin, s
       for (int z = l[2]; z <= h[2]; ++z)
         for (int y = l[1]; y <= h[1]; ++y)
           for (int x = l[0]; x <= h[0]; ++x) {
-            const std::size_t c = (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_[1]) +
-                                   static_cast<std::size_t>(y)) * static_cast<std::size_t>(dims_[0]) +
-                                  static_cast<std::size_t>(x);
-            if (pass == 0) ++fill[c + 1];
-            else list_[fill[c]++] = static_cast<std::uint32_t>(t);
+            const std::size_t c =
+                (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_[1]) + static_cast<std::size_t>(y)) *
+                    static_cast<std::size_t>(dims_[0]) +
+                static_cast<std::size_t>(x);
+            if (pass == 0)
+              ++fill[c + 1];
+            else
+              list_[fill[c]++] = static_cast<std::uint32_t>(t);
           }
     }
     if (pass == 0) {

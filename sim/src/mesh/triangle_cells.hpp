@@ -42,9 +42,10 @@ class TriangleCells {
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int x = lo[0]; x <= hi[0]; ++x) {
-          const std::size_t c = (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_[1]) +
-                                 static_cast<std::size_t>(y)) * static_cast<std::size_t>(dims_[0]) +
-                                static_cast<std::size_t>(x);
+          const std::size_t c =
+              (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_[1]) + static_cast<std::size_t>(y)) *
+                  static_cast<std::size_t>(dims_[0]) +
+              static_cast<std::size_t>(x);
           for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) f(list_[e]);
         }
   }

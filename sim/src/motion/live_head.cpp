@@ -25,8 +25,7 @@ double LiveHead::frameTime(std::int64_t n) const { return static_cast<double>(n)
 
 void LiveHead::beginFrame(std::int64_t n, HeadKeyframe wanted) {
   if (n != next_frame_)
-    throw std::logic_error("live head: frame " + std::to_string(n) + " begun, expected " +
-                           std::to_string(next_frame_));
+    throw std::logic_error("live head: frame " + std::to_string(n) + " begun, expected " + std::to_string(next_frame_));
   ++next_frame_;
   wanted.time = frameTime(n + kLead);
   keys_.push_back(wanted);

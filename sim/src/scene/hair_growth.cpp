@@ -56,7 +56,8 @@ Style sceneStyle(const SceneDesc& scene, const HeadModel& model, BuildReport* re
     checkStyle(style, from);
     style = retargetStyle(style, from, model);
     if (report)
-      report->warnings.push_back("hair.style: the style was made on another head; its wisps were placed on this one by their scalp (u, v)");
+      report->warnings.push_back(
+          "hair.style: the style was made on another head; its wisps were placed on this one by their scalp (u, v)");
   } else {
     checkStyle(style, model);
   }
@@ -71,14 +72,13 @@ int buildThreads(const SceneDesc& scene) {
   return asked > 0 && asked <= parallel::kMaxThreads ? asked : parallel::availableThreads();
 }
 
-
 // The particles of a styled scene (method.md §6.2): the style's member strands,
 // on the scene's head (retargeted by (u, v) when the style was made on
 // another one), sampled by Poisson-disc darts; particles inside a tie are
 // held like roots.
 // Returns the style's own shape-keeping strength (Hz).
-float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp,
-                    BuildReport& rep, TieTethers& tethers) {
+float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p, float& rp, BuildReport& rep,
+                    TieTethers& tethers) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const HairSpec& hair = scene.hair;
@@ -93,7 +93,8 @@ float growFromStyle(const SceneDesc& scene, const HeadModel& model, Particles& p
   const StrandSeeding seeded = seedFromStrands(strands, hair.particles, scene.seed);
   rep.seconds_sampling = std::chrono::duration<double>(Clock::now() - t1).count();
   const std::size_t n = seeded.samples.size();
-  if (n < 2) throw SceneError(scene.source + ": hair.particles: too few particles could be placed on the style's strands");
+  if (n < 2)
+    throw SceneError(scene.source + ": hair.particles: too few particles could be placed on the style's strands");
   rp = seeded.radius;
   // Beyond a tie the ring is the hair's new root: a particle there measures
   // its arc length from where its strand crosses the ring, and its tether
@@ -205,6 +206,5 @@ void growCantilever(const SceneDesc& scene, const HeadModel& model, Particles& p
 
   rep.seconds_strands = since(t_strands);
 }
-
 
 }  // namespace loosehair

@@ -13,9 +13,9 @@ namespace {
 using K = ParamInfo::Kind;
 using P = ParamInfo::Print;
 
-#define LH_REAL(field) \
+#define LH_REAL(field)                                             \
   [](const SimParams& p) { return static_cast<double>(p.field); }, \
-  [](SimParams& p, double v) { p.field = static_cast<decltype(p.field)>(v); }
+      [](SimParams& p, double v) { p.field = static_cast<decltype(p.field)>(v); }
 #define LH_SWITCH(field) \
   [](const SimParams& p) { return p.field ? 1.0 : 0.0; }, [](SimParams& p, double v) { p.field = v != 0.0; }
 
@@ -39,8 +39,7 @@ const ParamInfo kTable[] = {
     {"target_connections", "", K::Integer, 1, 256, false, false, false, true, P::Always,
      "connections a particle aims for", LH_REAL(target_connections)},
     {"youngs_modulus", "Pa", K::Real, 0.0, 1e12, true, true, true, true, P::Always,
-     "tensile modulus of the hair volume: higher turns the hair with the head like a solid",
-     LH_REAL(youngs_modulus)},
+     "tensile modulus of the hair volume: higher turns the hair with the head like a solid", LH_REAL(youngs_modulus)},
     {"material_density", "kg/m^3", K::Real, 1.0, 1e5, false, true, false, true, P::Always,
      "density of the hair material (keratin: 1300); sets the cross-section a particle stands for",
      LH_REAL(material_density)},
@@ -81,10 +80,10 @@ const ParamInfo kTable[] = {
      "how fast approaching hair particles lose their sliding relative speed", LH_REAL(friction_rate)},
     {"gravity.x", "m/s^2", K::Real, -1e3, 1e3, false, false, true, false, P::Always,
      "gravity, world x (a scene's \"gravity\": [x, y, z])", LH_REAL(gravity.x)},
-    {"gravity.y", "m/s^2", K::Real, -1e3, 1e3, false, false, true, false, P::Always,
-     "gravity, world y (up)", LH_REAL(gravity.y)},
-    {"gravity.z", "m/s^2", K::Real, -1e3, 1e3, false, false, true, false, P::Always,
-     "gravity, world z", LH_REAL(gravity.z)},
+    {"gravity.y", "m/s^2", K::Real, -1e3, 1e3, false, false, true, false, P::Always, "gravity, world y (up)",
+     LH_REAL(gravity.y)},
+    {"gravity.z", "m/s^2", K::Real, -1e3, 1e3, false, false, true, false, P::Always, "gravity, world z",
+     LH_REAL(gravity.z)},
     {"air_drag", "1/s", K::Real, 0.0, 1e6, false, true, true, true, P::Always,
      "how fast the air slows the hair's world velocity", LH_REAL(air_drag)},
     {"body_friction", "", K::Real, 0.0, 100.0, false, false, true, true, P::Always,
@@ -132,7 +131,8 @@ std::string ParamInfo::check(double v) const {
   // rounded to float is within them
   const auto below = [](double a, double b) { return a < b && static_cast<float>(a) < static_cast<float>(b); };
   if (below(v, lo) || below(hi, v) || (lo_open && !(static_cast<float>(v) > static_cast<float>(lo)))) {
-    if (lo_open && lo == 0.0 && v <= 0.0) return std::string("must be positive") + (*unit ? " (" : "") + unit + (*unit ? ")" : "");
+    if (lo_open && lo == 0.0 && v <= 0.0)
+      return std::string("must be positive") + (*unit ? " (" : "") + unit + (*unit ? ")" : "");
     return "must lie in " + rangeText(*this);
   }
   return "";

@@ -49,8 +49,8 @@ std::vector<std::string> validate(const SimParams& p) {
   // Explicit velocity-decay terms overshoot once rate * dt approaches 1.
   for (const DecayRate& r : decayRates(p))
     if (std::isfinite(r.rate) && std::isfinite(p.time_step) && r.rate * p.time_step > kMaxDecayPerStep)
-      c.fail(std::string(r.name) + " = " + num(r.rate) + " 1/s is too large for time_step = " +
-             num(p.time_step) + " s (rate * time_step must stay below " + num(kMaxDecayPerStep) + ")");
+      c.fail(std::string(r.name) + " = " + num(r.rate) + " 1/s is too large for time_step = " + num(p.time_step) +
+             " s (rate * time_step must stay below " + num(kMaxDecayPerStep) + ")");
   // the hold is a spring of angular frequency 2 pi f; symplectic Euler is
   // stable below omega dt = 2, and accurate well below it
   if (std::isfinite(p.shape_keeping) && std::isfinite(p.time_step) &&

@@ -94,9 +94,12 @@ json parseJson(const std::string& text, const std::string& source) {
 WindParams readWind(Fields f) {
   WindParams w;
   const std::string model = f.text("model", "grid");
-  if (model == "grid") w.model = AirModel::Grid;
-  else if (model == "particles") w.model = AirModel::Particles;
-  else f.fail("model", "must be \"grid\" or \"particles\", got \"" + model + "\"");
+  if (model == "grid")
+    w.model = AirModel::Grid;
+  else if (model == "particles")
+    w.model = AirModel::Particles;
+  else
+    f.fail("model", "must be \"grid\" or \"particles\", got \"" + model + "\"");
   w.direction = glm::vec3(f.vec3("direction", glm::dvec3(w.direction), 1e6));
   if (!(glm::length(w.direction) > 1e-6f)) f.fail("direction", "must be a non-zero direction");
   w.speed = f.real("speed", w.speed, 0.0, 100.0);
@@ -199,8 +202,10 @@ HeadTrajectory readMotion(Fields f) {
 SceneDesc parseScene(const std::string& text, const std::string& source) {
   const json root = parseJson(text, source);
   if (root.is_object() && root.contains("wisps"))
-    throw SceneError(source + ": is a style file (it has \"wisps\"), not a scene; grow it on a scene's head with "
-                     "--style " + source + " (e.g. loosehair render data/scenes/hang.json --style " + source + ")");
+    throw SceneError(source +
+                     ": is a style file (it has \"wisps\"), not a scene; grow it on a scene's head with "
+                     "--style " +
+                     source + " (e.g. loosehair render data/scenes/hang.json --style " + source + ")");
   SceneDesc s;
   s.source = source;
   Fields top(root, "", source);
@@ -238,7 +243,8 @@ SceneDesc parseScene(const std::string& text, const std::string& source) {
       h.style = resolvePath(source, file);
       for (const char* unused : {"length", "whorl", "w_t", "w_n", "bending_stiffness", "layering", "length_map"})
         if (hair.object().contains(unused))
-          hair.fail(unused, "is not used with a style (the style's key strands shape the hair); remove it or the style");
+          hair.fail(unused,
+                    "is not used with a style (the style's key strands shape the hair); remove it or the style");
     }
     // a centimetre at least: shorter hair is thinner than the particles that
     // sample it, and fails later naming the solver's smoothing lengths
@@ -283,10 +289,11 @@ std::string keyframesJson(const std::vector<HeadKeyframe>& keys) {
   char buf[320];
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const HeadKeyframe& q = keys[k];
-    std::snprintf(buf, sizeof buf,
-                  "  {\"time\": %.17g, \"euler_deg\": [%.17g, %.17g, %.17g], \"translation\": [%.17g, %.17g, %.17g]}%s\n",
-                  q.time, q.euler_deg.x, q.euler_deg.y, q.euler_deg.z, q.translation.x, q.translation.y,
-                  q.translation.z, k + 1 < keys.size() ? "," : "");
+    std::snprintf(
+        buf, sizeof buf,
+        "  {\"time\": %.17g, \"euler_deg\": [%.17g, %.17g, %.17g], \"translation\": [%.17g, %.17g, %.17g]}%s\n", q.time,
+        q.euler_deg.x, q.euler_deg.y, q.euler_deg.z, q.translation.x, q.translation.y, q.translation.z,
+        k + 1 < keys.size() ? "," : "");
     s += buf;
   }
   return s + "]}}\n";
@@ -297,9 +304,10 @@ SceneDesc loadScene(const std::string& path) {
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   for (const char* mesh : {".ply", ".obj", ".off", ".stl", ".glb", ".gltf"})
     if (ext == mesh)
-      throw SceneError(path + ": is a mesh, not a scene; a scene (JSON) names its head mesh as \"head\": "
-                       "{\"type\": \"mesh\", \"mesh\": \"" + std::filesystem::path(path).filename().string() +
-                       "\"} (data/scenes/README.md)");
+      throw SceneError(path +
+                       ": is a mesh, not a scene; a scene (JSON) names its head mesh as \"head\": "
+                       "{\"type\": \"mesh\", \"mesh\": \"" +
+                       std::filesystem::path(path).filename().string() + "\"} (data/scenes/README.md)");
   return parseScene(readTextFile(path, "the scene file"), path);
 }
 

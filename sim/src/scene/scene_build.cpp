@@ -73,9 +73,8 @@ std::vector<std::uint32_t> anchorableParticles(Particles& p, float reach, float 
   const std::size_t n = p.size();
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return p.arc_length[a] < p.arc_length[b];
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return p.arc_length[a] < p.arc_length[b]; });
   NeighborGrid grid;
   grid.build(p.position, reach, 1);
   std::vector<std::uint8_t> kept(n, 0);
@@ -103,8 +102,7 @@ std::vector<std::uint32_t> anchorableParticles(Particles& p, float reach, float 
     }
     bool anchored = false;
     for (std::uint32_t j : grid.neighbors(i))
-      if (kept[j] && p.arc_length[j] < p.arc_length[i] &&
-          glm::length(p.position[j] - p.position[i]) < reach) {
+      if (kept[j] && p.arc_length[j] < p.arc_length[i] && glm::length(p.position[j] - p.position[i]) < reach) {
         anchored = true;
         break;
       }
@@ -156,8 +154,7 @@ void warnOfALongArm(const HeadModel& model, BuildReport& rep) {
   const float arm = glm::length(glm::max(glm::max(lo, -hi), glm::vec3(0.0f)));  // origin to the box
   if (arm > 0.5f * size) {
     char text[160];
-    std::snprintf(text, sizeof text, "%.2f m from the head's bounding box (the head is %.2f m across)", arm,
-                  size);
+    std::snprintf(text, sizeof text, "%.2f m from the head's bounding box (the head is %.2f m across)", arm, size);
     rep.warnings.push_back(std::string("motion: the head turns about its frame's origin, ") + text +
                            ", so it swings on a long arm; place the origin on the neck axis at about ear "
                            "height (head.offset or head.center)");
@@ -173,8 +170,7 @@ void mortonOrder(Particles& p, float rp, TieTethers& tie_tethers) {
   for (std::size_t k = 0; k < n; ++k) key[k] = NeighborGrid::cellKey(p.position[k], 1.0f / rp);
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
   p = p.select(order);
   tie_tethers.select(order);
 }
@@ -190,8 +186,7 @@ float meanNearestNeighbor(const Particles& p, float rp) {
   for (std::size_t i = 0; i < n; ++i) {
     if (p.is_root[i]) continue;
     float best = INFINITY;
-    for (std::uint32_t j : grid.neighbors(i))
-      best = std::min(best, glm::length(p.position[j] - p.position[i]));
+    for (std::uint32_t j : grid.neighbors(i)) best = std::min(best, glm::length(p.position[j] - p.position[i]));
     if (std::isfinite(best)) {
       sum += best;
       ++count;
@@ -216,8 +211,7 @@ SimParams solverParams(const SceneDesc& scene, bool styled, float style_shape_ke
   if (scene.h2_auto) params.h2 = std::min(hair.h2_scale * mean_nn, 0.8f * params.h1);
   if (!(params.h2 < params.h1))
     throw SceneError(scene.source + ": solver.h2 = " + num(params.h2) +
-                     " must be smaller than solver.h1 = " + num(params.h1) +
-                     " (Poisson radius " + num(rp) +
+                     " must be smaller than solver.h1 = " + num(params.h1) + " (Poisson radius " + num(rp) +
                      " m, mean nearest-neighbour distance " + num(mean_nn) + " m)");
 
   params.time_step = 1.0 / scene.frame_rate / (scene.substeps > 0 ? scene.substeps : 1);
@@ -270,12 +264,12 @@ void dropStragglers(const SceneDesc& scene, const SimParams& params, Particles& 
   rep.stragglers_dropped = before - kept.size();
   if (free_before > 0 && 2 * rep.stragglers_dropped > free_before)
     throw SceneError(scene.source + ": " + std::to_string(rep.stragglers_dropped) + " of " +
-                     std::to_string(free_before) +
-                     " hair particles have no particle nearer the root within 1.8 h1 = " +
+                     std::to_string(free_before) + " hair particles have no particle nearer the root within 1.8 h1 = " +
                      num(1.8 * params.h1) + " m, so they cannot reach a root and would fall (" +
                      (scene.h1_auto ? "raise hair.h1_scale or hair.particles, or make the scalp larger"
                                     : "solver.h1 is too small for the particle spacing: raise it, or "
-                                      "leave it out to have it set from the sampling") + ")");
+                                      "leave it out to have it set from the sampling") +
+                     ")");
 }
 
 // The ties' tethers and holds (hair between the scalp and a tie).
@@ -327,12 +321,13 @@ void addObstacles(const SceneDesc& scene, Solver& solver) {
 // the hair.
 void addWind(const SceneDesc& scene, Solver& solver, BuildReport& rep) {
   const glm::vec3 box = scene.wind.box_size;
-  const double air = static_cast<double>(box.x) * box.y * box.z /
-                     std::pow(static_cast<double>(scene.wind.spacing), 3.0);
+  const double air =
+      static_cast<double>(box.x) * box.y * box.z / std::pow(static_cast<double>(scene.wind.spacing), 3.0);
   if (air > static_cast<double>(scene.limits.max_air_particles))
-    throw SceneError(scene.source + ": wind.spacing: " + num(scene.wind.spacing) +
-                     " m fills the air box with about " + std::to_string(static_cast<long long>(air)) +
-                     " air particles (or cells of the air grid), above the limit of " + std::to_string(scene.limits.max_air_particles) +
+    throw SceneError(scene.source + ": wind.spacing: " + num(scene.wind.spacing) + " m fills the air box with about " +
+                     std::to_string(static_cast<long long>(air)) +
+                     " air particles (or cells of the air grid), above the limit of " +
+                     std::to_string(scene.limits.max_air_particles) +
                      ": use a larger spacing or a smaller wind.box_size (or --allow-expensive)");
   try {
     solver.setWind(scene.wind);
@@ -362,7 +357,8 @@ void addWind(const SceneDesc& scene, Solver& solver, BuildReport& rep) {
              std::abs(glm::dot(d, axes.side)) <= half.z;
     });
     if (!reaches)
-      rep.warnings.push_back(where + ": the air box holds none of the hair at the start: the wind touches it "
+      rep.warnings.push_back(where +
+                             ": the air box holds none of the hair at the start: the wind touches it "
                              "only where it swings into the box");
   }
 }
@@ -379,8 +375,8 @@ int chooseSubsteps(const SceneDesc& scene, const SimParams& params, Solver& solv
   };
   std::vector<StepBound> bounds;
   if (params.implicit_springs)  // accuracy only (docs/design.md "Implicit springs": kAccurateStep)
-    bounds.push_back({kAccurateStep, "the implicit springs' accuracy (at most 1/90 s a step)",
-                      "raise frame_rate (shorter frames)"});
+    bounds.push_back(
+        {kAccurateStep, "the implicit springs' accuracy (at most 1/90 s a step)", "raise frame_rate (shorter frames)"});
   else  // 60% of the stable spring step
     bounds.push_back({0.6 * solver.initReport().stable_time_step,
                       "the explicit springs' stability (solver.youngs_modulus = " + num(params.youngs_modulus) + ")",
@@ -398,8 +394,7 @@ int chooseSubsteps(const SceneDesc& scene, const SimParams& params, Solver& solv
   const StepBound& tightest = *std::min_element(
       bounds.begin(), bounds.end(), [](const StepBound& a, const StepBound& b) { return a.seconds < b.seconds; });
   // (a bound that divides the frame exactly is not rounded up a step)
-  const double needed =
-      scene.substeps > 0 ? scene.substeps : std::ceil(frame_time / tightest.seconds * (1.0 - 1e-6));
+  const double needed = scene.substeps > 0 ? scene.substeps : std::ceil(frame_time / tightest.seconds * (1.0 - 1e-6));
   if (needed > scene.limits.max_substeps) {
     const std::string frame = "a frame (1/" + num(scene.frame_rate) + " s)";
     if (scene.substeps > 0)
@@ -422,8 +417,8 @@ Solver buildSolverReporting(const SceneDesc& scene, BuildReport* report, BuildRe
   // about 3.7 kB a particle with its connections, neighbours and scratch
   // (1 million: 3.6 GB and 100 s to start, on the sphere)
   if (static_cast<std::size_t>(hair.particles) > scene.limits.max_particles)
-    throw SceneError(scene.source + ": hair.particles: " + std::to_string(hair.particles) +
-                     " is above the limit of " + std::to_string(scene.limits.max_particles) +
+    throw SceneError(scene.source + ": hair.particles: " + std::to_string(hair.particles) + " is above the limit of " +
+                     std::to_string(scene.limits.max_particles) +
                      " (about 3.7 kB of memory a particle): use fewer (or --allow-expensive)");
   // The head, its scalp and the bodies (method.md §5, §6.1).
   const HeadModel model = HeadModel::build(scene, scene.source, scene.limits.mesh, &rep);

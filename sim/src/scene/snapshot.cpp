@@ -31,9 +31,7 @@ namespace {
 // What air the snapshot holds (the byte after the hair's state).
 constexpr std::uint8_t kNoAir = 0, kParticleAir = 1, kGridAir = 2;
 
-
-constexpr char kMagic[16] = {'l', 'o', 'o', 's', 'e', 'h', 'a', 'i',
-                             'r', '-', 's', 't', 'a', 't', 'e', '\n'};
+constexpr char kMagic[16] = {'l', 'o', 'o', 's', 'e', 'h', 'a', 'i', 'r', '-', 's', 't', 'a', 't', 'e', '\n'};
 constexpr std::size_t kHeaderBytes = 16 + 4 + 4 + 8 + 8;
 
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL) {
@@ -161,8 +159,7 @@ struct SnapshotAccess {
   static std::uint64_t fingerprint(const Solver& s) {
     std::uint64_t h = 0xcbf29ce484222325ULL;
     auto mix = [&h](const auto& vec) {
-      h = fnv1a(std::string_view(reinterpret_cast<const char*>(vec.data()),
-                                 vec.size() * sizeof(vec[0])),
+      h = fnv1a(std::string_view(reinterpret_cast<const char*>(vec.data()), vec.size() * sizeof(vec[0])),
                 h ^ vec.size());
     };
     const Particles& p = s.particles_;
@@ -189,10 +186,23 @@ struct SnapshotAccess {
       // the wind: its initial air can be the same for another wind (a
       // grid air that starts still, or a box far from the hair)
       const WindParams& w = s.air_->params();
-      std::vector<double> wind = {static_cast<double>(w.model), w.direction.x, w.direction.y, w.direction.z,
-                                  w.speed, w.box_center.x, w.box_center.y, w.box_center.z, w.box_size.x,
-                                  w.box_size.y, w.box_size.z, w.spacing, w.h_scale, w.density,
-                                  static_cast<double>(w.projection_iterations), w.sound_speed, w.viscosity_rate,
+      std::vector<double> wind = {static_cast<double>(w.model),
+                                  w.direction.x,
+                                  w.direction.y,
+                                  w.direction.z,
+                                  w.speed,
+                                  w.box_center.x,
+                                  w.box_center.y,
+                                  w.box_center.z,
+                                  w.box_size.x,
+                                  w.box_size.y,
+                                  w.box_size.z,
+                                  w.spacing,
+                                  w.h_scale,
+                                  w.density,
+                                  static_cast<double>(w.projection_iterations),
+                                  w.sound_speed,
+                                  w.viscosity_rate,
                                   w.drag_rate};
       for (const auto& [time, scale] : w.profile) {
         wind.push_back(time);
@@ -300,8 +310,7 @@ struct SnapshotAccess {
     }
     if (d.air_kind == kGridAir) {
       for (int c = 0; c < 3; ++c)
-        d.grid.u[static_cast<std::size_t>(c)] =
-            r.array<float>("the air grid's velocities", scene_grid->faceCount(c));
+        d.grid.u[static_cast<std::size_t>(c)] = r.array<float>("the air grid's velocities", scene_grid->faceCount(c));
       d.grid.pressure = r.array<float>("the air grid's pressures", scene_grid->cellCount());
       d.grid.pending = r.get<double>("the air grid's time since its step");
     }
@@ -339,10 +348,9 @@ struct SnapshotAccess {
     if (steps > kMaxSnapshotSteps)
       r.fail("the step count is " + std::to_string(steps) + ", more than the " + std::to_string(kMaxSnapshotSteps) +
              " a run may have");
-    if (!finite(position) || !finite(velocity) || !finite(direction) || !finite(sum_root) ||
-        !finite(sum_tip) || !finite(spring_dv) || !finite(air.x) || !finite(air.v) || !finite(air.density) ||
-        !std::isfinite(air.advance) || !finite(grid.u[0]) || !finite(grid.u[1]) || !finite(grid.u[2]) ||
-        !finite(grid.pressure))
+    if (!finite(position) || !finite(velocity) || !finite(direction) || !finite(sum_root) || !finite(sum_tip) ||
+        !finite(spring_dv) || !finite(air.x) || !finite(air.v) || !finite(air.density) || !std::isfinite(air.advance) ||
+        !finite(grid.u[0]) || !finite(grid.u[1]) || !finite(grid.u[2]) || !finite(grid.pressure))
       r.fail("it holds non-finite numbers");
     for (const glm::vec3& t : direction)
       if (std::abs(glm::dot(t, t) - 1.0f) > 1e-3f) r.fail("a hair direction is not a unit vector");
@@ -356,7 +364,7 @@ struct SnapshotAccess {
         r.fail("a hair particle lies " + num(far) + " m from the head's origin; this scene's hair reaches " +
                num(reach) + " m and a head travels " + num(kHeadTravel) + " m at most");
       const double fast = std::max({largest(velocity), largest(spring_dv), largest(air.v), largest(grid.u[0]),
-                                   largest(grid.u[1]), largest(grid.u[2])});
+                                    largest(grid.u[1]), largest(grid.u[2])});
       if (fast > kMaxSnapshotSpeed)
         r.fail("it holds a speed of " + num(fast) + " m/s, above the " + num(kMaxSnapshotSpeed) +
                " m/s a hair or air state may have");
@@ -366,7 +374,7 @@ struct SnapshotAccess {
   // Particle air within its box and spacing.
   static void checkParticleAir(Reader& r, const AirSystem& scene_air, const AirSystem::State& air) {
     const WindParams& w = scene_air.params();
-const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size.z;
+    const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size.z;
     const double capacity = 4.0 * box / (static_cast<double>(w.spacing) * w.spacing * w.spacing) + 1000.0;
     if (static_cast<double>(air.x.size()) > capacity)
       r.fail("it holds " + std::to_string(air.x.size()) + " air particles where this scene's air box holds about " +
@@ -385,8 +393,10 @@ const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size
       const std::uint64_t key = (static_cast<std::uint64_t>(c.x) << 42) ^ (static_cast<std::uint64_t>(c.y) << 21) ^
                                 static_cast<std::uint64_t>(c.z);
       if (++cells[key] > kMaxAirPerCell)
-        r.fail("more than " + std::to_string(kMaxAirPerCell) + " air particles crowd into one cell of the air "
-               "spacing, near (" + num(x.x) + ", " + num(x.y) + ", " + num(x.z) + ")");
+        r.fail("more than " + std::to_string(kMaxAirPerCell) +
+               " air particles crowd into one cell of the air "
+               "spacing, near (" +
+               num(x.x) + ", " + num(x.y) + ", " + num(x.z) + ")");
     }
   }
 
@@ -433,7 +443,6 @@ const double box = static_cast<double>(w.box_size.x) * w.box_size.y * w.box_size
       scratch.active_entries = static_cast<std::size_t>(d.active);
     }
   }
-
 };
 
 std::uint64_t Solver::sceneFingerprint() const {
@@ -468,8 +477,8 @@ void decodeSnapshot(Solver& solver, std::string_view bytes, const std::string& n
   std::memcpy(&fingerprint, bytes.data() + 24, 8);
   std::memcpy(&length, bytes.data() + 32, 8);
   if (version != kSnapshotVersion)
-    throw SnapshotError(name + ": snapshot version " + std::to_string(version) +
-                        ", this program reads version " + std::to_string(kSnapshotVersion));
+    throw SnapshotError(name + ": snapshot version " + std::to_string(version) + ", this program reads version " +
+                        std::to_string(kSnapshotVersion));
   if (length != bytes.size() - kHeaderBytes - 8)
     throw SnapshotError(name + ": the snapshot is truncated or damaged (" + std::to_string(bytes.size()) +
                         " bytes where its header says " + std::to_string(length + kHeaderBytes + 8) + ")");
@@ -477,8 +486,9 @@ void decodeSnapshot(Solver& solver, std::string_view bytes, const std::string& n
   if (checksum != fnv1a(bytes.substr(0, bytes.size() - 8)))
     throw SnapshotError(name + ": the snapshot is damaged (its checksum does not match)");
   if (fingerprint != solver.sceneFingerprint())
-    throw SnapshotError(name + ": the snapshot was saved from another scene (or another seed, "
-                               "particle count or physical parameter) than the one given");
+    throw SnapshotError(name +
+                        ": the snapshot was saved from another scene (or another seed, "
+                        "particle count or physical parameter) than the one given");
   SnapshotAccess::decode(solver, bytes.substr(kHeaderBytes, length), name);
 }
 

@@ -5,16 +5,15 @@
 
 namespace loosehair {
 
-void Solver::addWorldBody(std::shared_ptr<const Body> body, HeadTrajectory motion, double begin,
-                          double end, bool obstacle) {
+void Solver::addWorldBody(std::shared_ptr<const Body> body, HeadTrajectory motion, double begin, double end,
+                          bool obstacle) {
   if (!body) throw std::invalid_argument("addWorldBody: no body");
   if (std::isnan(begin) || std::isnan(end) || !(begin < end))
     throw std::invalid_argument("addWorldBody: the active time interval is empty");
   world_bodies_.push_back({std::move(body), std::move(motion), begin, end, obstacle});
 }
 
-void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head,
-                         bool include_obstacles) const {
+void Solver::placeBodies(double t, std::vector<BodyFrame>& frames, HeadKinematics& head, bool include_obstacles) const {
   head = trajectory_.kinematics(t);
   frames.clear();
   for (const auto& wb : world_bodies_) {
@@ -62,10 +61,9 @@ std::int32_t* Solver::bodyHints(const Body* body) const {
   return nullptr;
 }
 
-void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                         const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                         glm::vec3* surface_velocity, float limit, bool rough,
-                         const std::uint32_t* index) const {
+void Solver::queryBodies(const std::vector<BodyFrame>& frames, const HeadKinematics& head, const glm::vec3* x,
+                         std::size_t n, float* phi, glm::vec3* normal, glm::vec3* surface_velocity, float limit,
+                         bool rough, const std::uint32_t* index) const {
   // The exact queries of one body over the points, with the particles'
   // hints for it where there are any.
   std::int32_t hint[kBodyBlock];
@@ -141,8 +139,8 @@ std::vector<BodyPlacement> Solver::bodyPlacements() const {
   return placed;
 }
 
-void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit,
-                          std::span<float> phi, std::span<glm::vec3> normal, bool rough) const {
+void Solver::bodyContacts(std::span<const glm::vec3> points, double t, float limit, std::span<float> phi,
+                          std::span<glm::vec3> normal, bool rough) const {
   if (phi.size() < points.size() || normal.size() < points.size())
     throw std::invalid_argument("Solver::bodyContacts: output spans shorter than the points");
   std::vector<BodyFrame> frames;

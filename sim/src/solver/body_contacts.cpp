@@ -14,7 +14,10 @@ class ClearanceBound {
  public:
   ClearanceBound(const StepContext& ctx, const std::vector<Frame>& start_frames, const std::vector<Frame>& frames,
                  const std::vector<glm::vec3>& x)
-      : start_(start_frames), frames_(frames), x_(x), integrated_(ctx.integrated_position.data()),
+      : start_(start_frames),
+        frames_(frames),
+        x_(x),
+        integrated_(ctx.integrated_position.data()),
         clear_(ctx.body_clearance.data()) {
     same_bodies_ = start_frames.size() == frames.size() &&
                    std::equal(frames.begin(), frames.end(), start_frames.begin(),
@@ -27,8 +30,8 @@ class ClearanceBound {
     const glm::vec3 xi = integrated_[i];
     float body_move = 0.0f;  // the farthest a world body moved at xi
     for (std::size_t k = 0; bodies_moved_ && k < frames_.size(); ++k)
-      body_move = std::max(body_move, glm::length((frames_[k].m * xi + frames_[k].d) -
-                                                  (start_[k].m * xi + start_[k].d)));
+      body_move =
+          std::max(body_move, glm::length((frames_[k].m * xi + frames_[k].d) - (start_[k].m * xi + start_[k].d)));
     return clear_[i] - glm::length(x_[i] - xi) - body_move;
   }
 
@@ -85,8 +88,7 @@ glm::vec3 correctedVelocity(glm::vec3 vi, const glm::vec3& x, const glm::vec3& i
 // On the mesh-head scenes the later rounds asked all 256 particles of any
 // block with one particle inside.
 void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
-                                const std::vector<BodyFrame>& frames,
-                                const std::vector<BodyFrame>& solid_frames,
+                                const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
                                 const HeadKinematics& head) {
   const std::size_t n = particles_.size();
   auto& x = particles_.position;
@@ -112,87 +114,85 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
   const ClearanceBound<BodyFrame> clearance(ctx, start_frames, frames, x);
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
-  parallel::forEachDynamic(
-      threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
-        const std::size_t b = bb * kBodyBlock;
-        const std::size_t len = std::min(n, b + kBodyBlock) - b;
-        glm::vec3 surface[kBodyBlock], body_normal[kBodyBlock];
-        float body_phi[kBodyBlock];  // the block's answers
-        bool pushed[kBodyBlock] = {};
-        glm::vec3 push_normal[kBodyBlock];
-        std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
-        glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
-        float q_phi[kBodyBlock];
-        std::size_t asked = 0;
-        std::uint32_t index[kBodyBlock];  // the particles asked
-        // The first round asks about the particles integrate() did not
-        // prove clear of every body; the others keep that proof.
-        for (std::size_t o = 0; o < len; ++o) {
-          const std::size_t i = b + o;
-          if (root[i]) continue;  // never pushed
-          const float lower = clearance(i);
-          if (lower > kClearMargin) {
-            body_phi[o] = lower;
-            continue;
-          }
-          ask[asked++] = static_cast<std::uint16_t>(o);
+  parallel::forEachDynamic(threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
+    const std::size_t b = bb * kBodyBlock;
+    const std::size_t len = std::min(n, b + kBodyBlock) - b;
+    glm::vec3 surface[kBodyBlock], body_normal[kBodyBlock];
+    float body_phi[kBodyBlock];  // the block's answers
+    bool pushed[kBodyBlock] = {};
+    glm::vec3 push_normal[kBodyBlock];
+    std::uint16_t ask[kBodyBlock];  // the block's particles asked in this round
+    glm::vec3 q[kBodyBlock], q_normal[kBodyBlock], q_surface[kBodyBlock];
+    float q_phi[kBodyBlock];
+    std::size_t asked = 0;
+    std::uint32_t index[kBodyBlock];  // the particles asked
+    // The first round asks about the particles integrate() did not
+    // prove clear of every body; the others keep that proof.
+    for (std::size_t o = 0; o < len; ++o) {
+      const std::size_t i = b + o;
+      if (root[i]) continue;  // never pushed
+      const float lower = clearance(i);
+      if (lower > kClearMargin) {
+        body_phi[o] = lower;
+        continue;
+      }
+      ask[asked++] = static_cast<std::uint16_t>(o);
+    }
+    for (int round = 0; round < total_rounds; ++round) {
+      if (round == 0 && asked == len) {
+        for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
+        queryBodies(frames, head, &x[b], len, body_phi, body_normal, surface, 0.0f, false, index);
+      } else {
+        for (std::size_t k = 0; k < asked; ++k) {
+          q[k] = x[b + ask[k]];
+          index[k] = static_cast<std::uint32_t>(b + ask[k]);
         }
-        for (int round = 0; round < total_rounds; ++round) {
-          if (round == 0 && asked == len) {
-            for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
-            queryBodies(frames, head, &x[b], len, body_phi, body_normal, surface, 0.0f, false,
-                        index);
-          } else {
-            for (std::size_t k = 0; k < asked; ++k) {
-              q[k] = x[b + ask[k]];
-              index[k] = static_cast<std::uint32_t>(b + ask[k]);
-            }
-            queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal,
-                        q_surface, 0.0f, false, index);
-            for (std::size_t k = 0; k < asked; ++k) {
-              body_phi[ask[k]] = q_phi[k];
-              body_normal[ask[k]] = q_normal[k];
-              surface[ask[k]] = q_surface[k];
-            }
-          }
-          std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
-          for (std::size_t k = 0; k < asked; ++k) {
-            const std::size_t o = ask[k], i = b + o;
-            if (root[i] || !(body_phi[o] < 0.0f)) continue;
-            // onto the surface and kSkin beyond, so that rounding does not
-            // leave it a hair's breadth inside (and asked again)
-            x[i] -= (body_phi[o] - kSkin) * body_normal[o];
-            // a tether through the body: slide round it (a later round
-            // checks where that went; the last one only pushes out)
-            if (slide && round + 1 < total_rounds)
-              x[i] += tether::slideAlongSurface(x[i], body_normal[o], rp[i], reach_scale * sarc[i]);
-            if (!pushed[o]) push_normal[o] = body_normal[o];
-            pushed[o] = true;
-            ask[moved++] = static_cast<std::uint16_t>(o);
-          }
-          if (moved == 0) break;
-          asked = moved;
-          if (round + 1 == rounds && has_obstacles) {  // next: the round without obstacles
-            asked = 0;
-            for (std::size_t o = 0; o < len; ++o)
-              if (pushed[o]) ask[asked++] = static_cast<std::uint16_t>(o);
-          }
+        queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal, q_surface, 0.0f, false,
+                    index);
+        for (std::size_t k = 0; k < asked; ++k) {
+          body_phi[ask[k]] = q_phi[k];
+          body_normal[ask[k]] = q_normal[k];
+          surface[ask[k]] = q_surface[k];
         }
-        for (std::size_t i = b; i < b + len; ++i) {
-          if (root[i]) continue;
-          const std::size_t o = i - b;
-          v[i] = correctedVelocity(v[i], x[i], integrated_position[i], dt, absorb,
-                                   !chain_moved.empty() && chain_moved[i], pushed[o], push_normal[o], surface[o]);
-          // pushed out beyond its tether's reach: caught where sliding
-          // does not help (freeTrappedHair)
-          if (slide) {
-            const float caught = reach_scale * sarc[i] + tether::kTrappedExcess * longest_hair_;
-            const glm::vec3 d = x[i] - rp[i];
-            trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
-            if (trapped_[i]) any_trapped.store(true, std::memory_order_relaxed);
-          }
-        }
-      });
+      }
+      std::size_t moved = 0;  // pushed in this round, kept in ask[0, moved)
+      for (std::size_t k = 0; k < asked; ++k) {
+        const std::size_t o = ask[k], i = b + o;
+        if (root[i] || !(body_phi[o] < 0.0f)) continue;
+        // onto the surface and kSkin beyond, so that rounding does not
+        // leave it a hair's breadth inside (and asked again)
+        x[i] -= (body_phi[o] - kSkin) * body_normal[o];
+        // a tether through the body: slide round it (a later round
+        // checks where that went; the last one only pushes out)
+        if (slide && round + 1 < total_rounds)
+          x[i] += tether::slideAlongSurface(x[i], body_normal[o], rp[i], reach_scale * sarc[i]);
+        if (!pushed[o]) push_normal[o] = body_normal[o];
+        pushed[o] = true;
+        ask[moved++] = static_cast<std::uint16_t>(o);
+      }
+      if (moved == 0) break;
+      asked = moved;
+      if (round + 1 == rounds && has_obstacles) {  // next: the round without obstacles
+        asked = 0;
+        for (std::size_t o = 0; o < len; ++o)
+          if (pushed[o]) ask[asked++] = static_cast<std::uint16_t>(o);
+      }
+    }
+    for (std::size_t i = b; i < b + len; ++i) {
+      if (root[i]) continue;
+      const std::size_t o = i - b;
+      v[i] = correctedVelocity(v[i], x[i], integrated_position[i], dt, absorb, !chain_moved.empty() && chain_moved[i],
+                               pushed[o], push_normal[o], surface[o]);
+      // pushed out beyond its tether's reach: caught where sliding
+      // does not help (freeTrappedHair)
+      if (slide) {
+        const float caught = reach_scale * sarc[i] + tether::kTrappedExcess * longest_hair_;
+        const glm::vec3 d = x[i] - rp[i];
+        trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
+        if (trapped_[i]) any_trapped.store(true, std::memory_order_relaxed);
+      }
+    }
+  });
   if (any_trapped.load()) freeTrappedHair(solid_frames, head);  // rare: most steps catch none
 }
 

@@ -16,8 +16,8 @@ class BodyQuery {
   /// velocity (head frame) of the nearest body at x[0..n). Exact where
   /// phi < limit; elsewhere phi >= limit and the rest unspecified. `rough`:
   /// answers may be the bodies' grid distances, within roughError().
-  virtual void nearest(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                       glm::vec3* surface_velocity, float limit, bool rough) const = 0;
+  virtual void nearest(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal, glm::vec3* surface_velocity,
+                       float limit, bool rough) const = 0;
   /// The rough answers' worst error over these bodies (m); INFINITY: no bound.
   virtual float roughError() const = 0;
 };

@@ -171,8 +171,7 @@ ConnectionSet assembleConnections(const std::vector<Candidate>& cand, const std:
   cs.sin_rest.resize(m);
   cs.tip_side.resize(m);
   std::vector<std::uint32_t> fill(cs.offset.begin(), cs.offset.end() - 1);
-  auto put = [&](std::uint32_t owner, std::uint32_t other, const Candidate& c, float cos_theta,
-                 bool tip) {
+  auto put = [&](std::uint32_t owner, std::uint32_t other, const Candidate& c, float cos_theta, bool tip) {
     const std::uint32_t e = fill[owner]++;
     cs.partner[e] = other;
     cs.rest_length[e] = c.length;
@@ -223,9 +222,8 @@ ConnectionSet assembleConnections(const std::vector<Candidate>& cand, const std:
 
 }  // namespace
 
-ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
-                               std::span<const float> s, std::span<const std::uint8_t> is_root,
-                               const ConnectionOptions& opt) {
+ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm::vec3> t, std::span<const float> s,
+                               std::span<const std::uint8_t> is_root, const ConnectionOptions& opt) {
   const CubicKernel kernel(opt.h1);
   const std::vector<Candidate> cand = candidatePairs(x, t, s, is_root, opt, kernel);
   const std::vector<std::uint8_t> keep = keptPairs(cand, x.size(), is_root, opt);

@@ -19,14 +19,12 @@ float alignment(const glm::vec3& ti, const glm::vec3& tj, const glm::vec3& xij);
 /// sin(theta_ij) from cos(theta_ij) (ConnectionSet::sin_rest). The solver's
 /// direction pass computes it with this same function rather than streaming
 /// the stored column, so both give the same bits.
-inline float restSine(float cos_theta) {
-  return std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-}
+inline float restSine(float cos_theta) { return std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta)); }
 
 struct ConnectionOptions {
-  float h1 = 0.0f;                  // m
+  float h1 = 0.0f;                   // m
   float alignment_threshold = 0.5f;  // a0
-  int target_connections = 12;      // Nn
+  int target_connections = 12;       // Nn
   int threads = 1;
 };
 
@@ -42,9 +40,8 @@ struct ConnectionOptions {
 /// neighbour existed. A non-root particle with no aligned pair towards the
 /// root keeps its strongest pair with 0 < a_ij < a0 on that side, so that it
 /// does not hang on nothing. Deterministic: it does not depend on `threads`.
-ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
-                               std::span<const float> s, std::span<const std::uint8_t> is_root,
-                               const ConnectionOptions& options);
+ConnectionSet buildConnections(std::span<const glm::vec3> x, std::span<const glm::vec3> t, std::span<const float> s,
+                               std::span<const std::uint8_t> is_root, const ConnectionOptions& options);
 
 /// Non-root particles that cannot reach a root particle by following
 /// root-side connections (method.md §3.1 connectivity check).

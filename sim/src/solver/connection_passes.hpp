@@ -45,8 +45,6 @@ inline SlicedConnections sliceForPasses(const ConnectionSet& c) {
   return sl;
 }
 
-
-
 using Index = std::int64_t;
 
 // alpha_ij (eq. 14) of an entry from the owner's factor on the entry's side
@@ -60,9 +58,7 @@ inline float pairFactor(float own, float other, float own_weight) {
   return own_weight * own + (1.0f - own_weight) * other;
 }
 // The `own_weight` of an entry from whether its owner and partner are roots.
-inline float ownWeight(bool owner_root, bool partner_root) {
-  return partner_root ? 1.0f : owner_root ? 0.0f : 0.5f;
-}
+inline float ownWeight(bool owner_root, bool partner_root) { return partner_root ? 1.0f : owner_root ? 0.0f : 0.5f; }
 // A root's side factors are weighted by 0 in every alpha_ij it enters (there
 // are no root-root connections), so the spring pass's records carry this
 // marker in their place and the entries find their roots from it; 0 * -1 is
@@ -70,13 +66,11 @@ inline float ownWeight(bool owner_root, bool partner_root) {
 // factor), so alpha_ij keeps its bits.
 inline constexpr float kRootFactor = -1.0f;
 
-
 // Work items of the connection passes: chunks of kSliceChunk slices,
 // handed out by whole sorting windows of the slice layout (its particles'
 // lanes are shuffled by degree), so that no two threads write results of
 // particles that share a cache line.
-inline constexpr int kWindowChunks =
-    static_cast<int>(kSliceWindow / (ConnectionSlices::kLanes * kSliceChunk));
+inline constexpr int kWindowChunks = static_cast<int>(kSliceWindow / (ConnectionSlices::kLanes * kSliceChunk));
 static_assert(kWindowChunks * ConnectionSlices::kLanes * kSliceChunk == kSliceWindow);
 
 // How the work is shared among threads. Every pass gives each thread one
@@ -123,9 +117,7 @@ struct SliceRun {
     return static_cast<Index>((cs.sliceCount() + kSliceChunk - 1) / kSliceChunk);
   }
   // Sorting windows: groups of kWindowChunks work items.
-  static Index windows(const ConnectionSlices& cs) {
-    return (count(cs) + kWindowChunks - 1) / kWindowChunks;
-  }
+  static Index windows(const ConnectionSlices& cs) { return (count(cs) + kWindowChunks - 1) / kWindowChunks; }
   // The gathers' look-ahead (connection_slices.hpp) from an array of the
   // partners' records of `record_bytes`: prefetching pays only where the
   // array does not stay in a core's L2 (1-2 MB on current x86 CPUs) through
@@ -163,8 +155,7 @@ inline std::pair<Index, Index> workItemPart(const ConnectionSlices& cs, int part
     return std::min(chunks, w * kWindowChunks);
   };
   const auto work = [&](Index w) {  // the work of windows [0, w)
-    const std::size_t s =
-        std::min(cs.sliceCount(), static_cast<std::size_t>(boundary(w)) * kSliceChunk);
+    const std::size_t s = std::min(cs.sliceCount(), static_cast<std::size_t>(boundary(w)) * kSliceChunk);
     return (std::size_t{cs.row_begin.empty() ? 0u : cs.row_begin[s]} + kLaneWork * s) * L;
   };
   const auto start = [&](int p) -> Index {

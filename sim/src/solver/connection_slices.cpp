@@ -23,8 +23,7 @@ ConnectionSlices sliceConnections(const ConnectionSet& c, std::size_t window) {
   for (std::size_t w = 0; w < n; w += window) {
     const auto first = lane.begin() + static_cast<std::ptrdiff_t>(w);
     const auto last = lane.begin() + static_cast<std::ptrdiff_t>(std::min(n, w + window));
-    std::stable_sort(first, last,
-                     [&](std::uint32_t a, std::uint32_t b) { return c.degree(a) > c.degree(b); });
+    std::stable_sort(first, last, [&](std::uint32_t a, std::uint32_t b) { return c.degree(a) > c.degree(b); });
   }
   out.owner.resize(slices * L);
   out.degree.assign(slices * L, 0.0f);
@@ -73,8 +72,7 @@ namespace {
 // prefetch(k + kGatherAhead)) while entry k + kGatherAhead + step - 1 is
 // readable.
 template <class Prefetch, class Copy>
-inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step, Prefetch prefetch,
-                       Copy copy) {
+inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step, Prefetch prefetch, Copy copy) {
   const std::size_t ahead = readable > kGatherAhead ? readable - kGatherAhead : 0;
   const std::size_t split = std::min(count, ahead) / step * step;
   std::size_t k = 0;
@@ -86,8 +84,8 @@ inline void gatherLoop(std::size_t count, std::size_t readable, std::size_t step
 }
 }  // namespace
 
-void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, std::size_t readable,
-                 float* ox, float* oy, float* oz) {
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, std::size_t readable, float* ox,
+                 float* oy, float* oz) {
   // Scalar loads: on the AMD Zen CPU this was measured on, the AVX-512
   // gather instruction took 1.8 ns an entry against 0.9 for this loop
   // (100k particles, x not in the core's caches).
@@ -105,8 +103,7 @@ void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, st
 namespace {
 // The 4 floats at each of p[0..3], transposed: o[c][k + lane] = p[lane][c].
 inline void transposeRecords(const float* const p[4], float* const o[4], std::size_t k) {
-  __m128 c0 = _mm_loadu_ps(p[0]), c1 = _mm_loadu_ps(p[1]), c2 = _mm_loadu_ps(p[2]),
-         c3 = _mm_loadu_ps(p[3]);
+  __m128 c0 = _mm_loadu_ps(p[0]), c1 = _mm_loadu_ps(p[1]), c2 = _mm_loadu_ps(p[2]), c3 = _mm_loadu_ps(p[3]);
   _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
   _mm_storeu_ps(o[0] + k, c0);
   _mm_storeu_ps(o[1] + k, c1);
@@ -116,16 +113,15 @@ inline void transposeRecords(const float* const p[4], float* const o[4], std::si
 }  // namespace
 #endif
 
-void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count,
-                   std::size_t readable, float* o0, float* o1, float* o2, float* o3) {
+void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count, std::size_t readable, float* o0,
+                   float* o1, float* o2, float* o3) {
   float* const o[4] = {o0, o1, o2, o3};
   auto prefetch = [&](std::size_t k) { __builtin_prefetch(rec + 4 * std::size_t{idx[k]}); };
 #if defined(__SSE2__)
   // count is a multiple of 16
   gatherLoop(count, readable, 4, prefetch, [&](std::size_t k) {
     const float* const p[4] = {rec + 4 * std::size_t{idx[k]}, rec + 4 * std::size_t{idx[k + 1]},
-                               rec + 4 * std::size_t{idx[k + 2]},
-                               rec + 4 * std::size_t{idx[k + 3]}};
+                               rec + 4 * std::size_t{idx[k + 2]}, rec + 4 * std::size_t{idx[k + 3]}};
     transposeRecords(p, o, k);
   });
 #else
@@ -136,8 +132,8 @@ void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count
 #endif
 }
 
-void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count,
-                       std::size_t readable, float* out, std::size_t column_stride) {
+void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count, std::size_t readable, float* out,
+                       std::size_t column_stride) {
   float* o[8];
   for (std::size_t c = 0; c < 8; ++c) o[c] = out + c * column_stride;
   auto prefetch = [&](std::size_t k) { __builtin_prefetch(rec + 8 * std::size_t{idx[k]}); };
@@ -145,8 +141,7 @@ void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t c
   // count is a multiple of 16
   gatherLoop(count, readable, 4, prefetch, [&](std::size_t k) {
     const float* const first[4] = {rec + 8 * std::size_t{idx[k]}, rec + 8 * std::size_t{idx[k + 1]},
-                                   rec + 8 * std::size_t{idx[k + 2]},
-                                   rec + 8 * std::size_t{idx[k + 3]}};
+                                   rec + 8 * std::size_t{idx[k + 2]}, rec + 8 * std::size_t{idx[k + 3]}};
     const float* const second[4] = {first[0] + 4, first[1] + 4, first[2] + 4, first[3] + 4};
     transposeRecords(first, o, k);
     transposeRecords(second, o + 4, k);

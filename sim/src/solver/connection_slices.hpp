@@ -75,17 +75,17 @@ inline constexpr std::size_t kGatherAhead = 256;
 
 /// The partners' values of whole rows (count a multiple of 16), for 3-vectors
 /// stored as xyz triples: ox/oy/oz[k] = a[idx[k]].
-void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, std::size_t readable,
-                 float* ox, float* oy, float* oz);
+void gatherRows3(const float* a, const std::uint32_t* idx, std::size_t count, std::size_t readable, float* ox,
+                 float* oy, float* oz);
 /// The same for records of 4 floats: o0..o3[k] = the 4 floats at
 /// rec + 4 * idx[k], one 16-byte load each (one cache line per partner for
 /// all four values).
-void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count,
-                   std::size_t readable, float* o0, float* o1, float* o2, float* o3);
+void gatherRecords(const float* rec, const std::uint32_t* idx, std::size_t count, std::size_t readable, float* o0,
+                   float* o1, float* o2, float* o3);
 /// Two adjacent records per index (8 floats at rec + 8 * idx[k]) into the
 /// 8 columns out + c * column_stride, c = 0..7: both records of a partner
 /// read from one 32-byte run, its index read once.
-void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count,
-                       std::size_t readable, float* out, std::size_t column_stride);
+void gatherRecordPairs(const float* rec, const std::uint32_t* idx, std::size_t count, std::size_t readable, float* out,
+                       std::size_t column_stride);
 
 }  // namespace loosehair

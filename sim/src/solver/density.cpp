@@ -20,10 +20,9 @@ void densityPairTerms(std::size_t pairs, float inv_h, float norm_w, const float*
 
 }  // namespace
 
-void computeDensity(const DensitySettings& settings, const NeighborGrid& grid,
-                    std::span<const glm::vec3> position, std::span<const float> mass, PairRecords& records,
-                    std::span<float> density, std::span<float> pressure, std::span<float> pressure_term,
-                    int threads) {
+void computeDensity(const DensitySettings& settings, const NeighborGrid& grid, std::span<const glm::vec3> position,
+                    std::span<const float> mass, PairRecords& records, std::span<float> density,
+                    std::span<float> pressure, std::span<float> pressure_term, int threads) {
   const CubicKernel k2(settings.h2);
   const std::size_t n = position.size();
   const glm::vec3* x = position.data();
@@ -56,11 +55,9 @@ void computeDensity(const DensitySettings& settings, const NeighborGrid& grid,
         broadcastRecord(xm[p], ri);
         for (std::size_t g = 0; g < count; g += 4) {
           transposedRecords(xm, PartnerGroup(list, g), a);
-          const __m128 dx = _mm_sub_ps(a[0], ri[0]), dy = _mm_sub_ps(a[1], ri[1]),
-                       dz = _mm_sub_ps(a[2], ri[2]);
+          const __m128 dx = _mm_sub_ps(a[0], ri[0]), dy = _mm_sub_ps(a[1], ri[1]), dz = _mm_sub_ps(a[2], ri[2]);
           // (dx dx + dy dy) + dz dz, the order of glm::dot
-          _mm_storeu_ps(r2 + k + g, _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
-                                               _mm_mul_ps(dz, dz)));
+          _mm_storeu_ps(r2 + k + g, _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz)));
           _mm_storeu_ps(mj + k + g, a[3]);
         }
         k += count;

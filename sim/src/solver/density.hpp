@@ -25,9 +25,8 @@ struct DensitySettings {
 /// (per particle), and `records.xm`: the (x, m) records in the search order,
 /// which the hair-hair pass of the same step reuses (accumulateHairHair).
 /// The same bits on any `threads`.
-void computeDensity(const DensitySettings& settings, const NeighborGrid& grid,
-                    std::span<const glm::vec3> position, std::span<const float> mass, PairRecords& records,
-                    std::span<float> density, std::span<float> pressure, std::span<float> pressure_term,
-                    int threads);
+void computeDensity(const DensitySettings& settings, const NeighborGrid& grid, std::span<const glm::vec3> position,
+                    std::span<const float> mass, PairRecords& records, std::span<float> density,
+                    std::span<float> pressure, std::span<float> pressure_term, int threads);
 
 }  // namespace loosehair

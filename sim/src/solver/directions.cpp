@@ -25,18 +25,14 @@ namespace {
 // per lane; and per lane the sums of l_ij k_ij of each side and the count
 // of k_ij > 0 at the new positions.
 LOOSEHAIR_PAIR_KERNEL
-void directionSlices(std::size_t slices, const std::uint32_t* __restrict rows,
-                     const SpringKernel& p, const float* __restrict degree,
-                     const float* __restrict root_degree, const float* __restrict xi,
-                     const float* __restrict yi, const float* __restrict zi,
-                     const float* __restrict tix, const float* __restrict tiy,
-                     const float* __restrict tiz, const float* __restrict xj,
-                     const float* __restrict yj, const float* __restrict zj,
-                     const float* __restrict weight, const float* __restrict strength,
-                     const float* __restrict rest, const float* __restrict cos_rest,
-                     float* __restrict sum_root, float* __restrict sum_tip,
-                     float* __restrict active, float* __restrict ox_out, float* __restrict oy_out,
-                     float* __restrict oz_out) {
+void directionSlices(std::size_t slices, const std::uint32_t* __restrict rows, const SpringKernel& p,
+                     const float* __restrict degree, const float* __restrict root_degree, const float* __restrict xi,
+                     const float* __restrict yi, const float* __restrict zi, const float* __restrict tix,
+                     const float* __restrict tiy, const float* __restrict tiz, const float* __restrict xj,
+                     const float* __restrict yj, const float* __restrict zj, const float* __restrict weight,
+                     const float* __restrict strength, const float* __restrict rest, const float* __restrict cos_rest,
+                     float* __restrict sum_root, float* __restrict sum_tip, float* __restrict active,
+                     float* __restrict ox_out, float* __restrict oy_out, float* __restrict oz_out) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
   const float inv_h = p.inv_h, norm_w = p.norm_w;
   std::size_t q0 = 0;
@@ -115,19 +111,17 @@ DirectionPassResult updateDirections(float h1, const SlicedConnections& sl, std:
     forOwnWorkItems(cs, [&](const SliceRun& run) {
       const std::size_t q0 = run.q0, s0 = run.s0;
       col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
-      run.prefetchNext(cs.partner.data(), weight.data(), sl.strength.data(), sl.rest.data(),
-                       sl.cos_rest.data());
-      gatherRows3(&x[0].x, cs.partner.data() + q0, run.entries, run.gatherAhead(n * sizeof(glm::vec3)),
-                  col.entry(XJ), col.entry(YJ), col.entry(ZJ));
+      run.prefetchNext(cs.partner.data(), weight.data(), sl.strength.data(), sl.rest.data(), sl.cos_rest.data());
+      gatherRows3(&x[0].x, cs.partner.data() + q0, run.entries, run.gatherAhead(n * sizeof(glm::vec3)), col.entry(XJ),
+                  col.entry(YJ), col.entry(ZJ));
       const std::uint32_t* owner = cs.owner.data() + s0 * L;
       gatherRows3(&x[0].x, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI));
       gatherRows3(&dir[0].x, owner, run.lanes, 0, col.lane(TX), col.lane(TY), col.lane(TZ));
-      directionSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
-                      cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
-                      col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ), col.entry(YJ),
-                      col.entry(ZJ), weight.data() + q0, sl.strength.data() + q0,
-                      sl.rest.data() + q0, sl.cos_rest.data() + q0, col.lane(SR), col.lane(ST),
-                      col.lane(ACT), col.lane(OX), col.lane(OY), col.lane(OZ));
+      directionSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, cs.root_degree.data() + s0 * L,
+                      col.lane(XI), col.lane(YI), col.lane(ZI), col.lane(TX), col.lane(TY), col.lane(TZ), col.entry(XJ),
+                      col.entry(YJ), col.entry(ZJ), weight.data() + q0, sl.strength.data() + q0, sl.rest.data() + q0,
+                      sl.cos_rest.data() + q0, col.lane(SR), col.lane(ST), col.lane(ACT), col.lane(OX), col.lane(OY),
+                      col.lane(OZ));
       for (std::size_t l = 0; l < run.used; ++l) {
         const std::uint32_t i = owner[l];
         next_sum_root[i] = col.lane(SR)[l];

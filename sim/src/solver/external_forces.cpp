@@ -26,8 +26,8 @@ void addExternalForces(const ExternalSettings& settings, const HeadKinematics& h
   parallel::forEach(threads, n, [&](std::size_t i) {
     if (root[i]) return;
     const glm::vec3 r = x[i], u = v[i];
-    const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
-                               glm::cross(omega, glm::cross(omega, r));
+    const glm::vec3 inertial =
+        frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) + glm::cross(omega, glm::cross(omega, r));
     const glm::vec3 world_velocity = u + glm::cross(omega, r) + frame_vel;
     glm::vec3 a = gravity - inertial - drag * world_velocity;
     if (shape) a += shape->acceleration(i, r);

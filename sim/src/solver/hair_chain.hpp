@@ -43,8 +43,8 @@ class HairChain {
   static constexpr float kRegionReaches = 2.0f;
 
   HairChain() = default;
-  HairChain(const ConnectionSet& connections, std::span<const std::uint8_t> is_root,
-            std::span<const float> arc_length, std::span<const glm::vec3> root_point, float h1);
+  HairChain(const ConnectionSet& connections, std::span<const std::uint8_t> is_root, std::span<const float> arc_length,
+            std::span<const glm::vec3> root_point, float h1);
 
   /// Moves each linked particle (by arc length) that has no particle of its
   /// root region nearer its root (smaller arc length `s`) within the reach
@@ -84,8 +84,7 @@ class HairChain {
       float reach = reach_[at];
       const float move = std::sqrt(best) * reach - reach;
       std::uint32_t near = i;
-      if (nearestNearerHair(x, s, i, near) &&
-          glm::distance(x[near], before) - support_reach_ < move) {
+      if (nearestNearerHair(x, s, i, near) && glm::distance(x[near], before) - support_reach_ < move) {
         p = x[near];
         reach = support_reach_;
       }

@@ -14,14 +14,11 @@ namespace {
 // the loop vectorises (inside the parallel region's lambda it may not).
 LOOSEHAIR_PAIR_KERNEL
 void hairHairPairTerms(std::size_t pairs, const HairHairPairTerms& p, const float* __restrict dx,
-                       const float* __restrict dy, const float* __restrict dz,
-                       const float* __restrict vx, const float* __restrict vy,
-                       const float* __restrict vz, const float* __restrict tix,
-                       const float* __restrict tiy, const float* __restrict tiz,
-                       const float* __restrict tjx, const float* __restrict tjy,
-                       const float* __restrict tjz, const float* __restrict mm,
-                       const float* __restrict pp, float* __restrict fx, float* __restrict fy,
-                       float* __restrict fz) {
+                       const float* __restrict dy, const float* __restrict dz, const float* __restrict vx,
+                       const float* __restrict vy, const float* __restrict vz, const float* __restrict tix,
+                       const float* __restrict tiy, const float* __restrict tiz, const float* __restrict tjx,
+                       const float* __restrict tjy, const float* __restrict tjz, const float* __restrict mm,
+                       const float* __restrict pp, float* __restrict fx, float* __restrict fy, float* __restrict fz) {
   const HairHairPairTerms terms = p;  // a local copy: no aliasing with the outputs
   for (std::size_t q = 0; q < pairs; ++q) {
     const PairForce f = hairHairPairForce(terms, dx[q], dy[q], dz[q], vx[q], vy[q], vz[q], tix[q], tiy[q], tiz[q],
@@ -125,14 +122,12 @@ void accumulateHairHair(const HairHairSettings& settings, const NeighborGrid& gr
 #endif
       }
       // 2. compute each pair's force on i
-      hairHairPairTerms(pairs, terms, dx, dy, dz, vx, vy, vz, tix, tiy, tiz, tjx, tjy, tjz, mm, pp,
-                        fx, fy, fz);
+      hairHairPairTerms(pairs, terms, dx, dy, dz, vx, vy, vz, tix, tiy, tiz, tjx, tjy, tjz, mm, pp, fx, fy, fz);
       // 3. reduce in list order
       k = 0;
       for (std::size_t p = b; p < e; ++p) {
         glm::vec3 f(0.0f);
-        for (std::size_t end = k + grid.list(p).size(); k < end; ++k)
-          f += glm::vec3(fx[k], fy[k], fz[k]);
+        for (std::size_t end = k + grid.list(p).size(); k < end; ++k) f += glm::vec3(fx[k], fy[k], fz[k]);
         force[ord[p]] += f;
       }
     }

@@ -10,8 +10,8 @@ namespace loosehair {
 ImplicitSpringReport solveImplicitSpringStep(const ImplicitStepSettings& settings, const SlicedConnections& sliced,
                                              const SpringScratch& s, std::span<const glm::vec3> force,
                                              std::span<const float> mass, std::span<const std::uint8_t> is_root,
-                                             float dt, ImplicitSprings& solver,
-                                             std::vector<glm::vec3>& velocity_change, int threads) {
+                                             float dt, ImplicitSprings& solver, std::vector<glm::vec3>& velocity_change,
+                                             int threads) {
   ImplicitSprings::Input in;
   in.layout = &sliced.layout;
   in.weight = s.weight.data();

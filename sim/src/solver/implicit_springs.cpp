@@ -54,8 +54,8 @@ struct SetupLanes {
 };
 LOOSEHAIR_PAIR_KERNEL
 void sliceSetup(std::size_t rows, std::size_t q0, float scale, const float* __restrict weight,
-                const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
-                float* __restrict c, SetupLanes& __restrict s) {
+                const float* __restrict ux, const float* __restrict uy, const float* __restrict uz, float* __restrict c,
+                SetupLanes& __restrict s) {
   for (int k = 0; k < 6; ++k)
     for (std::size_t l = 0; l < L; ++l) s.a[k][l] = 0.0f;
   for (std::size_t r = 0; r < rows; ++r) {
@@ -108,8 +108,8 @@ void ImplicitSprings::setUp(const Input& in, const Part& part, float scale) {
         r_[i] = glm::vec3(0.0f);
         continue;
       }
-      const float a0 = lanes.a[0][l], a1 = lanes.a[1][l], a2 = lanes.a[2][l], a3 = lanes.a[3][l],
-                  a4 = lanes.a[4][l], a5 = lanes.a[5][l];
+      const float a0 = lanes.a[0][l], a1 = lanes.a[1][l], a2 = lanes.a[2][l], a3 = lanes.a[3][l], a4 = lanes.a[4][l],
+                  a5 = lanes.a[5][l];
       const glm::mat3 block(m[i] + a0, a1, a2, a1, m[i] + a3, a4, a2, a4, m[i] + a5);
       const glm::mat3 inv = glm::inverse(block);
       pc[0] = inv[0][0];
@@ -145,8 +145,8 @@ void ImplicitSprings::multiply(const Input& in, const Part& part, const std::vec
         az[l] = m[i] * pi.z;
       }
       const std::size_t row0 = cs.row_begin[s];
-      sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, in.unit_x, in.unit_y, in.unit_z, c_.data(),
-                   cs.partner.data(), src.data(), pix, piy, piz, ax, ay, az);
+      sliceProduct(cs.row_begin[s + 1] - row0, row0 * L, in.unit_x, in.unit_y, in.unit_z, c_.data(), cs.partner.data(),
+                   src.data(), pix, piy, piz, ax, ay, az);
       for (std::size_t l = 0; l < L && s * L + l < n; ++l) {
         const std::uint32_t i = cs.owner[s * L + l];
         const glm::vec3 api = root[i] ? glm::vec3(0.0f) : glm::vec3(ax[l], ay[l], az[l]);
@@ -171,9 +171,12 @@ ImplicitSpringReport ImplicitSprings::solve(const Input& in, int threads, std::v
   ap_.resize(n);
   // the guess may be dv itself (the last step's answer)
   const bool warm = in.guess != nullptr;
-  if (!warm) dv.assign(n, glm::vec3(0.0f));
-  else if (in.guess != dv.data()) dv.assign(in.guess, in.guess + n);
-  else dv.resize(n);
+  if (!warm)
+    dv.assign(n, glm::vec3(0.0f));
+  else if (in.guess != dv.data())
+    dv.assign(in.guess, in.guess + n);
+  else
+    dv.resize(n);
   pap_partial_.assign(windows, 0.0);
   rz_partial_.assign(windows, 0.0);
   const float dt = in.dt, scale = dt * dt + in.gamma * dt;

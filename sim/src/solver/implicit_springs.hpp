@@ -36,8 +36,8 @@
 namespace loosehair {
 
 struct ImplicitSpringReport {
-  int iterations = 0;        // conjugate-gradient iterations taken
-  float residual = 0.0f;     // final preconditioned residual norm / initial
+  int iterations = 0;     // conjugate-gradient iterations taken
+  float residual = 0.0f;  // final preconditioned residual norm / initial
 };
 
 class ImplicitSprings {
@@ -54,8 +54,8 @@ class ImplicitSprings {
     const float* mass = nullptr;
     const std::uint8_t* is_root = nullptr;
     std::size_t particles = 0;
-    float dt = 0, gamma = 0;       // step (s), spring damping (s)
-    float tolerance = 1e-2f;       // on the preconditioned residual norm, relative to the right-hand side's
+    float dt = 0, gamma = 0;  // step (s), spring damping (s)
+    float tolerance = 1e-2f;  // on the preconditioned residual norm, relative to the right-hand side's
     int max_iterations = 50;
     /// The start of the iterations (the last step's dv: warm start), or
     /// null for zero; may be the dv passed to solve. Roots' entries are

@@ -33,8 +33,7 @@ std::size_t integrate(const IntegrateSettings& settings, const BodyQuery& bodies
   std::atomic<std::size_t> contacts_sum{0};
   parallel::run(threads, [&] {
     std::size_t contacts_part = 0;
-    const auto [first, last] =
-        parallel::share(static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock));
+    const auto [first, last] = parallel::share(static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock));
     for (std::size_t bb = first; bb < last; ++bb) {
       const std::size_t b = bb * kBodyBlock;
       const std::size_t e = std::min(n, b + kBodyBlock);

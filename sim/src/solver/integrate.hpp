@@ -11,7 +11,7 @@
 
 namespace loosehair {
 
-class BodyQuery;    // solver/body_query.hpp
+class BodyQuery;     // solver/body_query.hpp
 struct StepContext;  // solver/step_context.hpp
 
 struct IntegrateSettings {

@@ -27,8 +27,7 @@ constexpr std::int64_t kCoordMax = (std::int64_t{1} << kCoordBits) - 1;
 // values are clamped into the outermost cells: neighbours are decided by
 // distance, so clamping costs speed for such points, never correctness.
 std::int64_t cellCoord(float v, float inv_cell) {
-  double c = std::floor(static_cast<double>(v) * static_cast<double>(inv_cell)) +
-             static_cast<double>(kCoordBias);
+  double c = std::floor(static_cast<double>(v) * static_cast<double>(inv_cell)) + static_cast<double>(kCoordBias);
   if (!(c >= 0.0)) c = 0.0;  // also NaN
   if (!(c <= static_cast<double>(kCoordMax))) c = static_cast<double>(kCoordMax);
   return static_cast<std::int64_t>(c);
@@ -45,14 +44,11 @@ std::uint64_t spreadBits(std::uint64_t v) {  // 21 bits -> every third bit
 }
 
 std::uint64_t mortonKey(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
-  return spreadBits(static_cast<std::uint64_t>(cx)) |
-         (spreadBits(static_cast<std::uint64_t>(cy)) << 1) |
+  return spreadBits(static_cast<std::uint64_t>(cx)) | (spreadBits(static_cast<std::uint64_t>(cy)) << 1) |
          (spreadBits(static_cast<std::uint64_t>(cz)) << 2);
 }
 
-std::uint64_t hashKey(std::uint64_t key, int shift) {
-  return (key * 0x9e3779b97f4a7c15ULL) >> shift;
-}
+std::uint64_t hashKey(std::uint64_t key, int shift) { return (key * 0x9e3779b97f4a7c15ULL) >> shift; }
 
 // Room the candidate test may write past a range's accepted entries.
 constexpr std::size_t kRangeSlack = 16;
@@ -69,10 +65,12 @@ bool cpuHasAvx512() {
 // order. The compress goes to a register and all 16 lanes are stored (a
 // compressing store to memory is slow on some CPUs); the caller leaves
 // kRangeSlack entries of room.
-__attribute__((target("avx512f"))) std::size_t collect16(
-    std::size_t k, const std::uint32_t* range_begin, const std::uint32_t* range_end, int nr,
-    float r2, const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
-    const std::uint32_t* __restrict order, std::uint32_t* __restrict out) {
+__attribute__((target("avx512f"))) std::size_t collect16(std::size_t k, const std::uint32_t* range_begin,
+                                                         const std::uint32_t* range_end, int nr, float r2,
+                                                         const float* __restrict cx, const float* __restrict cy,
+                                                         const float* __restrict cz,
+                                                         const std::uint32_t* __restrict order,
+                                                         std::uint32_t* __restrict out) {
   // order == nullptr: the lists hold positions in the search order
   const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512 xi = _mm512_set1_ps(cx[k]), yi = _mm512_set1_ps(cy[k]), zi = _mm512_set1_ps(cz[k]);
@@ -87,8 +85,8 @@ __attribute__((target("avx512f"))) std::size_t collect16(
       const __m512 dx = _mm512_sub_ps(_mm512_maskz_loadu_ps(inside, cx + q), xi);
       const __m512 dy = _mm512_sub_ps(_mm512_maskz_loadu_ps(inside, cy + q), yi);
       const __m512 dz = _mm512_sub_ps(_mm512_maskz_loadu_ps(inside, cz + q), zi);
-      const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
-                                      _mm512_mul_ps(dz, dz));
+      const __m512 d2 =
+          _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
       const __mmask16 hit = _mm512_mask_cmp_ps_mask(inside, d2, rr, _CMP_LT_OQ);
       const __m512i idx = order ? _mm512_maskz_loadu_epi32(inside, order + q)
                                 : _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(q)), iota);
@@ -255,8 +253,7 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
   parallel::forEach(threads, n, [&](std::size_t i) {
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a)
-      c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(x[i][a]) * inv_cell_)) -
-             origin_[a];
+      c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(x[i][a]) * inv_cell_)) - origin_[a];
     keys_[i] = static_cast<std::uint64_t>((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
   });
   // Counting sort, stable: points of a cell stay in index order. The work is
@@ -277,9 +274,8 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
   std::vector<std::uint32_t>& block_total = scan_blocks_;
   block_total.assign(static_cast<std::size_t>(blocks) + 1, 0);
   auto block_range = [&](int b) {
-    return std::pair<std::uint64_t, std::uint64_t>{
-        (cells * static_cast<std::uint64_t>(b)) / blocks,
-        (cells * static_cast<std::uint64_t>(b + 1)) / blocks};
+    return std::pair<std::uint64_t, std::uint64_t>{(cells * static_cast<std::uint64_t>(b)) / blocks,
+                                                   (cells * static_cast<std::uint64_t>(b + 1)) / blocks};
   };
   std::atomic<std::size_t> occupied{0};
   start[0] = start[1] = 0;
@@ -328,8 +324,7 @@ void NeighborGrid::sortDense(std::span<const glm::vec3> x, int threads) {
   gatherSorted(x, threads);
 }
 
-int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin,
-                                 std::uint32_t* end) const {
+int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin, std::uint32_t* end) const {
   int nr = 0;
   if (dense_) {
     const std::int64_t nx = dims_[0], ny = dims_[1], nz = dims_[2];
@@ -337,9 +332,7 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
     // sortDense), cheaper than dividing the index.
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a)
-      c[a] =
-          static_cast<std::int64_t>(std::floor(static_cast<double>(sorted_x_[k][a]) * inv_cell_)) -
-          origin_[a];
+      c[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(sorted_x_[k][a]) * inv_cell_)) - origin_[a];
     const std::int64_t cx = c[0], cy = c[1], cz = c[2];
     const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min(cx + 1, nx - 1);
     for (std::int64_t z = cz - 1; z <= cz + 1; ++z) {
@@ -359,14 +352,12 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
   }
   const std::uint32_t c = findCell(cell);
   const glm::vec3 p0 = sorted_x_[cell_start_[c]];  // any point of the cell
-  const std::int64_t cx = cellCoord(p0.x, inv_cell_), cy = cellCoord(p0.y, inv_cell_),
-                     cz = cellCoord(p0.z, inv_cell_);
+  const std::int64_t cx = cellCoord(p0.x, inv_cell_), cy = cellCoord(p0.y, inv_cell_), cz = cellCoord(p0.z, inv_cell_);
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const std::int64_t ax = cx + dx, ay = cy + dy, az = cz + dz;
-        if (ax < 0 || ay < 0 || az < 0 || ax > kCoordMax || ay > kCoordMax || az > kCoordMax)
-          continue;
+        if (ax < 0 || ay < 0 || az < 0 || ax > kCoordMax || ay > kCoordMax || az > kCoordMax) continue;
         const std::uint32_t nc = findCell(mortonKey(ax, ay, az));
         if (nc == UINT32_MAX) continue;
         begin[nr] = cell_start_[nc];
@@ -376,17 +367,16 @@ int NeighborGrid::neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_
   return nr;
 }
 
-std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begin,
-                                  const std::uint32_t* range_end, int nr, float r2,
-                                  bool point_index, std::uint32_t* __restrict out) const {
+std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begin, const std::uint32_t* range_end,
+                                  int nr, float r2, bool point_index, std::uint32_t* __restrict out) const {
   // Every candidate is written and kept by advancing the count: no
   // unpredictable branch per pair. The distance is computed in the same
   // order of operations in both paths, so they accept the same pairs.
   std::size_t found = 0;
 #if defined(LOOSEHAIR_HAVE_AVX512_PATH)
   if (wide_)
-    return collect16(k, range_begin, range_end, nr, r2, sorted_cx_.data(), sorted_cy_.data(),
-                     sorted_cz_.data(), point_index ? order_.data() : nullptr, out);
+    return collect16(k, range_begin, range_end, nr, r2, sorted_cx_.data(), sorted_cy_.data(), sorted_cz_.data(),
+                     point_index ? order_.data() : nullptr, out);
 #endif
   // the index written for sorted point q: the point's, or q itself
   const std::uint32_t* __restrict order = point_index ? order_.data() : nullptr;
@@ -404,14 +394,12 @@ std::size_t NeighborGrid::collect(std::size_t k, const std::uint32_t* range_begi
       const __m128 dx = _mm_sub_ps(_mm_loadu_ps(cx + q), xi);
       const __m128 dy = _mm_sub_ps(_mm_loadu_ps(cy + q), yi);
       const __m128 dz = _mm_sub_ps(_mm_loadu_ps(cz + q), zi);
-      const __m128 d2 =
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+      const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
       const __m128i idx = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(q)), lane);
       // lanes inside the range (idx < qe, as signed: indices stay below 2^31)
       const __m128i inside = _mm_cmplt_epi32(idx, _mm_set1_epi32(static_cast<int>(qe)));
       const __m128i not_self = _mm_andnot_si128(_mm_cmpeq_epi32(idx, self), inside);
-      const int mask =
-          _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
+      const int mask = _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(d2, rr), _mm_castsi128_ps(not_self)));
       out[found] = order ? order[q] : q;
       found += static_cast<std::size_t>(mask & 1);
       out[found] = order ? order[q + 1] : q + 1;
@@ -481,8 +469,7 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
     const auto [first, last] = parallel::share(static_cast<std::size_t>(chunks));
     for (std::size_t c = first; c < last; ++c) {
       const auto chunk = static_cast<std::int64_t>(c);
-      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk,
-                        k1 = std::min(n, k0 + kChunk);
+      const std::size_t k0 = static_cast<std::size_t>(chunk) * kChunk, k1 = std::min(n, k0 + kChunk);
       int nr = 0;
       std::size_t candidates = 0;
       for (std::size_t k = k0; k < k1; ++k) {
@@ -495,8 +482,8 @@ void NeighborGrid::build(std::span<const glm::vec3> x, float radius, int threads
         // Room for every candidate, so the loop below writes each one and
         // keeps it by advancing the count: no unpredictable branch per pair.
         if (buf.size() < used + candidates) buf.resize(2 * (used + candidates));
-        const std::size_t found = collect(k, range_begin.data(), range_end.data(), nr, r2,
-                                          point_index, buf.data() + used);
+        const std::size_t found =
+            collect(k, range_begin.data(), range_end.data(), nr, r2, point_index, buf.data() + used);
         offset_[k] = static_cast<std::uint32_t>(used);
         count_[k] = static_cast<std::uint32_t>(found);
         used += found;
@@ -517,9 +504,7 @@ std::size_t NeighborGrid::pairCount() const { return pair_count_; }
 
 std::pair<std::size_t, std::size_t> NeighborGrid::pairBalancedPart(int part, int parts) const {
   const std::size_t n = count_.size(), chunks = chunk_pairs_end_.size();
-  const auto pairs_before_chunk = [&](std::size_t c) {
-    return c == 0 ? std::size_t{0} : chunk_pairs_end_[c - 1];
-  };
+  const auto pairs_before_chunk = [&](std::size_t c) { return c == 0 ? std::size_t{0} : chunk_pairs_end_[c - 1]; };
   // Part p starts at the multiple of kPartGrain (or n) whose pairs before it
   // come nearest to p/parts of all pairs, the lower one on a tie, so that
   // the starts never decrease with p. (At a few thousand points there are

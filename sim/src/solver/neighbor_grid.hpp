@@ -39,8 +39,7 @@ class NeighborGrid {
   /// Finds, for every point i, every other point j with |x_i - x_j| < radius.
   /// The cell size is `radius` (2*h2 for the solver). Non-finite points get
   /// no neighbours (and send the build to the hashed layout).
-  void build(std::span<const glm::vec3> x, float radius, int threads,
-             ListIndex index = ListIndex::Point);
+  void build(std::span<const glm::vec3> x, float radius, int threads, ListIndex index = ListIndex::Point);
 
   /// Neighbours of point i (without i itself), in stable order, as point
   /// indices (after a build with ListIndex::Point).
@@ -90,14 +89,12 @@ class NeighborGrid {
   void buildCellTable();
   /// Writes the neighbours of sorted point k among the given ranges to out
   /// (room for every candidate plus kRangeSlack per range) and returns their number.
-  std::size_t collect(std::size_t k, const std::uint32_t* range_begin,
-                      const std::uint32_t* range_end, int nr, float r2, bool point_index,
-                      std::uint32_t* out) const;
+  std::size_t collect(std::size_t k, const std::uint32_t* range_begin, const std::uint32_t* range_end, int nr, float r2,
+                      bool point_index, std::uint32_t* out) const;
   std::uint32_t findCell(std::uint64_t key) const;
   /// Point ranges [begin, end) in sorted order of the cells around `cell`,
   /// the cell of sorted point k.
-  int neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin,
-                     std::uint32_t* end) const;
+  int neighborRanges(std::uint64_t cell, std::size_t k, std::uint32_t* begin, std::uint32_t* end) const;
 
   float radius_ = 0, inv_cell_ = 0;
   bool dense_ = false;

@@ -39,8 +39,8 @@ struct PairRecords {
 
 // out[k] = (a[i], w[i]), or (a[i], 0) without w, i = ord[k], for k in
 // [k0, k1): the calling thread's part of the search order.
-inline void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w,
-                 const std::uint32_t* ord, std::size_t k0, std::size_t k1) {
+inline void fillRecords(std::vector<glm::vec4>& out, const glm::vec3* a, const float* w, const std::uint32_t* ord,
+                        std::size_t k0, std::size_t k1) {
   glm::vec4* o = out.data();
   constexpr std::size_t kAhead = 32;  // ord-indirect: the hardware cannot see these coming
   for (std::size_t k = k0; k < k1; ++k) {

@@ -35,10 +35,9 @@ inline constexpr std::size_t kPairBlock = 64;
 // vector sqrt and division are correctly rounded), so every version gives
 // the same bits: the golden state hashes, made with the baseline, check it.
 // -DLOOSEHAIR_MULTIVERSION=OFF builds the baseline alone.
-#if defined(LOOSEHAIR_MULTIVERSION) && defined(__GNUC__) && !defined(__clang__) && \
-    defined(__x86_64__) && defined(__linux__)
-#define LOOSEHAIR_PAIR_KERNEL \
-  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#if defined(LOOSEHAIR_MULTIVERSION) && defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    defined(__linux__)
+#define LOOSEHAIR_PAIR_KERNEL __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define LOOSEHAIR_PAIR_KERNEL
 #endif

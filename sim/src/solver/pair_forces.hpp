@@ -26,8 +26,8 @@ struct PairForce {
 /// The force on j is exactly its negative (every term is odd in x_ij, v_ij
 /// and symmetric in i, j).
 inline PairForce hairHairPairForce(const HairHairPairTerms& p, float dx, float dy, float dz, float vx, float vy,
-                                   float vz, float tix, float tiy, float tiz, float tjx, float tjy, float tjz,
-                                   float mm, float pp) {
+                                   float vz, float tix, float tiy, float tiz, float tjx, float tjy, float tjz, float mm,
+                                   float pp) {
   const float r2 = dx * dx + dy * dy + dz * dz;
   const float r = std::sqrt(r2);
   const float inv_r = r > 0.0f ? 1.0f / r : 0.0f;
@@ -55,8 +55,7 @@ inline PairForce hairHairPairForce(const HairHairPairTerms& p, float dx, float d
   const float valid = parallel ? usable : 1.0f;
   const float d2 = parallel ? a2 : c2;
   const float inv_d = valid / std::sqrt(valid > 0.0f ? d2 : 1.0f);
-  const float nx = (parallel ? ax : cx) * inv_d, ny = (parallel ? ay : cy) * inv_d,
-              nz = (parallel ? az : cz) * inv_d;
+  const float nx = (parallel ? ax : cx) * inv_d, ny = (parallel ? ay : cy) * inv_d, nz = (parallel ? az : cz) * inv_d;
   const float vn = vx * nx + vy * ny + vz * nz;
   // approaching pairs only (eqs. 17-18)
   const float wc = (dx * nx + dy * ny + dz * nz) * vn < 0.0f ? w : 0.0f;

@@ -38,34 +38,30 @@ Particles Particles::select(const std::vector<std::uint32_t>& which) const {
 }
 
 namespace {
-bool finite3(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 
 void Particles::check() const {
   const std::size_t n = position.size();
-  if (velocity.size() != n || direction.size() != n || mass.size() != n || is_root.size() != n ||
-      uv.size() != n || arc_length.size() != n || root_point.size() != n)
+  if (velocity.size() != n || direction.size() != n || mass.size() != n || is_root.size() != n || uv.size() != n ||
+      arc_length.size() != n || root_point.size() != n)
     throw std::invalid_argument("particle arrays have different lengths");
   if (n > 0xfffffff0u) throw std::invalid_argument("too many particles: " + std::to_string(n));
   for (std::size_t i = 0; i < n; ++i) {
     const std::string at = "particle " + std::to_string(i) + ": ";
     if (!finite3(position[i]) || !finite3(velocity[i]) || !finite3(root_point[i]))
       throw std::invalid_argument(at + "non-finite position, velocity or root point");
-    if (!(mass[i] > 0.0f) || !std::isfinite(mass[i]))
-    {
+    if (!(mass[i] > 0.0f) || !std::isfinite(mass[i])) {
       char buf[48];
       std::snprintf(buf, sizeof buf, "%g", static_cast<double>(mass[i]));
       throw std::invalid_argument(at + "mass " + buf + " kg is not positive");
     }
     const float len = glm::length(direction[i]);
-    if (!(std::abs(len - 1.0f) < 1e-3f))
-      throw std::invalid_argument(at + "hair direction is not a unit vector");
+    if (!(std::abs(len - 1.0f) < 1e-3f)) throw std::invalid_argument(at + "hair direction is not a unit vector");
     // roots have s < 0; a particle held by a hair tie is a root further along
     if (!std::isfinite(arc_length[i]) || (arc_length[i] < 0.0f && is_root[i] == 0))
-      throw std::invalid_argument(at + "root flag disagrees with arc length s = " +
-                                  std::to_string(arc_length[i]) + " (particles with s < 0 are roots)");
+      throw std::invalid_argument(at + "root flag disagrees with arc length s = " + std::to_string(arc_length[i]) +
+                                  " (particles with s < 0 are roots)");
   }
 }
 

@@ -26,11 +26,11 @@ namespace loosehair {
 inline float holdRate(double hz) { return static_cast<float>(4.0 * std::numbers::pi * std::numbers::pi * hz * hz); }
 
 struct ShapeKeeping {
-  float base_hz;                    // the solver's strength (Hz)
-  std::vector<float> hold_hz;       // per-particle holds (ties), Hz; 0 = none
-  std::vector<float> omega2;        // (2 pi max(base, hold_i))^2 (1/s^2)
-  std::vector<glm::vec3> target;    // x0_i, head frame (m)
-  std::vector<glm::vec3> prestress; // b_i (m/s^2)
+  float base_hz;                     // the solver's strength (Hz)
+  std::vector<float> hold_hz;        // per-particle holds (ties), Hz; 0 = none
+  std::vector<float> omega2;         // (2 pi max(base, hold_i))^2 (1/s^2)
+  std::vector<glm::vec3> target;     // x0_i, head frame (m)
+  std::vector<glm::vec3> prestress;  // b_i (m/s^2)
 
   /// `initial_force` is F0 (N), `gravity_head` gravity in the head frame at
   /// the start (m/s^2). Roots get no term.
@@ -41,8 +41,7 @@ struct ShapeKeeping {
         omega2(position.size(), holdRate(hz)),
         target(position),
         prestress(position.size()) {
-    for (std::size_t i = 0; i < position.size(); ++i)
-      prestress[i] = -(initial_force[i] / mass[i] + gravity_head);
+    for (std::size_t i = 0; i < position.size(); ++i) prestress[i] = -(initial_force[i] / mass[i] + gravity_head);
   }
 
   /// The largest omega_i (rad/s).
@@ -66,9 +65,7 @@ struct ShapeKeeping {
     setBase(base_hz);
   }
 
-  glm::vec3 acceleration(std::size_t i, glm::vec3 x) const {
-    return omega2[i] * (target[i] - x) + prestress[i];
-  }
+  glm::vec3 acceleration(std::size_t i, glm::vec3 x) const { return omega2[i] * (target[i] - x) + prestress[i]; }
 };
 
 }  // namespace loosehair

@@ -28,9 +28,7 @@ SpringSettings springSettingsOf(const SimParams& p) {
 }
 
 using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 }  // namespace
 
@@ -60,10 +58,10 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   copt.alignment_threshold = params_.alignment_threshold;
   copt.target_connections = params_.target_connections;
   copt.threads = threads_;
-  connections_ = buildConnections(particles_.position, particles_.direction, particles_.arc_length,
-                                  particles_.is_root, copt);
-  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, particles_.arc_length,
-                                       particles_.root_point, params_.h1);
+  connections_ =
+      buildConnections(particles_.position, particles_.direction, particles_.arc_length, particles_.is_root, copt);
+  chain_ = std::make_unique<HairChain>(connections_, particles_.is_root, particles_.arc_length, particles_.root_point,
+                                       params_.h1);
   longest_hair_ = 0.0f;
   for (float a : particles_.arc_length) longest_hair_ = std::max(longest_hair_, a);
 
@@ -75,8 +73,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
   computeRestFactors();
 
   inverse_mass_.resize(n);  // 0 for a root (fixed); no root-root connections
-  for (std::size_t i = 0; i < n; ++i)
-    inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
+  for (std::size_t i = 0; i < n; ++i) inverse_mass_[i] = particles_.is_root[i] ? 0.0f : 1.0f / particles_.mass[i];
   *sliced_ = sliceForPasses(connections_);
 
   grid_ = std::make_unique<NeighborGrid>();
@@ -131,8 +128,7 @@ Solver::Solver(const SimParams& params, Particles particles, std::shared_ptr<con
     report_.min_degree = std::min(report_.min_degree, d);
     report_.max_degree = std::max(report_.max_degree, d);
   }
-  report_.mean_degree =
-      hair_count ? static_cast<double>(degree_sum) / static_cast<double>(hair_count) : 0.0;
+  report_.mean_degree = hair_count ? static_cast<double>(degree_sum) / static_cast<double>(hair_count) : 0.0;
   report_.stable_time_step = stableTimeStep();
   if (params_.shape_keeping > 0.0f) {
     // the pressure terms with the rest density just set (the first
@@ -187,27 +183,27 @@ void Solver::setParams(const SimParams& p) {
   for (const ParamInfo& info : paramTable()) {
     const double was = info.get(params_), now = info.get(p);
     if (was == now || info.live) continue;
-    throw std::invalid_argument(std::string(info.name) + " cannot change in a running simulation (" + std::to_string(was) +
-                                " to " + std::to_string(now) + "): it applies on restart");
+    throw std::invalid_argument(std::string(info.name) + " cannot change in a running simulation (" +
+                                std::to_string(was) + " to " + std::to_string(now) + "): it applies on restart");
   }
   if (p.shape_keeping > 0.0f && !shape_)
-    throw std::invalid_argument("shape_keeping cannot be turned on in a running simulation (the styled rest state is "
-                                "set up when it starts): it applies on restart");
+    throw std::invalid_argument(
+        "shape_keeping cannot be turned on in a running simulation (the styled rest state is "
+        "set up when it starts): it applies on restart");
   if (shape_ && p.shape_keeping > 0.0f && shape_->fastestWith(p.shape_keeping) * p.time_step > kMaxHoldPhasePerStep)
-    throw std::invalid_argument("shape_keeping = " + std::to_string(p.shape_keeping) + " Hz is too strong for time_step = " +
-                                std::to_string(p.time_step) + " s");
+    throw std::invalid_argument("shape_keeping = " + std::to_string(p.shape_keeping) +
+                                " Hz is too strong for time_step = " + std::to_string(p.time_step) + " s");
   const bool stiffness = p.youngs_modulus != params_.youngs_modulus;
   if (!p.implicit_springs && (params_.implicit_springs || stiffness)) {
     // explicit springs from now on: the step must be within their stable
     // limit, which scales as 1/sqrt(E)
-    const double limit = stableTimeStep() * std::sqrt(static_cast<double>(params_.youngs_modulus) /
-                                                      static_cast<double>(p.youngs_modulus));
+    const double limit = stableTimeStep() *
+                         std::sqrt(static_cast<double>(params_.youngs_modulus) / static_cast<double>(p.youngs_modulus));
     if (p.time_step > limit)
-      throw std::invalid_argument("implicit_springs = 0 (explicit springs) with youngs_modulus = " +
-                                  std::to_string(p.youngs_modulus) + " needs a time step of at most " +
-                                  std::to_string(limit * 1e3) + " ms, and this simulation steps " +
-                                  std::to_string(p.time_step * 1e3) +
-                                  " ms: keep the implicit springs, or restart with more substeps");
+      throw std::invalid_argument(
+          "implicit_springs = 0 (explicit springs) with youngs_modulus = " + std::to_string(p.youngs_modulus) +
+          " needs a time step of at most " + std::to_string(limit * 1e3) + " ms, and this simulation steps " +
+          std::to_string(p.time_step * 1e3) + " ms: keep the implicit springs, or restart with more substeps");
   }
   const bool threads = p.threads != params_.threads;
   params_ = p;
@@ -232,8 +228,7 @@ void Solver::setTimeStep(double dt) {
   params_ = p;
 }
 
-void Solver::setKinematicState(std::span<const glm::vec3> position,
-                               std::span<const glm::vec3> velocity,
+void Solver::setKinematicState(std::span<const glm::vec3> position, std::span<const glm::vec3> velocity,
                                std::span<const glm::vec3> direction) {
   const std::size_t n = particles_.size();
   if (position.size() != n || velocity.size() != n || direction.size() != n)
@@ -292,8 +287,8 @@ void Solver::setShapeKeepingStrengths(const std::vector<float>& hz) {
                                   std::to_string(hz[i]) + " Hz is not a finite value >= 0");
     if (2.0 * std::numbers::pi * hz[i] * params_.time_step > kMaxHoldPhasePerStep)
       throw std::invalid_argument("setShapeKeepingStrengths: particle " + std::to_string(i) + ": " +
-                                  std::to_string(hz[i]) + " Hz is too strong for time_step = " +
-                                  std::to_string(params_.time_step) + " s");
+                                  std::to_string(hz[i]) +
+                                  " Hz is too strong for time_step = " + std::to_string(params_.time_step) + " s");
   }
   shape_->setHolds(hz);
 }
@@ -349,12 +344,10 @@ void Solver::step() {
   accumulateForces(ctx, clock);
   HeadKinematics head_start;
   placeBodies(time_, start_frames_, head_start);
-  ctx.contacts = integrate({params_.contact_thickness, params_.body_friction},
-                           PlacedBodies(*this, start_frames_, head_start),
-                           {particles_.position, particles_.velocity, particles_.mass, inverse_mass_, particles_.is_root},
-                           params_.implicit_springs ? std::span<const glm::vec3>(spring_dv_)
-                                                    : std::span<const glm::vec3>(),
-                           ctx, threads_);
+  ctx.contacts = integrate(
+      {params_.contact_thickness, params_.body_friction}, PlacedBodies(*this, start_frames_, head_start),
+      {particles_.position, particles_.velocity, particles_.mass, inverse_mass_, particles_.is_root},
+      params_.implicit_springs ? std::span<const glm::vec3>(spring_dv_) : std::span<const glm::vec3>(), ctx, threads_);
   clock.lap(ctx.times.integrate);
   HeadKinematics head_end;
   correctPositions(ctx, t_end, head_end, clock);
@@ -413,15 +406,17 @@ void Solver::correctPositions(StepContext& ctx, double t_end, HeadKinematics& he
   StageTimes& st = ctx.times;
   ctx.limited = 0;
   if (params_.strain_limit)
-    ctx.limited = limitStrain({params_.h1, params_.max_strain, params_.strain_limit_iterations}, *sliced_,
-                              particles_.is_root, particles_.position, ctx.strain_records,
-                              ctx.limited_position, threads_);
+    ctx.limited =
+        limitStrain({params_.h1, params_.max_strain, params_.strain_limit_iterations}, *sliced_, particles_.is_root,
+                    particles_.position, ctx.strain_records, ctx.limited_position, threads_);
   clock.lap(st.strain_limit);
-  if (params_.tether && params_.hair_chain) holdHairChains(ctx.chain_moved);
-  else ctx.chain_moved.clear();
+  if (params_.tether && params_.hair_chain)
+    holdHairChains(ctx.chain_moved);
+  else
+    ctx.chain_moved.clear();
   if (params_.tether)
-    applyTethers(params_.tether_slack, particles_.is_root, particles_.root_point, particles_.arc_length,
-                 tie_point_, tie_reach_, particles_.position, threads_);
+    applyTethers(params_.tether_slack, particles_.is_root, particles_.root_point, particles_.arc_length, tie_point_,
+                 tie_reach_, particles_.position, threads_);
   clock.lap(st.tethers);
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);
@@ -438,8 +433,7 @@ void Solver::moveAir(float dt, double t_end, const HeadKinematics& head_start, c
     const Solver& solver;
     const std::vector<BodyFrame>& frames;
     StepBodies(const Solver& s, const std::vector<BodyFrame>& f) : solver(s), frames(f) {}
-    void local(const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal,
-               glm::vec3* v) const override {
+    void local(const glm::vec3* x, std::size_t count, float* phi, glm::vec3* normal, glm::vec3* v) const override {
       solver.queryBodies(frames, end, x, count, phi, normal, v, INFINITY, true);
     }
     void worldSample(const glm::vec3* w, std::size_t count, float* phi, glm::vec3* v) const override {
@@ -454,8 +448,9 @@ void Solver::moveAir(float dt, double t_end, const HeadKinematics& head_start, c
   bodies.moved = airBodiesMoved(frames, head_end);
   air_->move(time_, t_end, dt, bodies, threads_);
   if (const std::size_t bad = air_->nonFinite(); bad > 0)
-    throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) + " s: " +
-                          std::to_string(bad) + " numbers of the wind's air are not finite; lower wind.speed "
+    throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) +
+                          " s: " + std::to_string(bad) +
+                          " numbers of the wind's air are not finite; lower wind.speed "
                           "or reduce the time step");
 }
 
@@ -464,8 +459,8 @@ void Solver::moveAir(float dt, double t_end, const HeadKinematics& head_start, c
 void Solver::finishDirections() {
   SpringScratch& s = *scratch_;
   const DirectionPassResult directions =
-      updateDirections(params_.h1, *sliced_, s.weight, particles_.is_root, particles_.position,
-                       particles_.velocity, particles_.direction, s.sum_root, s.sum_tip, threads_);
+      updateDirections(params_.h1, *sliced_, s.weight, particles_.is_root, particles_.position, particles_.velocity,
+                       particles_.direction, s.sum_root, s.sum_tip, threads_);
   s.sums_current = true;  // the next step's factor pass takes the sums from here
   s.active_entries = directions.active_entries;
   const std::size_t broken = directions.broken;
@@ -475,12 +470,9 @@ void Solver::finishDirections() {
     const std::size_t n = particles_.size();
     std::size_t first = 0;
     for (; first < n; ++first)
-      if (!std::isfinite(x[first].x + x[first].y + x[first].z + v[first].x + v[first].y +
-                         v[first].z))
-        break;
-    throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) +
-                          " s: " + std::to_string(broken) +
-                          " particles have non-finite state (first: " + std::to_string(first) +
+      if (!std::isfinite(x[first].x + x[first].y + x[first].z + v[first].x + v[first].y + v[first].z)) break;
+    throw SimulationError("the simulation became unstable at t = " + std::to_string(time_) + " s: " +
+                          std::to_string(broken) + " particles have non-finite state (first: " + std::to_string(first) +
                           "); reduce the time step or the stiffness");
   }
 }
@@ -530,8 +522,8 @@ void Solver::findNeighbors() {
 }
 
 void Solver::measureDensity(PairRecords& records) {
-  computeDensity({params_.h2, params_.pressure_stiffness, rest_density_}, *grid_, particles_.position,
-                 particles_.mass, records, density_, pressure_, pressure_term_, threads_);
+  computeDensity({params_.h2, params_.pressure_stiffness, rest_density_}, *grid_, particles_.position, particles_.mass,
+                 records, density_, pressure_, pressure_term_, threads_);
 }
 
 void Solver::addHairHairForces(PairRecords& records, PositionRecords xm, std::vector<glm::vec3>& force) const {
@@ -541,8 +533,8 @@ void Solver::addHairHairForces(PairRecords& records, PositionRecords xm, std::ve
 }
 
 void Solver::springFactors(SpringScratch& s) const {
-  const SpringParticles p{particles_.position, particles_.velocity, particles_.is_root, cross_section_,
-                          rest_factor_root_, rest_factor_tip_};
+  const SpringParticles p{particles_.position, particles_.velocity, particles_.is_root,
+                          cross_section_,      rest_factor_root_,   rest_factor_tip_};
   computeSpringFactors(springSettingsOf(params_), connections_, p, s, threads_);
 }
 

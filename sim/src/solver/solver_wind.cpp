@@ -20,9 +20,8 @@ void Solver::setWind(const WindParams& wind) {
     return;
   }
   auto air = std::make_unique<AirSystem>(wind);
-  air->fill(time_, head, [&](const glm::vec3* w, std::size_t n, float* phi) {
-    worldBodyDistance(frames, head, w, n, phi);
-  });
+  air->fill(time_, head,
+            [&](const glm::vec3* w, std::size_t n, float* phi) { worldBodyDistance(frames, head, w, n, phi); });
   air_ = std::move(air);
 }
 
@@ -53,9 +52,8 @@ bool Solver::airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKine
   return moved;
 }
 
-void Solver::worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                             const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity,
-                             bool rough) const {
+void Solver::worldBodySample(const std::vector<BodyFrame>& frames, const HeadKinematics& head, const glm::vec3* world,
+                             std::size_t n, float* phi, glm::vec3* velocity, bool rough) const {
   const glm::dmat3 rt = glm::transpose(head.pose.rotation);
   const glm::vec3 omega(head.angular_velocity);
   const glm::mat3 rot(head.pose.rotation);
@@ -72,8 +70,8 @@ void Solver::worldBodySample(const std::vector<BodyFrame>& frames, const HeadKin
   });
 }
 
-void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head,
-                               const glm::vec3* world, std::size_t n, float* phi) const {
+void Solver::worldBodyDistance(const std::vector<BodyFrame>& frames, const HeadKinematics& head, const glm::vec3* world,
+                               std::size_t n, float* phi) const {
   worldBodySample(frames, head, world, n, phi, nullptr, false);
 }
 
@@ -91,9 +89,7 @@ void Solver::worldAirVelocities(std::vector<glm::vec3>& out) const {
   if (air_) air_->worldState(trajectory_.kinematics(time_), nullptr, &out);
 }
 
-std::span<const float> Solver::airDensity() const {
-  return air_ ? air_->density() : std::span<const float>();
-}
+std::span<const float> Solver::airDensity() const { return air_ ? air_->density() : std::span<const float>(); }
 
 double Solver::holdTimeStep() const {
   const double w = shape_ ? shape_->fastest() : 0.0;

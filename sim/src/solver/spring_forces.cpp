@@ -23,8 +23,8 @@ void resizeSpringScratch(SpringScratch& s, std::size_t n, const ConnectionSet& c
   s.sums_current = false;
 }
 
-void computeSpringFactors(const SpringSettings& settings, const ConnectionSet& connections,
-                          const SpringParticles& p, SpringScratch& s, int threads) {
+void computeSpringFactors(const SpringSettings& settings, const ConnectionSet& connections, const SpringParticles& p,
+                          SpringScratch& s, int threads) {
   const CubicKernel k1(settings.h1);
   const auto& x = p.position;
   const auto& c = connections;
@@ -113,18 +113,17 @@ struct SpringTerms {
   float gamma;          // spring damping (s)
 };
 LOOSEHAIR_PAIR_KERNEL
-void springSlices(
-    std::size_t slices, const std::uint32_t* __restrict rows, const SpringTerms& p,
-    const float* __restrict degree, const float* __restrict root_degree, const float* __restrict xi,
-    const float* __restrict yi, const float* __restrict zi, const float* __restrict vxi,
-    const float* __restrict vyi, const float* __restrict vzi, const float* __restrict own_root,
-    const float* __restrict own_tip, const float* __restrict xj, const float* __restrict yj,
-    const float* __restrict zj, const float* __restrict vxj, const float* __restrict vyj,
-    const float* __restrict vzj, const float* __restrict frj, const float* __restrict ftj,
-    const float* __restrict strength, const float* __restrict rest, float* __restrict weight,
-    float* __restrict nx_out, float* __restrict ny_out, float* __restrict nz_out,
-    float* __restrict fx_out, float* __restrict fy_out, float* __restrict fz_out,
-    float* __restrict px_out, float* __restrict py_out, float* __restrict pz_out) {
+void springSlices(std::size_t slices, const std::uint32_t* __restrict rows, const SpringTerms& p,
+                  const float* __restrict degree, const float* __restrict root_degree, const float* __restrict xi,
+                  const float* __restrict yi, const float* __restrict zi, const float* __restrict vxi,
+                  const float* __restrict vyi, const float* __restrict vzi, const float* __restrict own_root,
+                  const float* __restrict own_tip, const float* __restrict xj, const float* __restrict yj,
+                  const float* __restrict zj, const float* __restrict vxj, const float* __restrict vyj,
+                  const float* __restrict vzj, const float* __restrict frj, const float* __restrict ftj,
+                  const float* __restrict strength, const float* __restrict rest, float* __restrict weight,
+                  float* __restrict nx_out, float* __restrict ny_out, float* __restrict nz_out,
+                  float* __restrict fx_out, float* __restrict fy_out, float* __restrict fz_out,
+                  float* __restrict px_out, float* __restrict py_out, float* __restrict pz_out) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
   const float inv_h = p.inv_h, norm_w = p.norm_w, gamma = p.gamma;
   std::size_t q0 = 0;
@@ -202,17 +201,16 @@ void accumulateSpringForces(const SpringSettings& settings, const SlicedConnecti
       const std::uint32_t* owner = cs.owner.data() + s0 * L;
       run.prefetchNext(cs.partner.data(), sl.strength.data(), sl.rest.data(), s.weight.data());
       // (x, a_r) and (v, a_t) of the partners and of the owners
-      gatherRecordPairs(records, partner, run.entries, run.gatherAhead(n * 2 * sizeof(glm::vec4)),
-                        col.entry(XJ), col.entryStride());
+      gatherRecordPairs(records, partner, run.entries, run.gatherAhead(n * 2 * sizeof(glm::vec4)), col.entry(XJ),
+                        col.entryStride());
       gatherRecordPairs(records, owner, run.lanes, 0, col.lane(XI), col.laneStride());
-      springSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L,
-                   cs.root_degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
-                   col.lane(VXI), col.lane(VYI), col.lane(VZI), col.lane(OWN_R), col.lane(OWN_T),
-                   col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ), col.entry(VYJ),
-                   col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.strength.data() + q0,
-                   sl.rest.data() + q0, s.weight.data() + q0, s.unit_x.data() + q0,
-                   s.unit_y.data() + q0, s.unit_z.data() + q0, col.lane(FX), col.lane(FY),
-                   col.lane(FZ), col.lane(PX), col.lane(PY), col.lane(PZ));
+      springSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, cs.root_degree.data() + s0 * L,
+                   col.lane(XI), col.lane(YI), col.lane(ZI), col.lane(VXI), col.lane(VYI), col.lane(VZI),
+                   col.lane(OWN_R), col.lane(OWN_T), col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(VXJ),
+                   col.entry(VYJ), col.entry(VZJ), col.entry(FRJ), col.entry(FTJ), sl.strength.data() + q0,
+                   sl.rest.data() + q0, s.weight.data() + q0, s.unit_x.data() + q0, s.unit_y.data() + q0,
+                   s.unit_z.data() + q0, col.lane(FX), col.lane(FY), col.lane(FZ), col.lane(PX), col.lane(PY),
+                   col.lane(PZ));
       for (std::size_t l = 0; l < run.used; ++l) {
         force[owner[l]] = glm::vec3(col.lane(FX)[l], col.lane(FY)[l], col.lane(FZ)[l]);
         s.pull[owner[l]] = glm::vec3(col.lane(PX)[l], col.lane(PY)[l], col.lane(PZ)[l]);
@@ -220,6 +218,5 @@ void accumulateSpringForces(const SpringSettings& settings, const SlicedConnecti
     });
   });
 }
-
 
 }  // namespace loosehair

@@ -26,7 +26,7 @@ struct SpringSettings {
 struct SpringParticles {
   std::span<const glm::vec3> position, velocity;
   std::span<const std::uint8_t> is_root;
-  std::span<const float> cross_section;                     // A_i (eq. 9)
+  std::span<const float> cross_section;                      // A_i (eq. 9)
   std::span<const float> rest_factor_root, rest_factor_tip;  // a_r, a_t at rest (the clamp's reference)
 };
 
@@ -43,8 +43,8 @@ void resizeSpringScratch(SpringScratch& s, std::size_t particles, const Connecti
 /// these positions; else they are measured here). Writes in `s` the factors,
 /// the records, the clamped count and (when measured) the sums and active
 /// entries; clears `s.sums_current`. The same bits on any `threads`.
-void computeSpringFactors(const SpringSettings& settings, const ConnectionSet& connections,
-                          const SpringParticles& p, SpringScratch& s, int threads);
+void computeSpringFactors(const SpringSettings& settings, const ConnectionSet& connections, const SpringParticles& p,
+                          SpringScratch& s, int threads);
 
 /// The damped spring force of every particle (eq. 14's alpha_ij k_ij).
 ///

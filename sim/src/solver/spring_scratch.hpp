@@ -22,7 +22,7 @@ struct SpringScratch {
   /// for the implicit solve's matrix and right-hand side.
   std::vector<float> unit_x, unit_y, unit_z;
   std::vector<glm::vec3> pull;
-  std::vector<float> k;            // k_ij at the current positions: for the queries only
+  std::vector<float> k;  // k_ij at the current positions: for the queries only
   /// What the spring pass reads of a partner, two 16-byte records per
   /// particle: (x, a_r) and (v, a_t); one cache line instead of three.
   /// Made by computeSpringFactors, with the factors.

@@ -28,13 +28,11 @@ struct StrainTerms {
 };
 LOOSEHAIR_PAIR_KERNEL
 void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows, const StrainTerms& p,
-                  const float* __restrict degree, const float* __restrict xi,
-                  const float* __restrict yi, const float* __restrict zi,
-                  const float* __restrict wi, const float* __restrict xj,
-                  const float* __restrict yj, const float* __restrict zj,
-                  const float* __restrict wj, const float* __restrict rest,
-                  float* __restrict shift_x, float* __restrict shift_y, float* __restrict shift_z,
-                  float* __restrict acting) {
+                  const float* __restrict degree, const float* __restrict xi, const float* __restrict yi,
+                  const float* __restrict zi, const float* __restrict wi, const float* __restrict xj,
+                  const float* __restrict yj, const float* __restrict zj, const float* __restrict wj,
+                  const float* __restrict rest, float* __restrict shift_x, float* __restrict shift_y,
+                  float* __restrict shift_z, float* __restrict acting) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
   const float inv_h = p.inv_h, norm_w = p.norm_w, support2 = p.support2, scale = p.max_len_scale;
   std::size_t q0 = 0;  // first entry of the slice's rows
@@ -76,8 +74,7 @@ void strainSlices(std::size_t slices, const std::uint32_t* __restrict rows, cons
 
 std::size_t limitStrain(const StrainLimitSettings& settings, const SlicedConnections& sl,
                         std::span<const std::uint8_t> root, std::vector<glm::vec3>& position,
-                        std::vector<glm::vec4> (&records)[2], std::vector<glm::vec3>& scratch,
-                        int threads) {
+                        std::vector<glm::vec4> (&records)[2], std::vector<glm::vec3>& scratch, int threads) {
   constexpr std::size_t L = ConnectionSlices::kLanes;
   std::size_t limited = 0;
   if (settings.rounds <= 0) return 0;
@@ -106,15 +103,12 @@ std::size_t limitStrain(const StrainLimitSettings& settings, const SlicedConnect
         col.reserve(run.entries, kEntryColumns, run.lanes, kLaneColumns);
         const std::uint32_t* owner = cs.owner.data() + s0 * L;
         run.prefetchNext(cs.partner.data(), sl.rest.data());
-        gatherRecords(rec_in, cs.partner.data() + q0, run.entries,
-                      run.gatherAhead(n * sizeof(glm::vec4)), col.entry(XJ), col.entry(YJ),
-                      col.entry(ZJ), col.entry(WJ));
-        gatherRecords(rec_in, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI),
-                      col.lane(WI));
-        strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI),
-                     col.lane(YI), col.lane(ZI), col.lane(WI), col.entry(XJ), col.entry(YJ),
-                     col.entry(ZJ), col.entry(WJ), sl.rest.data() + q0, col.lane(SX), col.lane(SY),
-                     col.lane(SZ), col.lane(ACT));
+        gatherRecords(rec_in, cs.partner.data() + q0, run.entries, run.gatherAhead(n * sizeof(glm::vec4)),
+                      col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(WJ));
+        gatherRecords(rec_in, owner, run.lanes, 0, col.lane(XI), col.lane(YI), col.lane(ZI), col.lane(WI));
+        strainSlices(run.s1 - s0, run.rows, terms, cs.degree.data() + s0 * L, col.lane(XI), col.lane(YI), col.lane(ZI),
+                     col.lane(WI), col.entry(XJ), col.entry(YJ), col.entry(ZJ), col.entry(WJ), sl.rest.data() + q0,
+                     col.lane(SX), col.lane(SY), col.lane(SZ), col.lane(ACT));
         for (std::size_t l = 0; l < run.used; ++l) {
           const std::uint32_t i = owner[l];
           out[i] = x[i];

@@ -32,7 +32,6 @@ struct StrainLimitSettings {
 /// `threads`.
 std::size_t limitStrain(const StrainLimitSettings& settings, const SlicedConnections& connections,
                         std::span<const std::uint8_t> is_root, std::vector<glm::vec3>& position,
-                        std::vector<glm::vec4> (&records)[2], std::vector<glm::vec3>& scratch,
-                        int threads);
+                        std::vector<glm::vec4> (&records)[2], std::vector<glm::vec3>& scratch, int threads);
 
 }  // namespace loosehair

@@ -41,8 +41,7 @@ inline glm::vec3 within(const glm::vec3& x, const glm::vec3& root, float reach) 
 /// itself would have moved the particle (|x - root| - reach), so the slide
 /// adds no more speed than the tether does. Unbounded, the few-centimetre
 /// moves it would take at once threw particles off the body.
-inline glm::vec3 slideAlongSurface(const glm::vec3& x, const glm::vec3& n, const glm::vec3& root,
-                                   float reach) {
+inline glm::vec3 slideAlongSurface(const glm::vec3& x, const glm::vec3& n, const glm::vec3& root, float reach) {
   const glm::vec3 to_root = root - x;
   const float d2 = glm::dot(to_root, to_root);
   const float over2 = d2 - reach * reach;

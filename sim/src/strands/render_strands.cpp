@@ -81,10 +81,9 @@ StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::si
   // the particles' Poisson radius (or an estimate of it), for their
   // clearance off the head and the pieces of their cantilevers: the same
   // pieces give the same curve
-  const float rp = poisson_radius > 0.0f
-                       ? poisson_radius
-                       : std::cbrt(static_cast<float>(scalp.area()) * hanging.maxLength() /
-                                   static_cast<float>(std::max(scene.hair.particles, 1)));
+  const float rp = poisson_radius > 0.0f ? poisson_radius
+                                         : std::cbrt(static_cast<float>(scalp.area()) * hanging.maxLength() /
+                                                     static_cast<float>(std::max(scene.hair.particles, 1)));
   const float clearance = std::max(scene.sim.contact_thickness, 0.25f * rp);
   Random rng(scene.seed ^ 0x5bd1e995c0ffee11ULL);
   StrandSet out;
@@ -104,8 +103,8 @@ StrandSet hangingStrands(const SceneDesc& scene, const HeadModel& model, std::si
     const float length = strand.length();
     glm::vec3* p = &out.points[k * per];
     for (int j = 0; j < points; ++j)
-      p[j] = j == 0 ? scalp.point(uv)
-                    : strand.position(length * static_cast<float>(j) / static_cast<float>(points - 1));
+      p[j] =
+          j == 0 ? scalp.point(uv) : strand.position(length * static_cast<float>(j) / static_cast<float>(points - 1));
   });
   return out;
 }

@@ -32,11 +32,9 @@ class CellIndex {
  public:
   CellIndex(std::span<const glm::vec3> x, float cell) : inv_(1.0f / cell) {
     entries_.reserve(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i)
-      entries_.push_back({key(cellOf(x[i])), static_cast<std::uint32_t>(i)});
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
-      return a.key != b.key ? a.key < b.key : a.index < b.index;
-    });
+    for (std::size_t i = 0; i < x.size(); ++i) entries_.push_back({key(cellOf(x[i])), static_cast<std::uint32_t>(i)});
+    std::sort(entries_.begin(), entries_.end(),
+              [](const Entry& a, const Entry& b) { return a.key != b.key ? a.key < b.key : a.index < b.index; });
   }
   /// f(index) for every particle in the cells overlapping the ball (p, radius).
   template <class F>
@@ -57,9 +55,7 @@ class CellIndex {
     std::uint64_t key;
     std::uint32_t index;
   };
-  glm::ivec3 cellOf(glm::vec3 p) const {
-    return glm::ivec3(glm::floor(p * inv_));
-  }
+  glm::ivec3 cellOf(glm::vec3 p) const { return glm::ivec3(glm::floor(p * inv_)); }
   static std::uint64_t key(glm::ivec3 c) {
     auto part = [](int v) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(v + (1 << 20)) & 0x1fffffu); };
     return (part(c.x) << 42) | (part(c.y) << 21) | part(c.z);
@@ -99,8 +95,7 @@ bool pickWeights(std::vector<Candidate>& c, int k, std::uint32_t* index, float* 
 void checkFinite(const std::vector<glm::vec3>& v, const char* what) {
   for (std::size_t i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i].x) || !std::isfinite(v[i].y) || !std::isfinite(v[i].z))
-      throw std::invalid_argument(std::string("StrandField: ") + what + " " + std::to_string(i) +
-                                  " is not finite");
+      throw std::invalid_argument(std::string("StrandField: ") + what + " " + std::to_string(i) + " is not finite");
 }
 
 // Rounds of (push out by the bodies' fast approximation, length limit);
@@ -151,8 +146,7 @@ BodyContacts solverBodyContacts(const Solver& solver) {
                    std::span<glm::vec3> n) { solver.bodyContacts(p, solver.time(), limit, phi, n, rough); };
 }
 
-StrandField::StrandField(StrandSet rest, const Particles& particles, const StrandFieldOptions& options,
-                         int threads)
+StrandField::StrandField(StrandSet rest, const Particles& particles, const StrandFieldOptions& options, int threads)
     : rest_(std::move(rest)), options_(options), k_(options.particles_per_point) {
   if (!(options.support > 0.0f) || !std::isfinite(options.support))
     throw std::invalid_argument("StrandField: support " + std::to_string(options.support) + " must be > 0");
@@ -276,8 +270,7 @@ int StrandField::smoothingHalfWidth() { return kSmoothHalf; }
 std::span<const float> StrandField::smoothingTaps() { return kSmoothTaps; }
 
 void StrandField::particleMotions(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
-                                  std::vector<glm::mat3>& rot, std::vector<glm::vec3>& shift,
-                                  int threads) const {
+                                  std::vector<glm::mat3>& rot, std::vector<glm::vec3>& shift, int threads) const {
   if (x.size() != particles_ || t.size() != particles_)
     throw std::invalid_argument("StrandField::particleMotions: " + std::to_string(x.size()) + " positions and " +
                                 std::to_string(t.size()) + " directions for " + std::to_string(particles_) +
@@ -323,9 +316,18 @@ class StrandField::Deformer {
  public:
   Deformer(const StrandField& f, std::span<const glm::vec3> x_in, const BodyContacts* bodies_in,
            const std::vector<float>& phi, std::vector<glm::vec3>& out_in)
-      : rest_(f.rest_), bind_index_(f.bind_index_), bind_weight_(f.bind_weight_), detail_(f.detail_),
-        rest_length_(f.rest_length_), k(static_cast<std::size_t>(f.k_)), tol(f.options_.length_tolerance),
-        clearance(f.options_.clearance), x(x_in), bodies(bodies_in), particle_phi(phi), out(out_in) {}
+      : rest_(f.rest_),
+        bind_index_(f.bind_index_),
+        bind_weight_(f.bind_weight_),
+        detail_(f.detail_),
+        rest_length_(f.rest_length_),
+        k(static_cast<std::size_t>(f.k_)),
+        tol(f.options_.length_tolerance),
+        clearance(f.options_.clearance),
+        x(x_in),
+        bodies(bodies_in),
+        particle_phi(phi),
+        out(out_in) {}
 
   /// Strands [s0, s1): carried, then (with bodies) pushed out and held.
   void deformBlock(std::size_t s0, std::size_t s1, const std::vector<glm::mat3>& rot,
@@ -397,19 +399,20 @@ void StrandField::Deformer::selectNearStrand(std::size_t s, float threshold, std
   }
 }
 
-void StrandField::Deformer::selectNear(std::size_t s0, std::size_t s1, float threshold, std::vector<std::uint32_t>& which) const {
+void StrandField::Deformer::selectNear(std::size_t s0, std::size_t s1, float threshold,
+                                       std::vector<std::uint32_t>& which) const {
   which.clear();
   for (std::size_t s = s0; s < s1; ++s) selectNearStrand(s, threshold, which);
 }
 
-glm::vec3 StrandField::Deformer::nearSidePush(const glm::vec3& outside, const glm::vec3& inside, const glm::vec3& pushed) const {
+glm::vec3 StrandField::Deformer::nearSidePush(const glm::vec3& outside, const glm::vec3& inside,
+                                              const glm::vec3& pushed) const {
   glm::vec3 lo = outside, hi = inside, at = outside;
   float f = 0.0f;
   glm::vec3 n(0.0f);
   auto ask = [&](const glm::vec3& point) {
     at = point;
-    (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, false, std::span<float>(&f, 1),
-              std::span<glm::vec3>(&n, 1));
+    (*bodies)(std::span<const glm::vec3>(&at, 1), 1e-6f, false, std::span<float>(&f, 1), std::span<glm::vec3>(&n, 1));
   };
   ask(lo);
   if (!(f >= 0.0f)) return pushed;
@@ -430,8 +433,7 @@ glm::vec3 StrandField::Deformer::nearSidePush(const glm::vec3& outside, const gl
 }
 
 void StrandField::Deformer::pushOut(bool rough, float trigger, std::vector<std::uint32_t>& which,
-                                    std::vector<glm::vec3>& pts, std::vector<float>& phi,
-                                    std::vector<glm::vec3>& nrm) {
+                                    std::vector<glm::vec3>& pts, std::vector<float>& phi, std::vector<glm::vec3>& nrm) {
   if (which.empty()) return;
   pts.resize(which.size());
   for (std::size_t m = 0; m < which.size(); ++m) pts[m] = out[which[m]];
@@ -587,8 +589,8 @@ void StrandField::Deformer::deformBlock(std::size_t s0, std::size_t s1, const st
   }
 }
 
-void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3> t,
-                         const BodyContacts* bodies, std::vector<glm::vec3>& out, int threads) const {
+void StrandField::deform(std::span<const glm::vec3> x, std::span<const glm::vec3> t, const BodyContacts* bodies,
+                         std::vector<glm::vec3>& out, int threads) const {
   if (x.size() != particles_ || t.size() != particles_)
     throw std::invalid_argument("StrandField::deform: " + std::to_string(x.size()) + " positions and " +
                                 std::to_string(t.size()) + " directions for " + std::to_string(particles_) +

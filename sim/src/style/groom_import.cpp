@@ -34,8 +34,8 @@ std::vector<glm::vec3> resample(const std::vector<glm::vec3>& line, std::size_t 
 
 }  // namespace
 
-Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadModel& head,
-                  const std::string& source, const GroomImportOptions& opt, GroomImportReport* report) {
+Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadModel& head, const std::string& source,
+                  const GroomImportOptions& opt, GroomImportReport* report) {
   if (!(std::isfinite(opt.scale) && opt.scale > 0.0f))
     throw StyleError(source + ": scale " + std::to_string(opt.scale) + " must be finite and positive");
   if (!(std::isfinite(opt.max_root_distance) && opt.max_root_distance > 0.0f))
@@ -56,8 +56,8 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
     for (std::uint32_t j = groom.first[k]; j < groom.first[k + 1]; ++j) {
       const glm::vec3 p = opt.scale * groom.points[j];
       if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
-        throw StyleError(source + ": strand " + std::to_string(k) + " point " +
-                         std::to_string(j - groom.first[k]) + " is not a finite number");
+        throw StyleError(source + ": strand " + std::to_string(k) + " point " + std::to_string(j - groom.first[k]) +
+                         " is not a finite number");
       if (line.empty() || glm::length(p - line.back()) >= kMinControlPointGap) line.push_back(p);
     }
     // what a style file may hold: a strand reaching beyond it is left out
@@ -100,9 +100,9 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
     line.front() = head.scalpPoint(regionRoot(w.region, head));
     float length = 0;
     for (std::size_t j = 1; j < line.size(); ++j) length += glm::length(line[j] - line[j - 1]);
-    const std::size_t n = std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(length / 0.01f)) + 1, 2,
-                                                  std::min<std::size_t>(static_cast<std::size_t>(opt.max_control_points),
-                                                                        std::max<std::size_t>(line.size(), 2)));
+    const std::size_t n = std::clamp<std::size_t>(
+        static_cast<std::size_t>(std::ceil(length / 0.01f)) + 1, 2,
+        std::min<std::size_t>(static_cast<std::size_t>(opt.max_control_points), std::max<std::size_t>(line.size(), 2)));
     w.key_strand = resample(line, n);
     constexpr float kClear = 2e-3f;
     for (std::size_t j = 1; j < w.key_strand.size(); ++j) {
@@ -144,8 +144,10 @@ Style importGroom(const Polylines& groom, const HeadDesc& head_desc, const HeadM
                     "is the groom in another unit or frame?)",
                     rep.strands_read, opt.max_root_distance * 1e3, nearest_far * 1e3);
     else if (rep.skipped_beyond > 0)
-      std::snprintf(buf, sizeof buf, ": every strand reaches farther than %.0f m from the head's origin, beyond what a "
-                    "style may hold (is the groom in another unit? see --scale)", double(kMaxStyleCoordinate));
+      std::snprintf(buf, sizeof buf,
+                    ": every strand reaches farther than %.0f m from the head's origin, beyond what a "
+                    "style may hold (is the groom in another unit? see --scale)",
+                    double(kMaxStyleCoordinate));
     else
       std::snprintf(buf, sizeof buf, ": holds no strand of two or more distinct points");
     throw StyleError(source + buf);

@@ -19,7 +19,7 @@ std::vector<glm::vec3> sampleKeyStrand(const std::vector<glm::vec3>& control, in
 }
 
 std::vector<glm::vec3> keyStrandKeptOutside(std::vector<glm::vec3> c, const HeadModel& head, float clearance) {
-  constexpr int kPer = 8;        // as checkStyle samples a span
+  constexpr int kPer = 8;          // as checkStyle samples a span
   constexpr float kDip = 0.0029f;  // deeper than this is mended (checkStyle refuses 3 mm)
   constexpr std::size_t kMaxPoints = 4096;
   for (int round = 0; round < 6 && c.size() >= 2 && c.size() < kMaxPoints; ++round) {
@@ -64,8 +64,8 @@ StylingDirections stylingDirections(const Wisp& wisp, std::size_t k, const HeadM
 
 namespace loosehair {
 
-std::vector<glm::vec3> reRootKeyStrand(const std::vector<glm::vec3>& control, const HeadModel& from,
-                                       glm::vec2 from_uv, const HeadModel& to, glm::vec2 to_uv) {
+std::vector<glm::vec3> reRootKeyStrand(const std::vector<glm::vec3>& control, const HeadModel& from, glm::vec2 from_uv,
+                                       const HeadModel& to, glm::vec2 to_uv) {
   const glm::mat3 a = rootFrame(from, from_uv), b = rootFrame(to, to_uv);
   const glm::vec3 origin = control.empty() ? from.scalpPoint(from_uv) : control[0];
   const glm::vec3 target = to.scalpPoint(to_uv);

@@ -105,12 +105,12 @@ std::vector<glm::vec2> memberRoots(const Wisp& w, const HeadModel& head, double 
   const std::size_t tries = 40 * target + 64;
   for (std::size_t k = 0; k < tries && roots.size() < target; ++k) {
     const double x = rng.uniform() * total;
-    const std::size_t i = std::min(static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin()),
-                                   tris.size() - 1);
+    const std::size_t i =
+        std::min(static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin()), tris.size() - 1);
     const auto tr = s.triangles[tris[i]];
     const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
-    const glm::vec2 uv = static_cast<float>(1.0 - r1) * s.uvs[tr.x] + static_cast<float>(r1 * (1.0 - r2)) * s.uvs[tr.y] +
-                         static_cast<float>(r1 * r2) * s.uvs[tr.z];
+    const glm::vec2 uv = static_cast<float>(1.0 - r1) * s.uvs[tr.x] +
+                         static_cast<float>(r1 * (1.0 - r2)) * s.uvs[tr.y] + static_cast<float>(r1 * r2) * s.uvs[tr.z];
     if (!regionContains(w.region, head, uv)) continue;
     if (accept(head.scalpPoint(uv))) roots.push_back(uv);
   }
@@ -139,9 +139,7 @@ void checkBudget(const Style& style, const std::vector<double>& area, float spac
   const std::string most =
       2.0 * worst_points >= points
           ? "most of them from wisps[" + std::to_string(worst) + "] (" + count(mostMembers(w, area[worst])) +
-                " strands of " +
-                count(pointsAStrand(w, spacing)) +
-                " points): lower its density or strands"
+                " strands of " + count(pointsAStrand(w, spacing)) + " points): lower its density or strands"
           : "spread over " + std::to_string(style.wisps.size()) + " wisps: use fewer wisps or lower their densities";
   throw StyleError(style.source + ": the wisps would grow up to " + count(strands) + " strands of " + count(points) +
                    " points, above the limit of " + std::to_string(budget.max_strands) + " strands and " +
@@ -331,8 +329,8 @@ void pushOutOfHead(const HeadModel& head, std::vector<glm::vec3>& pts, std::size
 // each the key strand moved to its root (or blended with the neighbours'
 // shapes), offset, curled, cut to its length and kept out of the head.
 StrandSet wispMembers(const Style& style, std::size_t wi, const HeadModel& head, const KeyStrands& keys,
-                      const std::vector<double>& area,
-                      const std::vector<std::pair<glm::vec3, glm::vec3>>& hair_edge, float clearance, bool exact) {
+                      const std::vector<double>& area, const std::vector<std::pair<glm::vec3, glm::vec3>>& hair_edge,
+                      float clearance, bool exact) {
   StrandSet out;
   const Wisp& w = style.wisps[wi];
   const WispParams& par = w.params;
@@ -361,8 +359,7 @@ StrandSet wispMembers(const Style& style, std::size_t wi, const HeadModel& head,
   PushScratch scratch;
   for (const glm::vec2 uv : roots) {
     const glm::vec3 root = head.scalpPoint(uv);
-    if (par.edge_ramp > 0.0f && !hair_edge.empty() &&
-        !(thin.uniform() * par.edge_ramp < edgeDistance(hair_edge, root)))
+    if (par.edge_ramp > 0.0f && !hair_edge.empty() && !(thin.uniform() * par.edge_ramp < edgeDistance(hair_edge, root)))
       continue;  // thinned towards the hairline
     const glm::vec3 delta = root - key[0];
     // the neighbours' weights against the own wisp's 1, normalised
@@ -411,7 +408,8 @@ StrandSet wispMembers(const Style& style, std::size_t wi, const HeadModel& head,
     float cut = keep * length;
     if (tie) {
       float own = 0.0f;  // the member's own arc to where the key strand crosses the ring
-      for (std::size_t j = 1; j < pts.size() && sk[j - 1] < tie->arc_length; ++j) own += glm::length(pts[j] - pts[j - 1]);
+      for (std::size_t j = 1; j < pts.size() && sk[j - 1] < tie->arc_length; ++j)
+        own += glm::length(pts[j] - pts[j - 1]);
       cut = own + keep * std::max(0.0f, length - tie->arc_length);
     }
     const std::size_t n = cutToLength(pts, cut);

@@ -30,8 +30,7 @@ std::vector<glm::vec3> polylineTangents(const std::vector<glm::vec3>& p) {
   return t;
 }
 
-std::vector<CurveFrame> rotationMinimizingFrames(const std::vector<glm::vec3>& p,
-                                                 glm::vec3 reference) {
+std::vector<CurveFrame> rotationMinimizingFrames(const std::vector<glm::vec3>& p, glm::vec3 reference) {
   const std::vector<glm::vec3> t = polylineTangents(p);
   const std::size_t n = p.size();
   std::vector<CurveFrame> f(n);

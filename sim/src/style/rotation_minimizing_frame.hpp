@@ -23,7 +23,6 @@ std::vector<glm::vec3> polylineTangents(const std::vector<glm::vec3>& points);
 /// Frames at every point of `points` (at least 2, no two consecutive equal).
 /// The first frame's normal is `reference` made orthogonal to the first
 /// tangent (any orthogonal direction if `reference` is parallel to it).
-std::vector<CurveFrame> rotationMinimizingFrames(const std::vector<glm::vec3>& points,
-                                                 glm::vec3 reference);
+std::vector<CurveFrame> rotationMinimizingFrames(const std::vector<glm::vec3>& points, glm::vec3 reference);
 
 }  // namespace loosehair

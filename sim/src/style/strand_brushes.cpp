@@ -19,10 +19,14 @@ StrandBrush parseStrandBrush(const std::string& name) {
 
 const char* strandBrushName(StrandBrush b) {
   switch (b) {
-    case StrandBrush::Comb: return "comb";
-    case StrandBrush::Length: return "length";
-    case StrandBrush::Puff: return "puff";
-    case StrandBrush::Smooth: return "smooth";
+    case StrandBrush::Comb:
+      return "comb";
+    case StrandBrush::Length:
+      return "length";
+    case StrandBrush::Puff:
+      return "puff";
+    case StrandBrush::Smooth:
+      return "smooth";
   }
   return "comb";
 }

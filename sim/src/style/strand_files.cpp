@@ -58,10 +58,11 @@ std::string polylineFileBytes(const Polylines& s, const std::string& path) {
   } else if (ext == ".ply") {
     std::size_t edges = 0;
     for (std::size_t k = 0; k < n; ++k) edges += s.first[k + 1] - s.first[k] - 1;
-    out = "ply\nformat binary_little_endian 1.0\ncomment loosehair strands, head frame, metres\n"
-          "element vertex " + std::to_string(s.points.size()) +
-          "\nproperty float x\nproperty float y\nproperty float z\nelement edge " + std::to_string(edges) +
-          "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+    out =
+        "ply\nformat binary_little_endian 1.0\ncomment loosehair strands, head frame, metres\n"
+        "element vertex " +
+        std::to_string(s.points.size()) + "\nproperty float x\nproperty float y\nproperty float z\nelement edge " +
+        std::to_string(edges) + "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
     for (const glm::vec3& p : s.points) {
       put(out, p.x);
       put(out, p.y);
@@ -76,10 +77,10 @@ std::string polylineFileBytes(const Polylines& s, const std::string& path) {
     out.append("HAIR", 4);
     put(out, static_cast<std::uint32_t>(n));
     put(out, static_cast<std::uint32_t>(s.points.size()));
-    put(out, static_cast<std::uint32_t>(0x3));  // segments and points arrays
-    put(out, static_cast<std::uint32_t>(0));    // default segments
-    put(out, 1e-4f);                            // default thickness
-    put(out, 0.0f);                             // default transparency
+    put(out, static_cast<std::uint32_t>(0x3));       // segments and points arrays
+    put(out, static_cast<std::uint32_t>(0));         // default segments
+    put(out, 1e-4f);                                 // default thickness
+    put(out, 0.0f);                                  // default transparency
     put(out, 0.3f), put(out, 0.2f), put(out, 0.1f);  // default colour
     char info[88] = {};
     std::snprintf(info, sizeof info, "loosehair strands, head frame, metres, +Y up");
@@ -135,8 +136,10 @@ Polylines chain(const std::vector<glm::vec3>& pts, const std::vector<std::pair<s
   const std::size_t n = pts.size();
   std::vector<std::int64_t> next(n, -1), prev(n, -1);
   for (auto [a, b] : edges) {
-    if (a >= n || b >= n) fail(path, "an edge refers to vertex " + std::to_string(std::max(a, b)) + " of " + std::to_string(n));
-    if (next[a] != -1 || prev[b] != -1) fail(path, "the edges do not form simple polylines (a vertex with two successors)");
+    if (a >= n || b >= n)
+      fail(path, "an edge refers to vertex " + std::to_string(std::max(a, b)) + " of " + std::to_string(n));
+    if (next[a] != -1 || prev[b] != -1)
+      fail(path, "the edges do not form simple polylines (a vertex with two successors)");
     next[a] = b;
     prev[b] = a;
   }
@@ -180,7 +183,9 @@ Polylines readHairStrands(const std::string& b, const std::string& path) {
     for (auto& s : segs) s = get<std::uint16_t>(b, at, path);
   std::uint64_t total = 0;
   for (auto s : segs) total += s + 1ULL;
-  if (total != points) fail(path, "the segment counts add up to " + std::to_string(total) + " points, the header says " + std::to_string(points));
+  if (total != points)
+    fail(path, "the segment counts add up to " + std::to_string(total) + " points, the header says " +
+                   std::to_string(points));
   for (std::uint32_t k = 0; k < points; ++k) {
     glm::vec3 p;
     p.x = get<float>(b, at, path);
@@ -252,13 +257,17 @@ Polylines readPlyStrands(const std::string& b, const std::string& path) {
   while (std::getline(hdr, line)) {
     std::istringstream ls(line);
     ls >> word;
-    if (word == "format") ls >> format;
+    if (word == "format")
+      ls >> format;
     else if (word == "element") {
       std::size_t count = 0;
       ls >> element >> count;
-      if (element == "vertex") nv = count;
-      else if (element == "edge") ne = count;
-      else if (count > 0) fail(path, "element '" + element + "' is not read (only vertex and edge)");
+      if (element == "vertex")
+        nv = count;
+      else if (element == "edge")
+        ne = count;
+      else if (count > 0)
+        fail(path, "element '" + element + "' is not read (only vertex and edge)");
     } else if (word == "property") {
       std::string type, name;
       ls >> type >> name;

@@ -31,8 +31,8 @@ void checkStyle(const Style& style, const HeadModel& head) {
     const std::string field = src + ": wisps[" + std::to_string(i) + "]";
     for (std::uint32_t t : w.region.triangles)
       if (t >= tri_count)
-        throw StyleError(field + ".region.triangles: triangle " + std::to_string(t) +
-                         " is off the scalp, which has " + std::to_string(tri_count) + " triangles");
+        throw StyleError(field + ".region.triangles: triangle " + std::to_string(t) + " is off the scalp, which has " +
+                         std::to_string(tri_count) + " triangles");
     if (w.region.empty() || !(regionArea(w.region, head) > 0.0))
       throw StyleError(field + ".region: covers no part of the scalp");
     if (w.key_strand.size() < 2) throw StyleError(field + ".key_strand: needs at least two control points");
@@ -45,8 +45,8 @@ void checkStyle(const Style& style, const HeadModel& head) {
     for (std::size_t k = 1; k < w.key_strand.size(); ++k) {
       const float phi = head.headDistance(w.key_strand[k]);
       if (phi < -1e-3f)
-        throw StyleError(field + ".key_strand[" + std::to_string(k) + "]: " + point(w.key_strand[k]) +
-                         " lies " + mm(-phi) + " inside the head");
+        throw StyleError(field + ".key_strand[" + std::to_string(k) + "]: " + point(w.key_strand[k]) + " lies " +
+                         mm(-phi) + " inside the head");
     }
     const int per = 8;
     const std::vector<glm::vec3> dense = sampleKeyStrand(w.key_strand, per);
@@ -54,16 +54,17 @@ void checkStyle(const Style& style, const HeadModel& head) {
       const float phi = head.headDistance(dense[j]);
       if (phi < -3e-3f) {
         const std::size_t k = j / per;
-        throw StyleError(field + ".key_strand: the spline between control points " + std::to_string(k) +
-                         " and " + std::to_string(k + 1) + " passes " + mm(-phi) + " inside the head");
+        throw StyleError(field + ".key_strand: the spline between control points " + std::to_string(k) + " and " +
+                         std::to_string(k + 1) + " passes " + mm(-phi) + " inside the head");
       }
     }
   }
   for (std::size_t j = 0; j < style.ties.size(); ++j) {
     const HairTie& t = style.ties[j];
     if (!tieHoldsAKeyStrand(style, t))
-      throw StyleError(src + ": ties[" + std::to_string(j) + "]: no wisp's key strand passes through the ring (centre " +
-                       point(t.center) + ", radius " + mm(t.radius) + ")");
+      throw StyleError(src + ": ties[" + std::to_string(j) +
+                       "]: no wisp's key strand passes through the ring (centre " + point(t.center) + ", radius " +
+                       mm(t.radius) + ")");
     if (head.headDistance(t.center) < t.radius)
       throw StyleError(src + ": ties[" + std::to_string(j) + "].center: the ring " + point(t.center) +
                        " reaches into the head");

@@ -169,19 +169,22 @@ void StyleEditor::checkPoint(std::size_t w, std::size_t k, glm::vec3 p) const {
                      " m a style allows");
   const float phi = head_.headDistance(p);
   if (phi < -1e-3f)
-    throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: would lie " +
-                     mm(-phi) + " inside the head");
+    throw StyleError("wisps[" + std::to_string(w) + "].key_strand[" + std::to_string(k) + "]: would lie " + mm(-phi) +
+                     " inside the head");
 }
 
 namespace {
 void checkRegion(const WispRegion& r, const HeadModel& head, const std::string& field) {
   const std::size_t n = head.scalpTriangles().triangles.size();
   for (std::uint32_t t : r.triangles)
-    if (t >= n) throw StyleError(field + ": triangle " + std::to_string(t) + " is off the scalp (" + std::to_string(n) + " triangles)");
+    if (t >= n)
+      throw StyleError(field + ": triangle " + std::to_string(t) + " is off the scalp (" + std::to_string(n) +
+                       " triangles)");
   for (const auto& poly : r.polygons) {
     if (poly.size() < 3) throw StyleError(field + ": a polygon needs at least 3 points");
     for (const glm::vec2 q : poly)
-      if (!(q.x >= 0 && q.x <= 1 && q.y >= 0 && q.y <= 1)) throw StyleError(field + ": a polygon point lies off the scalp square");
+      if (!(q.x >= 0 && q.x <= 1 && q.y >= 0 && q.y <= 1))
+        throw StyleError(field + ": a polygon point lies off the scalp square");
   }
   if (r.empty() || !(regionArea(r, head) > 0.0)) throw StyleError(field + ": covers no part of the scalp");
 }
@@ -390,12 +393,14 @@ void StyleEditor::checkTie(const char* what, const HairTie& tie, const Style& st
   HairTie t = tie;
   t.axis = glm::normalize(t.axis);
   if (!tieHoldsAKeyStrand(style, t))
-    throw StyleError("a tie must hold hair: no wisp's key strand passes through a ring there; place it where the "
-                     "key strands pass (the tie tool: click on them), not at a strand's tip");
+    throw StyleError(
+        "a tie must hold hair: no wisp's key strand passes through a ring there; place it where the "
+        "key strands pass (the tie tool: click on them), not at a strand's tip");
   const float phi = head_.headDistance(t.center);
   if (phi < t.radius)
-    throw StyleError(std::string(what) + ": the ring (radius " + mm(t.radius) + ") would reach into the head, its centre " +
-                     "being " + mm(phi) + " from it; gather the hair away from the head first, or use a smaller ring");
+    throw StyleError(std::string(what) + ": the ring (radius " + mm(t.radius) +
+                     ") would reach into the head, its centre " + "being " + mm(phi) +
+                     " from it; gather the hair away from the head first, or use a smaller ring");
 }
 
 std::size_t StyleEditor::addTie(const HairTie& tie,

@@ -39,8 +39,7 @@ WispRegion readRegion(Fields f) {
   }
   if (f.has("uv_rect")) {
     const json& q = f.at("uv_rect");
-    if (!q.is_array() || q.size() != 4)
-      f.fail("uv_rect", "must be [u0, v0, u1, v1], got " + show(q));
+    if (!q.is_array() || q.size() != 4) f.fail("uv_rect", "must be [u0, v0, u1, v1], got " + show(q));
     const glm::vec2 a = readUv(f, json::array({q[0], q[1]}), "uv_rect");
     const glm::vec2 b = readUv(f, json::array({q[2], q[3]}), "uv_rect");
     if (!(b.x > a.x && b.y > a.y)) f.fail("uv_rect", "must have u1 > u0 and v1 > v0, got " + show(q));
@@ -51,8 +50,7 @@ WispRegion readRegion(Fields f) {
     if (!list.is_array()) f.fail("uv_polygons", "must be an array of polygons [[u, v], ...]");
     for (std::size_t k = 0; k < list.size(); ++k) {
       const std::string field = "uv_polygons[" + std::to_string(k) + "]";
-      if (!list[k].is_array() || list[k].size() < 3)
-        f.fail(field, "must be a polygon of at least 3 points [u, v]");
+      if (!list[k].is_array() || list[k].size() < 3) f.fail(field, "must be a polygon of at least 3 points [u, v]");
       std::vector<glm::vec2> poly;
       for (std::size_t j = 0; j < list[k].size(); ++j)
         poly.push_back(readUv(f, list[k][j], field + "[" + std::to_string(j) + "]"));
@@ -110,8 +108,8 @@ json vec(glm::vec3 v) { return json::array({v.x, v.y, v.z}); }
 }  // namespace
 
 bool Style::operator==(const Style& o) const {
-  return name == o.name && head.sameAs(o.head) && colour == o.colour &&
-         shape_keeping == o.shape_keeping && wisps == o.wisps && ties == o.ties;
+  return name == o.name && head.sameAs(o.head) && colour == o.colour && shape_keeping == o.shape_keeping &&
+         wisps == o.wisps && ties == o.ties;
 }
 
 Style parseStyle(const std::string& text, const std::string& source) {
@@ -129,7 +127,8 @@ Style parseStyle(const std::string& text, const std::string& source) {
   readHeadParts(top, s.head);
   if (top.has("colour")) {
     const glm::dvec3 c = top.vec3("colour", glm::dvec3(s.colour), 1.0);
-    if (c.x < 0 || c.y < 0 || c.z < 0) top.fail("colour", "must be linear RGB in [0, 1], got " + show(top.at("colour")));
+    if (c.x < 0 || c.y < 0 || c.z < 0)
+      top.fail("colour", "must be linear RGB in [0, 1], got " + show(top.at("colour")));
     s.colour = glm::vec3(c);
   }
   s.shape_keeping = top.real("shape_keeping", s.shape_keeping, 0.0, 100.0);
@@ -149,8 +148,7 @@ Style parseStyle(const std::string& text, const std::string& source) {
 }
 
 double checkWispValue(const std::string& field, double value, const std::string& source) {
-  if (!std::isfinite(value))
-    throw StyleError(source + ": " + field + ": must be a finite number, got " + num(value));
+  if (!std::isfinite(value)) throw StyleError(source + ": " + field + ": must be a finite number, got " + num(value));
   // the field of a wisp that is otherwise as small as a style file allows
   json wisp = {{"region", {{"uv_rect", {0.0, 0.0, 1.0, 1.0}}}},
                {"key_strand", json::array({json::array({0.0, 0.0, 0.0}), json::array({0.0, 0.1, 0.0})})}};
@@ -229,8 +227,12 @@ std::string styleText(const Style& s, const std::string& path) {
   if (!s.ties.empty()) {
     json ties = json::array();
     for (const HairTie& t : s.ties)
-      ties.push_back({{"name", t.name}, {"center", vec(t.center)}, {"axis", vec(t.axis)},
-                      {"radius", t.radius}, {"width", t.width}, {"hold", t.hold}});
+      ties.push_back({{"name", t.name},
+                      {"center", vec(t.center)},
+                      {"axis", vec(t.axis)},
+                      {"radius", t.radius},
+                      {"width", t.width},
+                      {"hold", t.hold}});
     out["ties"] = ties;
   }
   return out.dump(1) + "\n";

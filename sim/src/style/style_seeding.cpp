@@ -68,8 +68,8 @@ StrandSeeding seedFromStrands(const StrandSet& set, int target, std::uint64_t se
     kept.reserve(static_cast<std::size_t>(target) * 2);
     for (std::size_t c = 0; c < candidates; ++c) {
       const double x = rng.uniform() * sum;
-      const auto k = static_cast<std::uint32_t>(
-          std::min<std::size_t>(static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin()), ns - 1));
+      const auto k = static_cast<std::uint32_t>(std::min<std::size_t>(
+          static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin()), ns - 1));
       const float len = arc[set.first[k + 1] - 1];
       const float s = static_cast<float>(rng.uniform()) * (len + depth) - depth;
       glm::vec3 dir;

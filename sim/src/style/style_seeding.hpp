@@ -11,12 +11,12 @@
 namespace loosehair {
 
 struct StrandSample {
-  glm::vec3 position;   // head frame (m)
-  glm::vec3 direction;  // the strand's unit tangent there
-  glm::vec2 uv;         // the strand root's (u, v)
-  float s;              // arc length from the root (m); negative under the scalp
-  glm::vec3 root;       // the strand's root point on the scalp
-  std::uint32_t strand; // which member strand
+  glm::vec3 position;    // head frame (m)
+  glm::vec3 direction;   // the strand's unit tangent there
+  glm::vec2 uv;          // the strand root's (u, v)
+  float s;               // arc length from the root (m); negative under the scalp
+  glm::vec3 root;        // the strand's root point on the scalp
+  std::uint32_t strand;  // which member strand
 };
 
 struct StrandSeeding {
@@ -31,7 +31,6 @@ struct StrandSeeding {
 /// (3-D distance of their positions). The radius is adjusted until the count
 /// is within 2% of `target` (or the closest of a few rounds is kept). Root
 /// samples (s < 0) lie at root + s t_0, t_0 the strand's first tangent.
-StrandSeeding seedFromStrands(const StrandSet& strands, int target, std::uint64_t seed,
-                              float root_depth_scale = 1.0f);
+StrandSeeding seedFromStrands(const StrandSet& strands, int target, std::uint64_t seed, float root_depth_scale = 1.0f);
 
 }  // namespace loosehair

@@ -24,8 +24,8 @@ glm::vec3 keptOutside(const Solver& solver, glm::vec3 p, float clearance = kClea
   for (int round = 0; round < 4; ++round) {
     float phi = 0.0f;
     glm::vec3 n(0.0f);
-    solver.bodyContacts(std::span<const glm::vec3>(&p, 1), solver.time(), 2.0f * clearance,
-                        std::span<float>(&phi, 1), std::span<glm::vec3>(&n, 1));
+    solver.bodyContacts(std::span<const glm::vec3>(&p, 1), solver.time(), 2.0f * clearance, std::span<float>(&phi, 1),
+                        std::span<glm::vec3>(&n, 1));
     if (!(phi < clearance)) break;
     p += (clearance - phi) * n;
   }

@@ -42,8 +42,7 @@ struct Signal {
           if (value.load(std::memory_order_acquire) != old) return;
           cpuRelax();
         }
-        if (std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0)
-                .count() > limit)
+        if (std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count() > limit)
           break;
       }
     }

@@ -12,7 +12,8 @@
 // each time they lose (up to kLongestInterval steps apart) and
 // frequent again when the step time moves the way a change of load moves it
 // (all threads slower, or one thread faster), so a load that comes is
-// noticed within a few dozen steps, one that goes within kLongestInterval. Results do not depend on the choice (bitwise, method.md §5).
+// noticed within a few dozen steps, one that goes within kLongestInterval. Results do not depend on the choice
+// (bitwise, method.md §5).
 #pragma once
 
 namespace loosehair {
@@ -36,8 +37,8 @@ class ThreadChoice {
 
  private:
   int most_;
-  bool many_ = true;        // the current choice: most_ threads (else one)
-  double mean_ = 0;         // running mean step time of the current choice
+  bool many_ = true;         // the current choice: most_ threads (else one)
+  double mean_ = 0;          // running mean step time of the current choice
   double decided_mean_ = 0;  // mean_ when the current choice was last confirmed
   int since_probe_ = 0, interval_ = kFirstInterval;
   int probing_ = 0;  // probe steps left (> 0: the other choice runs)

@@ -49,7 +49,8 @@ std::vector<std::string> validate(const WindParams& w) {
   };
   const float dl = glm::length(w.direction);
   if (!std::isfinite(dl) || !(dl > 1e-6f)) say("wind.direction length", dl, "must be a non-zero finite direction");
-  if (!std::isfinite(w.speed) || w.speed < 0.0f || w.speed > 100.0f) say("wind.speed", w.speed, "must be in [0, 100] m/s");
+  if (!std::isfinite(w.speed) || w.speed < 0.0f || w.speed > 100.0f)
+    say("wind.speed", w.speed, "must be in [0, 100] m/s");
   for (std::size_t k = 0; k < w.profile.size(); ++k) {
     const auto& [t, s] = w.profile[k];
     if (!std::isfinite(t) || !std::isfinite(s) || s < 0.0f || s > 10.0f)
@@ -61,8 +62,10 @@ std::vector<std::string> validate(const WindParams& w) {
     if (!std::isfinite(w.box_size[a]) || !(w.box_size[a] > 0.0f) || w.box_size[a] > 20.0f)
       say("wind.box_size[" + std::to_string(a) + "]", w.box_size[a], "must be in (0, 20] m");
   for (int a = 0; a < 3; ++a)
-    if (!std::isfinite(w.box_center[a])) say("wind.box_center[" + std::to_string(a) + "]", w.box_center[a], "must be finite");
-  if (!std::isfinite(w.spacing) || !(w.spacing > 0.0f) || w.spacing > 1.0f) say("wind.spacing", w.spacing, "must be in (0, 1] m");
+    if (!std::isfinite(w.box_center[a]))
+      say("wind.box_center[" + std::to_string(a) + "]", w.box_center[a], "must be finite");
+  if (!std::isfinite(w.spacing) || !(w.spacing > 0.0f) || w.spacing > 1.0f)
+    say("wind.spacing", w.spacing, "must be in (0, 1] m");
   else {
     double count = 1;
     for (int a = 0; a < 3; ++a) count *= std::ceil(w.box_size[a] / w.spacing);
@@ -71,12 +74,18 @@ std::vector<std::string> validate(const WindParams& w) {
           w.model == AirModel::Grid ? "gives more than 20 million grid cells in the box"
                                     : "gives more than 20 million air particles in the box");
   }
-  if (!std::isfinite(w.h_scale) || w.h_scale < 0.5f || w.h_scale > 4.0f) say("wind.h_scale", w.h_scale, "must be in [0.5, 4]");
-  if (!std::isfinite(w.density) || !(w.density > 0.0f) || w.density > 1e4f) say("wind.density", w.density, "must be in (0, 1e4] kg/m^3");
-  if (!std::isfinite(w.sound_speed) || w.sound_speed < 0.0f || w.sound_speed > 1e4f) say("wind.sound_speed", w.sound_speed, "must be in [0, 1e4] m/s");
-  if (w.projection_iterations < 0 || w.projection_iterations > 50) say("wind.projection_iterations", w.projection_iterations, "must be in [0, 50]");
-  if (!std::isfinite(w.viscosity_rate) || w.viscosity_rate < 0.0f || w.viscosity_rate > 1e5f) say("wind.viscosity_rate", w.viscosity_rate, "must be in [0, 1e5] 1/s");
-  if (!std::isfinite(w.drag_rate) || w.drag_rate < 0.0f || w.drag_rate > 1e5f) say("wind.drag_rate", w.drag_rate, "must be in [0, 1e5] 1/s");
+  if (!std::isfinite(w.h_scale) || w.h_scale < 0.5f || w.h_scale > 4.0f)
+    say("wind.h_scale", w.h_scale, "must be in [0.5, 4]");
+  if (!std::isfinite(w.density) || !(w.density > 0.0f) || w.density > 1e4f)
+    say("wind.density", w.density, "must be in (0, 1e4] kg/m^3");
+  if (!std::isfinite(w.sound_speed) || w.sound_speed < 0.0f || w.sound_speed > 1e4f)
+    say("wind.sound_speed", w.sound_speed, "must be in [0, 1e4] m/s");
+  if (w.projection_iterations < 0 || w.projection_iterations > 50)
+    say("wind.projection_iterations", w.projection_iterations, "must be in [0, 50]");
+  if (!std::isfinite(w.viscosity_rate) || w.viscosity_rate < 0.0f || w.viscosity_rate > 1e5f)
+    say("wind.viscosity_rate", w.viscosity_rate, "must be in [0, 1e5] 1/s");
+  if (!std::isfinite(w.drag_rate) || w.drag_rate < 0.0f || w.drag_rate > 1e5f)
+    say("wind.drag_rate", w.drag_rate, "must be in [0, 1e5] 1/s");
   return out;
 }
 
@@ -155,8 +164,7 @@ double AirSystem::stableTimeStep() const {
   return 0.5 * static_cast<double>(h_) / (static_cast<double>(sound_speed_) + maxSpeed());
 }
 
-void AirSystem::emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies,
-                          float speed) {
+void AirSystem::emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies, float speed) {
   const glm::vec3 size = p_.box_size;
   const int n_up = std::max(1, static_cast<int>(std::floor(size.y / p_.spacing)));
   const int n_side = std::max(1, static_cast<int>(std::floor(size.z / p_.spacing)));
@@ -164,9 +172,17 @@ void AirSystem::emitLayer(float along, const HeadKinematics& head, const WorldDi
   world.reserve(static_cast<std::size_t>(n_up) * static_cast<std::size_t>(n_side));
   for (int j = 0; j < n_up; ++j)
     for (int k = 0; k < n_side; ++k) {
-      const float a = along + 0.2f * p_.spacing * jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 0);
-      const float u = -0.5f * size.y + (static_cast<float>(j) + 0.5f + 0.3f * jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 1)) * p_.spacing;
-      const float s = -0.5f * size.z + (static_cast<float>(k) + 0.5f + 0.3f * jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 2)) * p_.spacing;
+      const float a =
+          along + 0.2f * p_.spacing *
+                      jitter(layer_counter_, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(k) * 3 + 0);
+      const float u = -0.5f * size.y + (static_cast<float>(j) + 0.5f +
+                                        0.3f * jitter(layer_counter_, static_cast<std::uint64_t>(j),
+                                                      static_cast<std::uint64_t>(k) * 3 + 1)) *
+                                           p_.spacing;
+      const float s = -0.5f * size.z + (static_cast<float>(k) + 0.5f +
+                                        0.3f * jitter(layer_counter_, static_cast<std::uint64_t>(j),
+                                                      static_cast<std::uint64_t>(k) * 3 + 2)) *
+                                           p_.spacing;
       world.push_back(p_.box_center + a * e_wind_ + u * e_up_ + s * e_side_);
     }
   ++layer_counter_;
@@ -300,7 +316,6 @@ void AirSystem::listHairAir(std::span<const glm::vec3> hair_x, float support, fl
       air_list_[slot] = i;
       air_pair_[slot] = q;
     }
-
 }
 
 void AirSystem::findNeighbors(std::span<const glm::vec3> hair_x, float dt, int threads) {
@@ -389,8 +404,7 @@ void AirSystem::accumulateForces(std::span<const glm::vec3> hair_x, std::span<co
   parallel::forEach(threads, static_cast<std::size_t>(nh), [&](std::size_t i) {
     if (hair_root[i]) return;  // roots are held by the head
     glm::vec3 f(0.0f);
-    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q)
-      f += drag(i, hair_list_[q], q);
+    for (std::uint32_t q = hair_start_[i]; q < hair_start_[i + 1]; ++q) f += drag(i, hair_list_[q], q);
     hair_force[i] += f;
   });
   force_.resize(na);
@@ -440,8 +454,8 @@ void AirSystem::integrate(double t, float dt, const HeadKinematics& head, int th
     if (along < inflow_end) {
       v_[a] = wind_head - glm::cross(omega, r);
     } else {
-      const glm::vec3 inertial = frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) +
-                                 glm::cross(omega, glm::cross(omega, r));
+      const glm::vec3 inertial =
+          frame_accel + glm::cross(alpha, r) + 2.0f * glm::cross(omega, u) + glm::cross(omega, glm::cross(omega, r));
       v_[a] = u + dt * (inv_m * force_[a] - inertial);
     }
     x_[a] = r + dt * v_[a];
@@ -510,9 +524,8 @@ void AirSystem::move(double t, double t_end, float dt, const Bodies& bodies, int
       if (vn < 0.0f) v_[a] -= vn * nrm[k];
     }
   });
-  emitAndRemove(t_end, dt, bodies.end, [&bodies](const glm::vec3* w, std::size_t n, float* phi) {
-    bodies.worldDistance(w, n, phi);
-  });
+  emitAndRemove(t_end, dt, bodies.end,
+                [&bodies](const glm::vec3* w, std::size_t n, float* phi) { bodies.worldDistance(w, n, phi); });
 }
 
 void AirSystem::worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const {

@@ -66,8 +66,8 @@ class AirSystem final : public WindAir {
   AirModel model() const override { return AirModel::Particles; }
   const WindParams& params() const override { return p_; }
   void exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
-                std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
-                std::span<glm::vec3> hair_force, float dt, int threads) override;
+                std::span<const float> hair_m, std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
+                float dt, int threads) override;
   bool due(float) override { return true; }
   void move(double t, double t_end, float dt, const Bodies& bodies, int threads) override;
   /// The air particles.
@@ -99,9 +99,7 @@ class AirSystem final : public WindAir {
     std::uint64_t layer_counter = 0;
     std::uint64_t emitted = 0, removed = 0;
   };
-  State state() const {
-    return {x_, v_, density_, advance_, layer_counter_, emitted_, removed_};
-  }
+  State state() const { return {x_, v_, density_, advance_, layer_counter_, emitted_, removed_}; }
   void restore(State s) {
     x_ = std::move(s.x);
     v_ = std::move(s.v);
@@ -116,14 +114,13 @@ class AirSystem final : public WindAir {
   // findNeighbors' steps (air.cpp)
   void sortByCell(float support, int threads);
   void listHairAir(std::span<const glm::vec3> hair_x, float support, float support2, int threads);
-  void emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies,
-                 float speed);
+  void emitLayer(float along, const HeadKinematics& head, const WorldDistance& bodies, float speed);
 
   WindParams p_;
   HeadPose pose_;
   glm::vec3 e_wind_{0, 0, -1}, e_up_{0, 1, 0}, e_side_{1, 0, 0};
   float h_ = 0, mass_ = 0, rest_density_ = 0, sound_speed_ = 0;
-  double advance_ = 0;             // wind run since the last emitted layer (m)
+  double advance_ = 0;  // wind run since the last emitted layer (m)
   std::uint64_t layer_counter_ = 0;
   std::size_t emitted_ = 0, removed_ = 0;
 
@@ -156,8 +153,8 @@ class AirSystem final : public WindAir {
   // hair -> air neighbours and the transposed air -> hair lists
   std::vector<std::uint32_t> hair_start_, hair_list_, air_start_, air_list_;
   std::vector<std::uint32_t> air_pair_;  // air list entry -> its hair list entry
-  std::vector<float> pair_w_;             // W(|x_i - x_a|, h_air) per hair list entry
-  std::vector<float> hair_limiter_;       // drag limiters, see accumulateForces
+  std::vector<float> pair_w_;            // W(|x_i - x_a|, h_air) per hair list entry
+  std::vector<float> hair_limiter_;      // drag limiters, see accumulateForces
   // air sorted by cell for the cross search: unique cell keys and ranges
   std::vector<std::uint64_t> cell_key_;
   std::vector<std::uint32_t> cell_begin_;

@@ -24,8 +24,7 @@ AirGrid::AirGrid(const WindParams& params) : p_(params) {
   requireValid(p_);
   axes_ = windAxes(p_);
   h_ = p_.spacing;
-  for (int a = 0; a < 3; ++a)
-    n_[a] = std::max(2, static_cast<int>(std::lround(p_.box_size[a] / h_)));
+  for (int a = 0; a < 3; ++a) n_[a] = std::max(2, static_cast<int>(std::lround(p_.box_size[a] / h_)));
   origin_ = p_.box_center - 0.5f * h_ *
                                 (static_cast<float>(n_[0]) * axes_.wind + static_cast<float>(n_[1]) * axes_.up +
                                  static_cast<float>(n_[2]) * axes_.side);
@@ -34,7 +33,8 @@ AirGrid::AirGrid(const WindParams& params) : p_(params) {
   for (int c = 0; c < 3; ++c) {
     auto& d = fdim_[static_cast<std::size_t>(c)];
     for (int a = 0; a < 3; ++a) d[static_cast<std::size_t>(a)] = n_[a] + (a == c ? 1 : 0);
-    const std::size_t faces = static_cast<std::size_t>(d[0]) * static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(d[2]);
+    const std::size_t faces =
+        static_cast<std::size_t>(d[0]) * static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(d[2]);
     for (auto* field : {&u_, &next_}) (*field)[static_cast<std::size_t>(c)].assign(faces, 0.0f);
   }
   pressure_.assign(cell_count_, 0.0f);
@@ -104,8 +104,8 @@ void AirGrid::placeBodies(const BodySampler& bodies) {
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i)
-        centre[cell(i, j, k)] = toWorld(h_ * glm::vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f,
-                                                       static_cast<float>(k) + 0.5f));
+        centre[cell(i, j, k)] = toWorld(
+            h_ * glm::vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f, static_cast<float>(k) + 0.5f));
   if (bodies) bodies(centre.data(), cell_count_, phi.data(), velocity.data());
   for (std::size_t q = 0; q < cell_count_; ++q) {
     solid_[q] = phi[q] < 0.0f ? 1 : 0;
@@ -208,9 +208,8 @@ void AirGrid::imposeBoundaries(double t) {
 }
 
 double AirGrid::outflow(int i, int j, int k) const {
-  return static_cast<double>(u_[0][face(0, i + 1, j, k)]) - u_[0][face(0, i, j, k)] +
-         u_[1][face(1, i, j + 1, k)] - u_[1][face(1, i, j, k)] + u_[2][face(2, i, j, k + 1)] -
-         u_[2][face(2, i, j, k)];
+  return static_cast<double>(u_[0][face(0, i + 1, j, k)]) - u_[0][face(0, i, j, k)] + u_[1][face(1, i, j + 1, k)] -
+         u_[1][face(1, i, j, k)] + u_[2][face(2, i, j, k + 1)] - u_[2][face(2, i, j, k)];
 }
 
 void AirGrid::buildPreconditioner() {
@@ -271,7 +270,8 @@ void AirGrid::buildPreconditioner() {
 
 void AirGrid::project(int threads) {
   const std::size_t nc = cell_count_, pad = solve_pad_, total = nc + 2 * pad;
-  const std::size_t sy = static_cast<std::size_t>(n_[0]), sz = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]);
+  const std::size_t sy = static_cast<std::size_t>(n_[0]),
+                    sz = static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]);
   if (mic_stale_) buildPreconditioner();
   for (auto* v : {&x_, &r_, &z_, &d_, &ad_}) v->assign(total, 0.0);
   const double* cx = coupling_[0].data();
@@ -317,7 +317,7 @@ void AirGrid::project(int threads) {
   const double* chain_bwd = mic_chain_[1].data();
   auto precondition = [&] {
     double* z = z_.data();
-    double prev = 0.0;  // z of the cell before (0: the pad's)
+    double prev = 0.0;                         // z of the cell before (0: the pad's)
     for (std::size_t p = begin; p < end; ++p)  // L q = r, forwards
       z[p] = prev = (r_[p] - my[p - sy] * z[p - sy] - mz[p - sz] * z[p - sz]) * mic_[p] - chain_fwd[p] * prev;
     prev = 0.0;
@@ -403,8 +403,8 @@ void AirGrid::dragStencils(const DragPass& pass, std::span<const glm::vec3> hair
   const auto [b, e] = parallel::share(nh);
   for (std::size_t i = b; i < e; ++i) {
     const glm::vec3 q = toGrid(rot * hair_x[i] + centre);
-    const bool inside = q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y &&
-                        q.z <= extent.z;
+    const bool inside =
+        q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= extent.x && q.y <= extent.y && q.z <= extent.z;
     if (hair_root[i] || !inside) {
       hair_cell_[i] = kNone;
       continue;
@@ -434,7 +434,7 @@ void AirGrid::dragStencils(const DragPass& pass, std::span<const glm::vec3> hair
         cell_air_[cell(i, j, k)] = glm::vec4(0.5f * glm::vec3(u_[0][face(0, i, j, k)] + u_[0][face(0, i + 1, j, k)],
                                                               u_[1][face(1, i, j, k)] + u_[1][face(1, i, j + 1, k)],
                                                               u_[2][face(2, i, j, k)] + u_[2][face(2, i, j, k + 1)]),
-                                              0.0f);
+                                             0.0f);
 }
 
 // The hair mass each cell holds, which makes its limiter (as the
@@ -497,7 +497,8 @@ void AirGrid::dragOnCells(const DragPass& pass, std::span<const float> hair_m, f
   const float rate = pass.rate, cell_mass = pass.cell_mass;
   const std::uint32_t* offset = pass.offset;
   constexpr std::uint32_t kNone = UINT32_MAX;
-  std::fill(cell_push_.begin() + static_cast<std::ptrdiff_t>(cb), cell_push_.begin() + static_cast<std::ptrdiff_t>(ce), glm::vec3(0.0f));
+  std::fill(cell_push_.begin() + static_cast<std::ptrdiff_t>(cb), cell_push_.begin() + static_cast<std::ptrdiff_t>(ce),
+            glm::vec3(0.0f));
   const float to_velocity = -rate * dt / cell_mass;
   for (std::size_t i = 0; i < nh; ++i) {
     const std::uint32_t base = hair_cell_[i];
@@ -537,8 +538,8 @@ void AirGrid::cellsToFaces() {
 
 void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
                            std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
-                           std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
-                           float dt, int threads) {
+                           std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force, float dt,
+                           int threads) {
   const std::size_t nh = hair_x.size(), nc = cell_count_;
   hair_cell_.resize(nh);
   hair_w_.resize(nh);
@@ -575,12 +576,14 @@ void AirGrid::exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3
     parallel::barrier();
     cellsToFaces();
   });
-  coupled_ = static_cast<std::size_t>(std::count_if(hair_cell_.begin(), hair_cell_.end(), [](std::uint32_t q) { return q != kNone; }));
+  coupled_ = static_cast<std::size_t>(
+      std::count_if(hair_cell_.begin(), hair_cell_.end(), [](std::uint32_t q) { return q != kNone; }));
   // the air's side of the exchange, summed in cell order
   glm::dvec3 on_air(0.0);
   for (const glm::vec3& push : cell_push_) on_air += glm::dvec3(push);
   on_air *= dt > 0.0f ? static_cast<double>(cell_mass) / static_cast<double>(dt) : 0.0;
-  drag_on_air_ = on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
+  drag_on_air_ =
+      on_air.x * glm::dvec3(axes_.wind) + on_air.y * glm::dvec3(axes_.up) + on_air.z * glm::dvec3(axes_.side);
 }
 
 void AirGrid::advance(double t, const BodySampler& bodies, int threads) {
@@ -632,7 +635,8 @@ void AirGrid::advance(double t, const BodySampler& bodies, int threads) {
         for (int i = 0; i < dx; ++i) {
           const int at[3] = {i, j, k};
           glm::vec3 vel(0.0f);
-          vel[c] = own[static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k)];
+          vel[c] =
+              own[static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k)];
           // component o's faces around this one: cells at[c]-1 and at[c]
           // along c (clamped), at[o] and at[o]+1 along o
           for (const int o : {c1, c2}) {
@@ -642,16 +646,19 @@ void AirGrid::advance(double t, const BodySampler& bodies, int threads) {
             const std::size_t a = face(o, idx[0], idx[1], idx[2]);
             idx[c] = hi;
             const std::size_t b = face(o, idx[0], idx[1], idx[2]);
-            const std::size_t up = o == 0 ? 1 : (o == 1 ? static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][0])
-                                                        : static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][0]) *
-                                                              static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][1]));
+            const std::size_t up = o == 0
+                                       ? 1
+                                       : (o == 1 ? static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][0])
+                                                 : static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][0]) *
+                                                       static_cast<std::size_t>(fdim_[static_cast<std::size_t>(o)][1]));
             const float* uo = u_[static_cast<std::size_t>(o)].data();
             vel[o] = 0.25f * (uo[a] + uo[b] + uo[a + up] + uo[b + up]);
           }
           // the backtraced point in this component's index space
           const float g[3] = {static_cast<float>(i) - step_cells * vel.x, static_cast<float>(j) - step_cells * vel.y,
                               static_cast<float>(k) - step_cells * vel.z};
-          const std::size_t q = static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k);
+          const std::size_t q =
+              static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k);
           // upwind of the box (its upwind face is x = 0 in grid metres)
           const float along = c == 0 ? g[0] : g[0] + 0.5f;
           if (along < 0.0f) {
@@ -693,8 +700,8 @@ void AirGrid::openCells(std::vector<glm::vec3>& centre, std::vector<glm::vec3>& 
     for (int j = 0; j < n_[1]; ++j)
       for (int i = 0; i < n_[0]; ++i) {
         if (solid_[cell(i, j, k)]) continue;
-        centre.push_back(toWorld(h_ * glm::vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f,
-                                                static_cast<float>(k) + 0.5f)));
+        centre.push_back(toWorld(
+            h_ * glm::vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f, static_cast<float>(k) + 0.5f)));
         const glm::vec3 v(0.5f * (u_[0][face(0, i, j, k)] + u_[0][face(0, i + 1, j, k)]),
                           0.5f * (u_[1][face(1, i, j, k)] + u_[1][face(1, i, j + 1, k)]),
                           0.5f * (u_[2][face(2, i, j, k)] + u_[2][face(2, i, j, k + 1)]));
@@ -743,8 +750,10 @@ void AirGrid::move(double, double t_end, float, const Bodies& bodies, int thread
     advance(t_end, {}, threads);
     return;
   }
-  advance(t_end, [&bodies](const glm::vec3* w, std::size_t n, float* phi, glm::vec3* v) { bodies.worldSample(w, n, phi, v); },
-          threads);
+  advance(
+      t_end,
+      [&bodies](const glm::vec3* w, std::size_t n, float* phi, glm::vec3* v) { bodies.worldSample(w, n, phi, v); },
+      threads);
 }
 
 void AirGrid::worldState(const HeadKinematics&, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const {

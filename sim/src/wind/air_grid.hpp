@@ -45,8 +45,7 @@ class AirGrid final : public WindAir {
  public:
   /// Signed distance (m, < 0 inside) and world velocity of the bodies at
   /// world points.
-  using BodySampler =
-      std::function<void(const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity)>;
+  using BodySampler = std::function<void(const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity)>;
 
   /// Throws std::invalid_argument naming every bad field of `params`.
   explicit AirGrid(const WindParams& params);
@@ -64,10 +63,9 @@ class AirGrid final : public WindAir {
   /// adds the force on each non-root hair particle to `hair_force` (head
   /// frame) and the opposite impulses to the air's velocities at once (so
   /// the limiter holds at every hair step, whether the air steps or not).
-  void exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x,
-                    std::span<const glm::vec3> hair_v, std::span<const float> hair_m,
-                    std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
-                    float dt, int threads);
+  void exchangeDrag(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
+                    std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
+                    std::span<glm::vec3> hair_force, float dt, int threads);
 
   /// Counts a hair step of `dt`; true when the air's own step is due (the
   /// time since its last step is nearest a whole number of hair steps to
@@ -84,8 +82,8 @@ class AirGrid final : public WindAir {
   AirModel model() const override { return AirModel::Grid; }
   const WindParams& params() const override { return p_; }
   void exchange(const HeadKinematics& head, std::span<const glm::vec3> hair_x, std::span<const glm::vec3> hair_v,
-                std::span<const float> hair_m, std::span<const std::uint8_t> hair_root,
-                std::span<glm::vec3> hair_force, float dt, int threads) override {
+                std::span<const float> hair_m, std::span<const std::uint8_t> hair_root, std::span<glm::vec3> hair_force,
+                float dt, int threads) override {
     exchangeDrag(head, hair_x, hair_v, hair_m, hair_root, hair_force, dt, threads);
   }
   void move(double t, double t_end, float dt, const Bodies& bodies, int threads) override;
@@ -154,12 +152,14 @@ class AirGrid final : public WindAir {
   // faces of component c: (n0 + [c==0]) x (n1 + [c==1]) x (n2 + [c==2])
   std::size_t face(int c, int i, int j, int k) const {
     const auto& d = fdim_[static_cast<std::size_t>(c)];
-    return static_cast<std::size_t>(i) + static_cast<std::size_t>(d[0]) *
-                                             (static_cast<std::size_t>(j) + static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(k));
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(d[0]) *
+               (static_cast<std::size_t>(j) + static_cast<std::size_t>(d[1]) * static_cast<std::size_t>(k));
   }
   std::size_t cell(int i, int j, int k) const {
-    return static_cast<std::size_t>(i) + static_cast<std::size_t>(n_[0]) *
-                                             (static_cast<std::size_t>(j) + static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(k));
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(n_[0]) *
+               (static_cast<std::size_t>(j) + static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(k));
   }
   /// A world point in grid metres (0 at the grid's lower corner).
   glm::vec3 toGrid(const glm::vec3& world) const;
@@ -191,18 +191,18 @@ class AirGrid final : public WindAir {
   std::array<std::vector<float>, 3> u_, next_;
   double pending_ = 0.0;  // hair time since the air's last step (s)
   std::vector<float> pressure_;
-  std::vector<std::uint8_t> solid_;   // per cell: inside a body (or sealed)
-  std::vector<glm::vec3> solid_v_;    // per cell: body velocity (grid axes)
-  std::vector<std::uint8_t> links_;   // per cell: bit d set = face d takes the pressure gradient
+  std::vector<std::uint8_t> solid_;  // per cell: inside a body (or sealed)
+  std::vector<glm::vec3> solid_v_;   // per cell: body velocity (grid axes)
+  std::vector<std::uint8_t> links_;  // per cell: bit d set = face d takes the pressure gradient
   // the pressure solve's arrays, in cell order with solve_pad_ zero cells
   // before and after (a slab: the loops read neighbours without a test)
   std::size_t solve_pad_ = 0;
   std::vector<double> diag_, x_, r_, z_, d_, ad_;
-  std::array<std::vector<double>, 3> coupling_;  // the matrix's +x, +y, +z entries (-1 or 0)
-  std::vector<double> mic_;                      // the preconditioner's inverse diagonal
-  std::array<std::vector<double>, 3> mic_up_;    // its +x, +y, +z couplings times that
+  std::array<std::vector<double>, 3> coupling_;   // the matrix's +x, +y, +z entries (-1 or 0)
+  std::vector<double> mic_;                       // the preconditioner's inverse diagonal
+  std::array<std::vector<double>, 3> mic_up_;     // its +x, +y, +z couplings times that
   std::array<std::vector<double>, 2> mic_chain_;  // the x couplings before / after, times it again
-  bool mic_stale_ = true;  // the links changed since buildPreconditioner
+  bool mic_stale_ = true;                         // the links changed since buildPreconditioner
   // placeBodies' scratch
   std::vector<glm::vec3> centre_, body_v_;
   std::vector<float> body_phi_;

@@ -23,8 +23,10 @@ float windSpeedAt(const WindParams& w, double t) {
   const auto& pr = w.profile;
   float scale = 1.0f;
   if (!pr.empty()) {
-    if (t <= pr.front().first) scale = pr.front().second;
-    else if (t >= pr.back().first) scale = pr.back().second;
+    if (t <= pr.front().first)
+      scale = pr.front().second;
+    else if (t >= pr.back().first)
+      scale = pr.back().second;
     else {
       std::size_t k = 1;
       while (pr[k].first < t) ++k;

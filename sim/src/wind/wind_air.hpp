@@ -33,8 +33,7 @@ class WindAir {
     bool moved = true;
     /// Grid signed distances (m, < 0 inside), outward normals and the
     /// bodies' velocities (head frame) at head-frame points.
-    virtual void local(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal,
-                       glm::vec3* velocity) const = 0;
+    virtual void local(const glm::vec3* x, std::size_t n, float* phi, glm::vec3* normal, glm::vec3* velocity) const = 0;
     /// Grid signed distances and world velocities of the bodies at world
     /// points.
     virtual void worldSample(const glm::vec3* world, std::size_t n, float* phi, glm::vec3* velocity) const = 0;
@@ -67,8 +66,7 @@ class WindAir {
   virtual std::size_t count() const = 0;
   /// Their world positions and velocities (either may be null), the head
   /// at `head`.
-  virtual void worldState(const HeadKinematics& head, std::vector<glm::vec3>* x,
-                          std::vector<glm::vec3>* v) const = 0;
+  virtual void worldState(const HeadKinematics& head, std::vector<glm::vec3>* x, std::vector<glm::vec3>* v) const = 0;
   /// Their densities (kg/m^3).
   virtual std::span<const float> density() const = 0;
   /// The longest hair step the air allows (s); infinity when it keeps its

@@ -88,7 +88,7 @@ struct RenderSettings {
   /// Direction the light comes from (towards the light, world), parallel.
   glm::vec3 light_direction{0.4f, 0.8f, 0.6f};
   bool shadows = true;
-  float kappa = 5.5f;        // transmittance exp(-kappa * Omega) (method.md §7.2)
+  float kappa = 5.5f;          // transmittance exp(-kappa * Omega) (method.md §7.2)
   float shadow_offset = 0.6f;  // lookup offset along the light, in slices
   /// Billboard size as multiples of the particle spacing: width across the
   /// hair and length along it (before the sin(phi) foreshortening).
@@ -131,8 +131,8 @@ inline constexpr float kStrandLayers = 8.0f;
 /// bounding radius `hair_radius` (m) at `depth` (m) from the eye, seen at
 /// `pixel_scale` pixels per metre at unit depth, so that about
 /// kStrandLayers of them overlap (at least 1: all of them).
-std::size_t strandLevelOfDetail(std::size_t strands, float mean_length, float radius, float hair_radius,
-                                float depth, float pixel_scale);
+std::size_t strandLevelOfDetail(std::size_t strands, float mean_length, float radius, float hair_radius, float depth,
+                                float pixel_scale);
 
 /// What one frame shows, in world coordinates.
 struct FrameInput {
@@ -159,15 +159,15 @@ struct FrameInput {
 /// Wall-clock seconds of the last frame's parts.
 struct FrameTimes {
   double sort = 0, light_pass = 0, camera_pass = 0, upload = 0;
-  double resolve = 0;  // transparency composite and supersampling filter
+  double resolve = 0;             // transparency composite and supersampling filter
   std::size_t strands_drawn = 0;  // from the camera (the level of detail's choice)
-  bool strands_as_lines = false;   // from the camera: a pixel wide or less, as lines
+  bool strands_as_lines = false;  // from the camera: a pixel wide or less, as lines
 };
 
 /// What the density and speed debug views' colours mean: the value range
 /// of a frame drawn in one (blue at `low`, red at `high`).
 struct DebugLegend {
-  bool shown = false;     // drawn in the density or speed view
+  bool shown = false;  // drawn in the density or speed view
   DebugView view = DebugView::None;
   float low = 0, high = 0;
   const char* unit = "";  // "kg/m^3" or "m/s"
@@ -194,8 +194,7 @@ class Renderer {
   void setBodies(const TriangleMesh* head, const TriangleMesh* torso);
 
   /// Draws a frame into the framebuffer bound now, `width` x `height`.
-  void render(const FrameInput& frame, const Camera& camera, const RenderSettings& settings,
-              int width, int height);
+  void render(const FrameInput& frame, const Camera& camera, const RenderSettings& settings, int width, int height);
 
   const FrameTimes& lastTimes() const { return times_; }
 
