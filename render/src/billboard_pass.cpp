@@ -141,15 +141,7 @@ void BillboardPass::drawShaded(const BillboardLook& look, const Shading& sh, con
   setI(p, "u_ortho", 0);
   setF(p, "u_pixel_scale", sh.pixel_scale);
   setLook(p, look);
-  setVec(p, "u_light", sh.light);
-  setVec(p, "u_color", sh.color);
-  setVec(p, "u_spec_color", sh.spec);
-  setF(p, "u_kd", 1.0f);
-  setF(p, "u_ks", 0.6f);
-  setF(p, "u_shine", 40.0f);
-  setF(p, "u_reflect", 1.0f);
-  setF(p, "u_transmit", 0.45f);
-  setF(p, "u_ambient", 0.22f);
+  setHairShading(p, sh.light, sh.color, sh.spec, 0.22f);
   shadows.bindLookups(p, light_coords, kappa, shadows_on);
   draw(p);
   glDepthMask(GL_TRUE);

@@ -58,4 +58,17 @@ void setVec(GLuint p, const char* n, const glm::vec3& v) { glUniform3fv(loc(p, n
 void setF(GLuint p, const char* n, float v) { glUniform1f(loc(p, n), v); }
 void setI(GLuint p, const char* n, int v) { glUniform1i(loc(p, n), v); }
 
+void setHairShading(GLuint p, const glm::vec3& light, const glm::vec3& color, const glm::vec3& spec_color,
+                    float ambient) {
+  setVec(p, "u_light", light);
+  setVec(p, "u_color", color);
+  setVec(p, "u_spec_color", spec_color);
+  setF(p, "u_kd", 1.0f);
+  setF(p, "u_ks", 0.6f);
+  setF(p, "u_shine", 40.0f);
+  setF(p, "u_reflect", 1.0f);
+  setF(p, "u_transmit", 0.45f);
+  setF(p, "u_ambient", ambient);
+}
+
 }  // namespace loosehair::render

@@ -21,4 +21,10 @@ void setVec(GLuint p, const char* name, const glm::vec3& v);
 void setF(GLuint p, const char* name, float v);
 void setI(GLuint p, const char* name, int v);
 
+/// The hair shading terms of program p (render/shaders/kajiya_kay.glsl,
+/// hair_shade.glsl, strand_shade.glsl): the light towards which it shades,
+/// the colours, and the Kajiya-Kay weights every hair pass uses.
+void setHairShading(GLuint p, const glm::vec3& light, const glm::vec3& color, const glm::vec3& spec_color,
+                    float ambient);
+
 }  // namespace loosehair::render

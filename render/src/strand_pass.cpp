@@ -196,15 +196,7 @@ bool StrandPass::drawTransparent(const OffscreenTarget& target, const Camera& ca
   setI(p, "u_shadows", shadows ? 1 : 0);
   glUniform2f(loc(p, "u_depth_range"), cam.near_depth, cam.far_depth);
   setF(p, "u_depth_falloff", 6.0f);
-  setVec(p, "u_light", glm::normalize(sh.light));
-  setVec(p, "u_color", sh.color);
-  setVec(p, "u_spec_color", sh.spec);
-  setF(p, "u_kd", 1.0f);
-  setF(p, "u_ks", 0.6f);
-  setF(p, "u_shine", 40.0f);
-  setF(p, "u_reflect", 1.0f);
-  setF(p, "u_transmit", 0.45f);
-  setF(p, "u_ambient", sh.ambient);
+  setHairShading(p, glm::normalize(sh.light), sh.color, sh.spec, sh.ambient);
   setF(p, "u_variation", sh.variation);
   setI(p, "u_marschner", sh.marschner ? 1 : 0);
   setF(p, "u_marschner_gain", 10.0f);
