@@ -10,6 +10,8 @@
 #include "solver/density.hpp"
 #include "solver/directions.hpp"
 #include "solver/external_forces.hpp"
+#include "solver/hair_chain.hpp"
+#include "solver/hair_chain_stage.hpp"
 #include "solver/integrate.hpp"
 #include "solver/pair_forces.hpp"
 #include "solver/spring_forces.hpp"
@@ -369,4 +371,26 @@ TEST(IntegrateStage, StepsFreeParticlesAndStopsThemAtABody) {
   const std::vector<glm::vec3> dv = {{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 0.0f}};
   integrate({0.001f, 0.5f}, Ground(), {x, v, m, inv_m, root}, dv, ctx, 1);
   EXPECT_EQ(v[1], glm::vec3(0.0f, -0.02f, 0.0f));
+}
+
+// The hair chain (solver/hair_chain_stage.hpp): a particle flung beyond the
+// springs' reach of the hair nearer its root is drawn back within it, and
+// only it moves.
+TEST(HairChainStage, DrawsAFlungParticleBackWithinReachOfItsHair) {
+  const Hair h(5, 0.01f, 0.012f);
+  const HairChain chain(h.c, h.root, h.s, h.x, 0.012f);
+  std::vector<glm::vec3> x = h.x;
+  x[4] = glm::vec3(0.03f, -0.025f, 0.0f);  // within its tether (s = 0.04), 3 cm from the hair
+  std::vector<std::uint8_t> moved;
+  holdHairChains(chain, 0.0f, h.x, h.s, {}, {}, x, moved);
+  ASSERT_EQ(moved.size(), 5u);
+  EXPECT_EQ(moved[4], 1);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(moved[i], 0) << i;
+    EXPECT_EQ(x[i], h.x[i]) << i;
+  }
+  float nearest = INFINITY;
+  for (int i = 0; i < 4; ++i) nearest = std::min(nearest, glm::length(x[4] - x[i]));
+  EXPECT_LE(nearest, HairChain::kSupportFraction * 2.0f * 0.012f + 1e-6f);
+  EXPECT_LE(glm::length(x[4] - h.x[0]), 0.04f + 1e-6f) << "and within its tether";
 }

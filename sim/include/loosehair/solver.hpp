@@ -315,9 +315,6 @@ class Solver {
   void moveAir(float dt, double t_end, const HeadKinematics& head_start, const HeadKinematics& head_end);
   void finishDirections();
   void recordStepStats(const StepContext& ctx);
-  /// The hair chain's moves, with the tethers (hair_chain.hpp); writes
-  /// positions, and `moved` (which particles it moved).
-  void holdHairChains(std::vector<std::uint8_t>& moved);
   /// Particles that the push-out left beyond their tethers (trapped_) put
   /// back along the hair, within reach of a particle nearer the root
   /// (trapped_hair.cpp).

@@ -1,21 +1,21 @@
-// The hair chain's stage of the step (hair_chain.hpp).
-#include "solver/solver_internal.hpp"
+// The hair chain's stage of the step (hair_chain_stage.hpp).
+#include "solver/hair_chain_stage.hpp"
+
+#include "solver/hair_chain.hpp"
+#include "solver/tether.hpp"
 
 namespace loosehair {
 
-// The hair chain (sim/src/solver/hair_chain.hpp) with the tethers: each particle
-// within reach of hair nearer its root and of its root (and tie), nearer
-// the root first. Its moves may stop a particle moving away from the hair,
-// never throw it back (`moved`, projectOutOfBodies).
-void Solver::holdHairChains(std::vector<std::uint8_t>& moved) {
-  const auto& rp = particles_.root_point;
-  const auto& sarc = particles_.arc_length;
-  const float scale = 1.0f + params_.tether_slack;
-  moved.assign(particles_.size(), 0);
-  chain_->project(particles_.position, sarc, [&](std::size_t i, glm::vec3 y) {
+void holdHairChains(const HairChain& chain, float tether_slack, std::span<const glm::vec3> root_point,
+                    std::span<const float> arc_length, std::span<const glm::vec3> tie_point,
+                    std::span<const float> tie_reach, std::vector<glm::vec3>& position,
+                    std::vector<std::uint8_t>& moved) {
+  const float scale = 1.0f + tether_slack;
+  moved.assign(position.size(), 0);
+  chain.project(position, arc_length, [&](std::size_t i, glm::vec3 y) {
     moved[i] = 1;
-    y = tether::within(y, rp[i], scale * sarc[i]);
-    if (!tie_reach_.empty() && tie_reach_[i] >= 0.0f) y = tether::within(y, tie_point_[i], scale * tie_reach_[i]);
+    y = tether::within(y, root_point[i], scale * arc_length[i]);
+    if (!tie_reach.empty() && tie_reach[i] >= 0.0f) y = tether::within(y, tie_point[i], scale * tie_reach[i]);
     return y;
   });
 }

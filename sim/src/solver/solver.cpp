@@ -411,7 +411,8 @@ void Solver::correctPositions(StepContext& ctx, double t_end, HeadKinematics& he
                     particles_.position, ctx.strain_records, ctx.limited_position, threads_);
   clock.lap(st.strain_limit);
   if (params_.tether && params_.hair_chain)
-    holdHairChains(ctx.chain_moved);
+    holdHairChains(*chain_, params_.tether_slack, particles_.root_point, particles_.arc_length, tie_point_, tie_reach_,
+                   particles_.position, ctx.chain_moved);
   else
     ctx.chain_moved.clear();
   if (params_.tether)

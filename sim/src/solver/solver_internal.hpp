@@ -9,6 +9,7 @@
 #include "solver/connection_builder.hpp"
 #include "solver/connection_slices.hpp"
 #include "solver/hair_chain.hpp"
+#include "solver/hair_chain_stage.hpp"
 #include "solver/implicit_springs.hpp"
 #include "solver/kernel.hpp"
 #include "wind/air.hpp"
