@@ -5,6 +5,7 @@
 #include "solver/connection_builder.hpp"
 #include "solver/kernel.hpp"
 #include "solver/neighbor_grid.hpp"
+#include "solver/body_contacts.hpp"
 #include "solver/body_query.hpp"
 #include "solver/connection_passes.hpp"
 #include "solver/density.hpp"
@@ -393,4 +394,49 @@ TEST(HairChainStage, DrawsAFlungParticleBackWithinReachOfItsHair) {
   for (int i = 0; i < 4; ++i) nearest = std::min(nearest, glm::length(x[4] - x[i]));
   EXPECT_LE(nearest, HairChain::kSupportFraction * 2.0f * 0.012f + 1e-6f);
   EXPECT_LE(glm::length(x[4] - h.x[0]), 0.04f + 1e-6f) << "and within its tether";
+}
+
+namespace {
+
+// The ground y = 0 at the step's end, for the body contacts.
+struct GroundAtEnd final : ContactBodies {
+  void nearest(const glm::vec3* x, std::size_t n, const std::uint32_t*, bool, float* phi, glm::vec3* normal,
+               glm::vec3* surface_velocity) const override {
+    for (std::size_t i = 0; i < n; ++i) {
+      phi[i] = x[i].y;
+      normal[i] = {0.0f, 1.0f, 0.0f};
+      surface_velocity[i] = glm::vec3(0.0f);
+    }
+  }
+  float clearance(std::size_t, const glm::vec3&) const override { return -INFINITY; }
+  int rounds() const override { return 2; }
+  bool hasObstacles() const override { return false; }
+};
+
+}  // namespace
+
+// The body contacts (solver/body_contacts.hpp): a particle inside the
+// ground is put on its surface and keeps no speed into or out of it; one
+// outside that the corrections did not move keeps its state; a root stays.
+TEST(BodyContactStage, PutsAParticleInsideOnTheSurfaceWithoutThrowingIt) {
+  std::vector<glm::vec3> x = {{0.0f, 0.1f, 0.0f}, {0.0f, -0.01f, 0.0f}, {0.05f, 0.05f, 0.0f}};
+  std::vector<glm::vec3> v = {{0.0f, 0.0f, 0.0f}, {0.5f, -1.0f, 0.0f}, {0.0f, -0.2f, 0.0f}};
+  const std::vector<std::uint8_t> root = {1, 0, 0};
+  const std::vector<glm::vec3> rp(3, glm::vec3(0.0f, 0.1f, 0.0f));
+  const std::vector<float> s = {0.0f, 0.2f, 0.2f};
+  StepContext ctx;
+  ctx.resize(3);
+  ctx.dt = 0.01f;
+  ctx.integrated_position = x;
+  std::vector<std::uint8_t> trapped;
+  const bool any = projectOutOfBodies({false, 0.0f, 0.0f}, GroundAtEnd(), {x, v, root, rp, s}, ctx, trapped, 2);
+  EXPECT_FALSE(any);
+  EXPECT_EQ(x[0], glm::vec3(0.0f, 0.1f, 0.0f));
+  EXPECT_GE(x[1].y, 0.0f) << "on the surface";
+  EXPECT_LT(x[1].y, 1e-4f);
+  EXPECT_EQ(x[1].x, 0.0f);
+  EXPECT_EQ(v[1].y, 0.0f) << "the push out is not a velocity, the approach is gone";
+  EXPECT_EQ(v[1].x, 0.5f) << "the slide along the surface kept";
+  EXPECT_EQ(x[2], glm::vec3(0.05f, 0.05f, 0.0f));
+  EXPECT_EQ(v[2], glm::vec3(0.0f, -0.2f, 0.0f));
 }

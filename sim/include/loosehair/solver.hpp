@@ -319,13 +319,13 @@ class Solver {
   /// back along the hair, within reach of a particle nearer the root
   /// (trapped_hair.cpp).
   void freeTrappedHair(const std::vector<BodyFrame>& frames, const HeadKinematics& head);
-  /// `start_frames`: the world bodies where integrate() saw them.
-  /// Reads from `ctx` the integrated positions, the clearances, the chain's
-  /// moves and whether to absorb the corrections; writes positions and
-  /// velocities (the corrections' moves as velocities).
-  void projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
-                          const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
-                          const HeadKinematics& head);
+  /// The body contacts stage (solver/body_contacts.hpp) on the bodies placed
+  /// at the step's end (`start_frames`: where integrate saw them), then the
+  /// trapped hair freed.
+  class EndBodies;  // the bodies at the step's end, as the body contacts ask them
+  void resolveBodyContacts(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
+                           const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
+                           const HeadKinematics& head);
   /// Whether the bodies are placed otherwise than at the last call (the
   /// grid air's bodies need placing again).
   bool airBodiesMoved(const std::vector<BodyFrame>& frames, const HeadKinematics& head);

@@ -1,4 +1,6 @@
 // Body contacts after the corrections: no particle left inside a body.
+#include "solver/body_contacts.hpp"
+
 #include "solver/solver_internal.hpp"
 
 namespace loosehair {
@@ -87,34 +89,32 @@ glm::vec3 correctedVelocity(glm::vec3 vi, const glm::vec3& x, const glm::vec3& i
 // pushed are outside the bodies with obstacles, so outside those without.
 // On the mesh-head scenes the later rounds asked all 256 particles of any
 // block with one particle inside.
-void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
-                                const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
-                                const HeadKinematics& head) {
-  const std::size_t n = particles_.size();
-  auto& x = particles_.position;
-  auto& v = particles_.velocity;
-  const auto& root = particles_.is_root;
+bool projectOutOfBodies(const BodyContactSettings& settings, const ContactBodies& bodies, const BodyContactParticles& p,
+                        const StepContext& ctx, std::vector<std::uint8_t>& trapped, int threads) {
+  const std::size_t n = p.position.size();
+  const auto& x = p.position;
+  const auto& v = p.velocity;
+  const auto& root = p.is_root;
   // rounds of the head and the world bodies (obstacles too): all but the
   // last slide round the tethers (docs/design.md "Implicit springs")
-  const int rounds = frames.empty() ? 2 : 4;
-  const bool has_obstacles = solid_frames.size() != frames.size();
+  const int rounds = bodies.rounds();
+  const bool has_obstacles = bodies.hasObstacles();
   const float dt = ctx.dt;
   const bool absorb = ctx.absorb_corrections;
   const auto& chain_moved = ctx.chain_moved;
   const glm::vec3* integrated_position = ctx.integrated_position.data();
   const int total_rounds = rounds + (has_obstacles ? 1 : 0);
-  const bool slide = params_.tether;
-  const auto& rp = particles_.root_point;
-  const auto& sarc = particles_.arc_length;
-  const float reach_scale = 1.0f + params_.tether_slack;
-  if (slide) trapped_.resize(n);
+  const bool slide = settings.slide;
+  const auto& rp = p.root_point;
+  const auto& sarc = p.arc_length;
+  const float reach_scale = 1.0f + settings.tether_slack;
+  if (slide) trapped.resize(n);
   std::atomic<bool> any_trapped{false};
   static_assert(kBodyBlock <= 65536);
-  prepareBodyHints(frames);
-  const ClearanceBound<BodyFrame> clearance(ctx, start_frames, frames, x);
+  auto clearance = [&](std::size_t i) { return bodies.clearance(i, x[i]); };
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
-  parallel::forEachDynamic(threads_, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
+  parallel::forEachDynamic(threads, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
     const std::size_t b = bb * kBodyBlock;
     const std::size_t len = std::min(n, b + kBodyBlock) - b;
     glm::vec3 surface[kBodyBlock], body_normal[kBodyBlock];
@@ -141,14 +141,13 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
     for (int round = 0; round < total_rounds; ++round) {
       if (round == 0 && asked == len) {
         for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
-        queryBodies(frames, head, &x[b], len, body_phi, body_normal, surface, 0.0f, false, index);
+        bodies.nearest(&x[b], len, index, true, body_phi, body_normal, surface);
       } else {
         for (std::size_t k = 0; k < asked; ++k) {
           q[k] = x[b + ask[k]];
           index[k] = static_cast<std::uint32_t>(b + ask[k]);
         }
-        queryBodies(round < rounds ? frames : solid_frames, head, q, asked, q_phi, q_normal, q_surface, 0.0f, false,
-                    index);
+        bodies.nearest(q, asked, index, round < rounds, q_phi, q_normal, q_surface);
         for (std::size_t k = 0; k < asked; ++k) {
           body_phi[ask[k]] = q_phi[k];
           body_normal[ask[k]] = q_normal[k];
@@ -186,14 +185,56 @@ void Solver::projectOutOfBodies(const StepContext& ctx, const std::vector<BodyFr
       // pushed out beyond its tether's reach: caught where sliding
       // does not help (freeTrappedHair)
       if (slide) {
-        const float caught = reach_scale * sarc[i] + tether::kTrappedExcess * longest_hair_;
+        const float caught = reach_scale * sarc[i] + settings.trapped_excess;
         const glm::vec3 d = x[i] - rp[i];
-        trapped_[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
-        if (trapped_[i]) any_trapped.store(true, std::memory_order_relaxed);
+        trapped[i] = pushed[i - b] && glm::dot(d, d) > caught * caught;
+        if (trapped[i]) any_trapped.store(true, std::memory_order_relaxed);
       }
     }
   });
-  if (any_trapped.load()) freeTrappedHair(solid_frames, head);  // rare: most steps catch none
+  return any_trapped.load();
+}
+
+// The solver's bodies at the step's end for the body contacts: the placed
+// world bodies with and without obstacles, integrate's clearances less
+// what moved since (ClearanceBound), the exact queries' hints.
+class Solver::EndBodies final : public ContactBodies {
+ public:
+  EndBodies(const Solver& solver, const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
+            const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
+            const HeadKinematics& head)
+      : solver_(solver),
+        frames_(frames),
+        solid_frames_(solid_frames),
+        head_(head),
+        bound_(ctx, start_frames, frames, solver.particles_.position) {}
+  void nearest(const glm::vec3* x, std::size_t n, const std::uint32_t* index, bool with_obstacles, float* phi,
+               glm::vec3* normal, glm::vec3* surface_velocity) const override {
+    solver_.queryBodies(with_obstacles ? frames_ : solid_frames_, head_, x, n, phi, normal, surface_velocity, 0.0f,
+                        false, index);
+  }
+  float clearance(std::size_t i, const glm::vec3&) const override { return bound_(i); }
+  int rounds() const override { return frames_.empty() ? 2 : 4; }
+  bool hasObstacles() const override { return solid_frames_.size() != frames_.size(); }
+
+ private:
+  const Solver& solver_;
+  const std::vector<BodyFrame>& frames_;
+  const std::vector<BodyFrame>& solid_frames_;
+  const HeadKinematics& head_;
+  const ClearanceBound<BodyFrame> bound_;
+};
+
+void Solver::resolveBodyContacts(const StepContext& ctx, const std::vector<BodyFrame>& start_frames,
+                                 const std::vector<BodyFrame>& frames, const std::vector<BodyFrame>& solid_frames,
+                                 const HeadKinematics& head) {
+  prepareBodyHints(frames);
+  const EndBodies bodies(*this, ctx, start_frames, frames, solid_frames, head);
+  const BodyContactSettings settings{params_.tether, params_.tether_slack, tether::kTrappedExcess * longest_hair_};
+  const BodyContactParticles p{particles_.position, particles_.velocity, particles_.is_root, particles_.root_point,
+                               particles_.arc_length};
+  const bool any_trapped = projectOutOfBodies(settings, bodies, p, ctx, trapped_, threads_);
+  if (any_trapped) freeTrappedHair(solid_frames, head);  // rare: most steps catch none
 }
 
 }  // namespace loosehair

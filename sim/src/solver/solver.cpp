@@ -422,7 +422,7 @@ void Solver::correctPositions(StepContext& ctx, double t_end, HeadKinematics& he
   const std::vector<BodyFrame>& frames = end_frames_;
   placeBodies(t_end, end_frames_, head_end);
   placeBodies(t_end, solid_frames_, head_end, false);  // without obstacles: the last round
-  projectOutOfBodies(ctx, start_frames_, frames, solid_frames_, head_end);
+  resolveBodyContacts(ctx, start_frames_, frames, solid_frames_, head_end);
   clock.lap(st.body_contacts);
 }
 
