@@ -408,7 +408,9 @@ struct GroundAtEnd final : ContactBodies {
       surface_velocity[i] = glm::vec3(0.0f);
     }
   }
-  float clearance(std::size_t, const glm::vec3&) const override { return -INFINITY; }
+  void clearance(std::size_t, std::size_t count, float* lower) const override {
+    std::fill(lower, lower + count, -INFINITY);
+  }
   int rounds() const override { return 2; }
   bool hasObstacles() const override { return false; }
 };

@@ -111,7 +111,6 @@ bool projectOutOfBodies(const BodyContactSettings& settings, const ContactBodies
   if (slide) trapped.resize(n);
   std::atomic<bool> any_trapped{false};
   static_assert(kBodyBlock <= 65536);
-  auto clearance = [&](std::size_t i) { return bodies.clearance(i, x[i]); };
   // Blocks near the surface cost the exact queries, the others little:
   // handed out one by one (each block's result is its own).
   parallel::forEachDynamic(threads, static_cast<std::size_t>((n + kBodyBlock - 1) / kBodyBlock), [&](std::size_t bb) {
@@ -128,16 +127,11 @@ bool projectOutOfBodies(const BodyContactSettings& settings, const ContactBodies
     std::uint32_t index[kBodyBlock];  // the particles asked
     // The first round asks about the particles integrate() did not
     // prove clear of every body; the others keep that proof.
-    for (std::size_t o = 0; o < len; ++o) {
-      const std::size_t i = b + o;
-      if (root[i]) continue;  // never pushed
-      const float lower = clearance(i);
-      if (lower > kClearMargin) {
-        body_phi[o] = lower;
-        continue;
-      }
-      ask[asked++] = static_cast<std::uint16_t>(o);
-    }
+    float lower[kBodyBlock];
+    bodies.clearance(b, len, lower);
+    for (std::size_t o = 0; o < len; ++o)
+      if (!root[b + o] && !(lower[o] > kClearMargin))
+        ask[asked++] = static_cast<std::uint16_t>(o);  // roots: never pushed
     for (int round = 0; round < total_rounds; ++round) {
       if (round == 0 && asked == len) {
         for (std::size_t o = 0; o < len; ++o) index[o] = static_cast<std::uint32_t>(b + o);
@@ -213,7 +207,9 @@ class Solver::EndBodies final : public ContactBodies {
     solver_.queryBodies(with_obstacles ? frames_ : solid_frames_, head_, x, n, phi, normal, surface_velocity, 0.0f,
                         false, index);
   }
-  float clearance(std::size_t i, const glm::vec3&) const override { return bound_(i); }
+  void clearance(std::size_t first, std::size_t count, float* lower) const override {
+    for (std::size_t k = 0; k < count; ++k) lower[k] = bound_(first + k);
+  }
   int rounds() const override { return frames_.empty() ? 2 : 4; }
   bool hasObstacles() const override { return solid_frames_.size() != frames_.size(); }
 

@@ -23,9 +23,10 @@ class ContactBodies {
   /// obstacles or without them (`with_obstacles`).
   virtual void nearest(const glm::vec3* x, std::size_t n, const std::uint32_t* index, bool with_obstacles, float* phi,
                        glm::vec3* normal, glm::vec3* surface_velocity) const = 0;
-  /// A lower bound of particle i's distance from every body, now at `x`
-  /// (-inf: none known).
-  virtual float clearance(std::size_t i, const glm::vec3& x) const = 0;
+  /// A lower bound of each particle [first, first + count)'s distance from
+  /// every body where it is now (-inf: none known), into `lower`; one call
+  /// a block of particles.
+  virtual void clearance(std::size_t first, std::size_t count, float* lower) const = 0;
   /// Rounds with the obstacles (more where bodies may meet in a crease).
   virtual int rounds() const = 0;
   virtual bool hasObstacles() const = 0;
